@@ -1,0 +1,26 @@
+/* Counter-based random streams (Philox4x32-10, Random123).
+ *
+ * Key = the 64-bit seed; counter = (index / 2, step low, step high, stream). One Philox
+ * call yields two 53-bit uniforms and hence, by Box-Muller, the normals of the index pair
+ * (2k, 2k+1). The number an index receives at a step therefore depends only on
+ * (seed, stream, step, index): not on processing order, threads, ranks or restarts. */
+#ifndef HSBD_RNG_H
+#define HSBD_RNG_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+enum hsbd_stream {
+    HSBD_STREAM_NOISE = 1, /* Brownian displacements, one normal per rod per step */
+    HSBD_STREAM_INIT = 2   /* initial configurations */
+};
+
+/* Standard normals for indices first .. first+n-1 at counter `step` of `stream`. */
+void hsbd_rng_normals(uint64_t seed, uint32_t stream, uint64_t step, size_t first, size_t n,
+                      double *out);
+
+/* Uniforms in the open interval (0, 1) for indices first .. first+n-1. */
+void hsbd_rng_uniforms(uint64_t seed, uint32_t stream, uint64_t step, size_t first, size_t n,
+                       double *out);
+
+#endif

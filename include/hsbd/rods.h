@@ -1,0 +1,79 @@
+/* Brownian cluster dynamics (BCD) of hard rods on a periodic line (Antonov et al. 2022).
+ *
+ * State: contact-offset coordinates z_i = x_i - i sigma, kept in ring order
+ * (z_0 <= ... <= z_{N-1} <= z_0 + L - N sigma); touching rods have equal z. A step draws
+ * the free end points y_i = z_i + mu F_i dt (F_i: field force plus Brownian force,
+ * Eq. 11) and replaces z by the weighted isotonic regression of y on the ring, which is
+ * exactly the fragmentation (Eqs. 4-5) followed by all time-ordered perfectly inelastic
+ * mergers (Eqs. 13-19). See docs/algorithms.md. */
+#ifndef HSBD_RODS_H
+#define HSBD_RODS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hsbd/error.h"
+#include "hsbd/field.h"
+
+typedef struct hsbd_rods_params {
+    size_t n;         /* number of rods N */
+    double length;    /* ring length L */
+    double sigma;     /* rod length */
+    double diffusion; /* D (length^2 / time) */
+    double kT;        /* thermal energy; mobility mu = D / kT */
+    double dt;        /* time step */
+    uint64_t seed;
+    int hard_core; /* 1: hard rods (BCD); 0: free particles (the free-particle bound) */
+    hsbd_field field;
+} hsbd_rods_params;
+
+/* What happened inside one step (filled only when asked for: it costs a pass). */
+typedef struct hsbd_rods_step_stats {
+    size_t clusters_start; /* clusters of touching rods at the start of the step */
+    size_t fragments;      /* moving clusters after fragmentation, Eqs. (4)-(5) */
+    size_t clusters_end;   /* clusters at the end; merge events = fragments - clusters_end */
+} hsbd_rods_step_stats;
+
+/* Read-only view of the state for observers. Unwrapped position of rod i:
+ * z[i] + offset[i] + unwrap; position on the ring: that value modulo length. */
+typedef struct hsbd_rods_view {
+    size_t n;
+    double length, sigma, free_length;
+    const double *z, *offset;
+    double unwrap;
+    uint64_t step;
+    double time;
+    int hard_core;
+} hsbd_rods_view;
+
+typedef struct hsbd_rods hsbd_rods;
+
+/* Checks the parameters (N >= 1, N sigma < L, D > 0, kT > 0, dt > 0); NULL on error. */
+hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *params, hsbd_error *err);
+void hsbd_rods_free(hsbd_rods *rods);
+
+/* Exact equilibrium sample of the field-free hard-rod ring (uniform on configuration
+ * space): N sorted uniform points in the free length, the i-th shifted by i sigma, the
+ * whole ring rotated by a uniform offset. Uses the seed's initial-state stream. */
+void hsbd_rods_init_equilibrium(hsbd_rods *rods);
+
+/* Positions in [0, L) or unwrapped, any order; sorted on the ring. Refuses overlaps
+ * (gap < -1e-12 sigma) and non-finite values with HSBD_EINPUT. */
+int hsbd_rods_set_positions(hsbd_rods *rods, const double *x, hsbd_error *err);
+
+/* One BCD step of length dt; stats may be NULL. */
+void hsbd_rods_step(hsbd_rods *rods, hsbd_rods_step_stats *stats);
+
+/* Clusters of touching rods after the last step: count and sizes (first cluster is the
+ * one containing or following rod 0). Valid for hard-core runs after a step. */
+size_t hsbd_rods_cluster_count(const hsbd_rods *rods);
+size_t hsbd_rods_cluster_size(const hsbd_rods *rods, size_t k);
+
+hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *rods);
+const hsbd_rods_params *hsbd_rods_get_params(const hsbd_rods *rods);
+
+/* Smallest gap between ring neighbours (negative: overlap), and whether all
+ * coordinates are finite. Hard-core runs only. */
+double hsbd_rods_min_gap(const hsbd_rods *rods, int *all_finite);
+
+#endif

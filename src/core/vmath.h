@@ -1,0 +1,27 @@
+/* Bulk elementary functions for the hot loops (internal).
+ *
+ * On CPUs with AVX2+FMA these use SLEEF's vectorised functions (log: 1.0 ulp,
+ * sinpi/cospi: 0.506 ulp, SLEEF's stated bounds); elsewhere glibc's scalar libm. The
+ * choice is made per call from the CPU's features, so one binary runs everywhere. */
+#ifndef HSBD_CORE_VMATH_H
+#define HSBD_CORE_VMATH_H
+
+#include <stddef.h>
+
+/* In place: (u1, u2) uniforms in (0,1] -> sqrt(-2 ln u1) * (cos 2 pi u2, sin 2 pi u2). */
+void hsbd_vmath_box_muller(size_t n, double *restrict u1, double *restrict u2);
+
+/* out[i] = scale * sin(pi * t[i]). */
+void hsbd_vmath_scaled_sinpi(size_t n, const double *restrict t, double scale,
+                             double *restrict out);
+
+/* Whether the vectorised (AVX2+FMA) path is in use on this CPU. */
+int hsbd_vmath_vectorised(void);
+
+/* The AVX2 kernels (vmath_avx2.c, compiled with -mavx2 -mfma); call only when
+ * hsbd_vmath_vectorised() is true. They handle n % 4 tails themselves. */
+void hsbd_vmath_box_muller_avx2(size_t n, double *restrict u1, double *restrict u2);
+void hsbd_vmath_scaled_sinpi_avx2(size_t n, const double *restrict t, double scale,
+                                  double *restrict out);
+
+#endif

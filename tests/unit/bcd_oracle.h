@@ -1,0 +1,19 @@
+/* Literal Brownian cluster dynamics (Antonov Sec. III B), the test oracle: recursive
+ * largest-jump fragmentation, then time-ordered perfectly inelastic mergers, Eqs.
+ * (13)-(19), generalised to per-rod mobilities (friction-weighted velocities). */
+#ifndef HSBD_BCD_ORACLE_H
+#define HSBD_BCD_ORACLE_H
+
+#include <stddef.h>
+
+/* Fragmentation of one cluster with velocities v_i = mob_i F_i: writes the subcluster
+ * sizes to sizes[] and returns their number. */
+size_t oracle_fragment(size_t n, const double *force, const double *mob, size_t *sizes);
+
+/* One step of length dt on a ring of length L: x in ring order (x_{n-1} < x_0 + L),
+ * force = total forces F_i (Eq. 11), mob = mobilities. Gaps <= contact_tol count as
+ * contact at the start. Returns the number of merge events. */
+size_t oracle_step(size_t n, double *x, const double *force, const double *mob, double sigma,
+                   double L, double dt, double contact_tol);
+
+#endif

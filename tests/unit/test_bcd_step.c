@@ -1,0 +1,213 @@
+/* The production BCD step (one ring isotonic regression) against the literal
+ * event-by-event oracle, and the fragmentation against brute force over all 2^(n-1)
+ * compositions (Antonov Eqs. 4-5). */
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "../test_util.h"
+#include "bcd_oracle.h"
+#include "hsbd/isotonic.h"
+#include "hsbd/rng.h"
+#include "hsbd/rods.h"
+
+enum { NMAX = 12 };
+
+/* Deterministic test randomness from the library's counter-based streams. */
+typedef struct {
+    uint64_t seed, draw;
+} test_rng;
+static double uniform(test_rng *r) {
+    double u;
+    hsbd_rng_uniforms(r->seed, 99, r->draw++, 0, 1, &u);
+    return u;
+}
+static double normal(test_rng *r) {
+    double g;
+    hsbd_rng_normals(r->seed, 98, r->draw++, 0, 1, &g);
+    return g;
+}
+
+/* Eqs. (4)-(5) for the composition encoded by `cuts` (bit c: cut between c and c+1). */
+static int composition_is_valid(size_t n, const double *v, const double *fric, unsigned cuts) {
+    size_t a = 0;
+    double prev_mean = -INFINITY;
+    for (size_t c = 0; c < n; ++c) {
+        if (c + 1 < n && !(cuts >> c & 1u)) continue;
+        const size_t b = c + 1; /* subcluster [a, b) */
+        double num = 0, den = 0;
+        for (size_t k = a; k < b; ++k) num += fric[k] * v[k], den += fric[k];
+        const double mean = num / den;
+        if (!(prev_mean < mean)) return 0; /* Eq. (4) */
+        for (size_t i = a + 1; i < b; ++i) { /* Eq. (5): prefix mean >= rest mean */
+            double n1 = 0, d1 = 0, n2 = 0, d2 = 0;
+            for (size_t k = a; k < i; ++k) n1 += fric[k] * v[k], d1 += fric[k];
+            for (size_t k = i; k < b; ++k) n2 += fric[k] * v[k], d2 += fric[k];
+            if (!(n1 / d1 >= n2 / d2)) return 0;
+        }
+        prev_mean = mean;
+        a = b;
+    }
+    return 1;
+}
+
+static void test_fragmentation_brute_force(void) {
+    test_rng rng = {11, 0};
+    hsbd_pava *p = hsbd_pava_alloc(NMAX);
+    int mismatches = 0, not_unique = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const size_t n = 1 + (size_t)(uniform(&rng) * NMAX);
+        double force[NMAX], mob[NMAX], v[NMAX], fric[NMAX], fit[NMAX];
+        const int equal_mob = trial % 2 == 0;
+        for (size_t i = 0; i < n; ++i) {
+            force[i] = normal(&rng);
+            mob[i] = equal_mob ? 1.0 : 0.5 + 1.5 * uniform(&rng);
+            v[i] = mob[i] * force[i];
+            fric[i] = 1.0 / mob[i];
+        }
+        unsigned found = 0, count = 0;
+        for (unsigned cuts = 0; cuts < (1u << (n - 1)); ++cuts)
+            if (composition_is_valid(n, v, fric, cuts)) found = cuts, ++count;
+        not_unique += count != 1;
+        /* PAVA blocks -> cut mask */
+        const size_t nb = hsbd_pava_line(p, n, v, fric, fit);
+        unsigned pava_cuts = 0;
+        size_t pos = 0;
+        for (size_t b = 0; b + 1 < nb; ++b) pos += hsbd_pava_block_size(p, b), pava_cuts |= 1u << (pos - 1);
+        /* recursive largest-jump rule of the paper */
+        size_t sizes[NMAX];
+        const size_t parts = oracle_fragment(n, force, mob, sizes);
+        unsigned oracle_cuts = 0;
+        pos = 0;
+        for (size_t b = 0; b + 1 < parts; ++b) pos += sizes[b], oracle_cuts |= 1u << (pos - 1);
+        mismatches += pava_cuts != found || oracle_cuts != found;
+    }
+    CHECK(not_unique == 0, "%d force sets had no or several valid compositions", not_unique);
+    CHECK(mismatches == 0, "%d force sets: PAVA or recursive split differ from brute force",
+          mismatches);
+    hsbd_pava_free(p);
+}
+
+/* Random ring: gaps exactly 0 with probability 0.4, else exponential, summing to L - n sigma. */
+static void random_ring(test_rng *rng, size_t n, double sigma, double L, double *x) {
+    double gaps[NMAX], sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+        gaps[i] = uniform(rng) < 0.4 ? 0.0 : -log(uniform(rng));
+        sum += gaps[i];
+    }
+    if (sum == 0) gaps[n - 1] = sum = 1.0;
+    const double free_len = L - (double)n * sigma;
+    x[0] = L * uniform(rng);
+    for (size_t i = 1; i < n; ++i) x[i] = x[i - 1] + sigma + gaps[i - 1] * free_len / sum;
+}
+
+static void test_ring_step_vs_oracle(void) {
+    test_rng rng = {7, 0};
+    hsbd_pava *p = hsbd_pava_alloc(NMAX);
+    const double dts[] = {1e-4, 1e-2, 1.0};
+    const double sigmas[] = {0.0, 0.3, 1.0};
+    double worst = 0;
+    size_t total_merges = 0, whole_ring = 0, wrapped = 0;
+    for (int trial = 0; trial < 6000; ++trial) {
+        const size_t n = 1 + (size_t)(uniform(&rng) * NMAX);
+        const double sigma = sigmas[trial % 3], dt = dts[(trial / 3) % 3];
+        const double L = (double)n * sigma + 1.0 + 5.0 * uniform(&rng);
+        const double free_len = L - (double)n * sigma;
+        double x[NMAX], xo[NMAX], force[NMAX], mob[NMAX], fric[NMAX], y[NMAX], z[NMAX];
+        random_ring(&rng, n, sigma, L, x);
+        const double scale = free_len / (double)n / dt * (trial % 4 == 0 ? 20.0 : 1.0);
+        const double bias = trial % 5 == 0 ? scale * normal(&rng) : 0.0; /* common drift */
+        for (size_t i = 0; i < n; ++i) {
+            mob[i] = trial % 2 ? 1.0 : 0.5 + 1.5 * uniform(&rng);
+            fric[i] = 1.0 / mob[i];
+            force[i] = bias + scale * normal(&rng);
+            xo[i] = x[i];
+            z[i] = x[i] - (double)i * sigma;                /* contact-offset coordinate */
+            y[i] = z[i] + mob[i] * force[i] * dt;            /* free end point */
+        }
+        total_merges += oracle_step(n, xo, force, mob, sigma, L, dt, 1e-12);
+        const size_t nb = hsbd_pava_ring(p, n, y, fric, free_len, z);
+        whole_ring += nb == 1 && n > 1;
+        wrapped += n > 1 && nb > 1 && z[0] + free_len - z[n - 1] < 1e-12;
+        for (size_t i = 0; i < n; ++i) {
+            const double d = fabs(z[i] + (double)i * sigma - xo[i]);
+            if (d > worst) worst = d;
+        }
+    }
+    CHECK(worst <= 1e-12, "max |PAVA - oracle| = %.3g", worst);
+    CHECK(total_merges > 1000, "only %zu merge events exercised", total_merges);
+    CHECK(whole_ring > 10, "only %zu steps pooled the whole ring", whole_ring);
+    CHECK(wrapped > 10, "only %zu steps had a cluster across the wrap", wrapped);
+    printf("ring step vs oracle: max deviation %.3g over 6000 steps, %zu merges, "
+           "%zu whole-ring and %zu wrapping clusters\n",
+           worst, total_merges, whole_ring, wrapped);
+    hsbd_pava_free(p);
+}
+
+/* The library step (noise from the seed, cosine + tilt field) equals the oracle fed
+ * with the same total forces, Eq. (11), over many consecutive steps. */
+static void test_library_step_vs_oracle(void) {
+    const size_t n = 10;
+    hsbd_rods_params par = {.n = n, .length = 6.0, .sigma = 0.5, .diffusion = 1.3, .kT = 0.7,
+                            .dt = 1e-2, .seed = 2024, .hard_core = 1};
+    hsbd_field_add(&par.field, hsbd_field_cosine(6.0, 1.0));
+    hsbd_field_add(&par.field, hsbd_field_tilt(0.8));
+    hsbd_error err;
+    hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
+    hsbd_rods_init_equilibrium(rods);
+    const double mu = par.diffusion / par.kT;
+    double worst = 0;
+    for (int s = 0; s < 400; ++s) {
+        const hsbd_rods_view v = hsbd_rods_get_view(rods);
+        double x[NMAX], force[NMAX], g[NMAX], mob[NMAX];
+        hsbd_rng_normals(par.seed, HSBD_STREAM_NOISE, v.step, 0, n, g);
+        for (size_t i = 0; i < n; ++i) {
+            x[i] = v.z[i] + v.offset[i];
+            mob[i] = mu;
+        }
+        hsbd_field_force(&par.field, n, x, force);
+        for (size_t i = 0; i < n; ++i) force[i] += sqrt(2 * par.diffusion / par.dt) / mu * g[i];
+        const double shift = v.unwrap;
+        oracle_step(n, x, force, mob, par.sigma, par.length, par.dt, 1e-12);
+        hsbd_rods_step(rods, NULL);
+        const hsbd_rods_view w = hsbd_rods_get_view(rods);
+        for (size_t i = 0; i < n; ++i) {
+            const double d = fabs((w.z[i] + w.offset[i] + w.unwrap) - (x[i] + shift));
+            if (d > worst) worst = d;
+        }
+    }
+    CHECK(worst <= 1e-12, "library step vs oracle: max deviation %.3g", worst);
+    hsbd_rods_free(rods);
+}
+
+/* The fragmentation diagnostic counts what the oracle does. */
+static void test_step_stats(void) {
+    hsbd_rods_params par = {.n = 40, .length = 25.0, .sigma = 0.5, .diffusion = 1,
+                            .kT = 1, .dt = 1e-2, .seed = 5, .hard_core = 1};
+    hsbd_error err;
+    hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
+    hsbd_rods_init_equilibrium(rods);
+    size_t merges = 0, frag = 0, start = 0;
+    for (int s = 0; s < 200; ++s) {
+        hsbd_rods_step_stats st;
+        hsbd_rods_step(rods, &st);
+        CHECK(st.fragments >= st.clusters_start && st.fragments >= st.clusters_end,
+              "step %d: %zu clusters, %zu fragments, %zu at end", s, st.clusters_start,
+              st.fragments, st.clusters_end);
+        size_t total = 0;
+        for (size_t k = 0; k < hsbd_rods_cluster_count(rods); ++k) total += hsbd_rods_cluster_size(rods, k);
+        CHECK(total == par.n, "cluster sizes add to %zu", total);
+        merges += st.fragments - st.clusters_end, frag += st.fragments, start += st.clusters_start;
+    }
+    CHECK(merges > 0 && frag > start, "no merges (%zu) or fragmentations (%zu vs %zu)", merges,
+          frag, start);
+    hsbd_rods_free(rods);
+}
+
+int main(void) {
+    test_fragmentation_brute_force();
+    test_ring_step_vs_oracle();
+    test_library_step_vs_oracle();
+    test_step_stats();
+    return test_finish("test_bcd_step");
+}
