@@ -1,0 +1,77 @@
+/* Run configuration: one schema table gives every key its type, range, default and doc;
+ * it drives parsing (INI files via libinih, --set overrides), validation, `hsbd run
+ * --help` and docs/config.md. Errors name the file, line, key and allowed range. */
+#ifndef HSBD_CONFIG_H
+#define HSBD_CONFIG_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "hsbd/error.h"
+
+enum hsbd_model { HSBD_MODEL_RODS = 0 };
+enum hsbd_field_type {
+    HSBD_FIELD_NONE = 0,
+    HSBD_FIELD_COSINE,
+    HSBD_FIELD_TILT,
+    HSBD_FIELD_COSINE_TILT
+};
+enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ };
+enum { HSBD_PATH_MAX = 1024, HSBD_ORIGIN_MAX = 1100, HSBD_CONFIG_MAX_KEYS = 64 };
+
+typedef struct hsbd_config {
+    struct {
+        int model;
+        int64_t n;
+        double length, sigma, diffusion, kT;
+        uint64_t seed;
+        int hard_core;
+    } system;
+    struct {
+        int type;
+        double amplitude, wavelength, force;
+    } field;
+    struct {
+        double dt, t_equil, t_total;
+    } run;
+    struct {
+        double bin_width, contact_width, period;
+        int64_t every, blocks, msd_points_per_decade;
+        double msd_max_lag, current_every;
+    } sample;
+    struct {
+        char dir[HSBD_PATH_MAX];
+        int trajectory;
+        double trajectory_every;
+    } output;
+    struct {
+        char positions[HSBD_PATH_MAX];
+    } init;
+    /* where each schema key got its value: "file:line", "--set", or "default" */
+    char origin[HSBD_CONFIG_MAX_KEYS][HSBD_ORIGIN_MAX];
+    char file[HSBD_PATH_MAX]; /* the configuration file read, if any */
+    int authors_dialect;      /* the file used the authors' section-less keys */
+} hsbd_config;
+
+/* Fill every key with its default. */
+void hsbd_config_defaults(hsbd_config *cfg);
+/* Read an INI file (hsbd sections, or the authors' section-less keys). */
+int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err);
+/* Apply "section.key=value" (from --set). */
+int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin,
+                    hsbd_error *err);
+/* Derived defaults and checks that involve several keys; call once after all input. */
+int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
+
+/* Number of production / equilibration steps. */
+uint64_t hsbd_config_steps(const hsbd_config *cfg);
+uint64_t hsbd_config_equil_steps(const hsbd_config *cfg);
+
+/* Every key as "prefix section.key = value" lines (TSV headers). */
+void hsbd_config_write_header(const hsbd_config *cfg, FILE *out, const char *prefix);
+/* Every key as a JSON object {"section": {"key": value, ...}, ...} at the given indent. */
+void hsbd_config_write_json(const hsbd_config *cfg, FILE *out, int indent);
+/* The schema as a Markdown reference (docs/config.md) or plain text (--help). */
+void hsbd_config_write_reference(FILE *out, int markdown);
+
+#endif

@@ -1,0 +1,63 @@
+/* Observers: they only read the state (hsbd_rods_view) and accumulate; error bars come
+ * from block averages (the production run cut into equal consecutive blocks). */
+#ifndef HSBD_OBSERVE_H
+#define HSBD_OBSERVE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hsbd/error.h"
+#include "hsbd/rods.h"
+
+/* ---- block averages of a vector of per-sample quantities ---- */
+typedef struct hsbd_blocks hsbd_blocks;
+hsbd_blocks *hsbd_blocks_alloc(size_t nvalues, size_t nblocks, uint64_t nsamples_total);
+void hsbd_blocks_free(hsbd_blocks *b);
+/* The accumulator of the current sample: add this sample's values into it. */
+double *hsbd_blocks_acc(hsbd_blocks *b);
+/* Close the current sample. */
+void hsbd_blocks_end_sample(hsbd_blocks *b);
+/* Mean per sample and its standard error: the sample standard deviation of the block
+ * means over sqrt(blocks), using the blocks that received samples. Returns blocks used. */
+size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err);
+uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
+
+/* ---- density profile (Eqs. 24-25) and two-particle density at contact (Eq. 26) ---- */
+typedef struct hsbd_profile hsbd_profile;
+hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact_width,
+                                 size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
+void hsbd_profile_free(hsbd_profile *p);
+void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v);
+size_t hsbd_profile_bins(const hsbd_profile *p);
+/* rho(x) normalised so that its mean over a period is N/L; x = bin centre. */
+void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double *err);
+/* rho2(x, x+sigma) with x the left rod of the pair, gaps in [0, contact_width]. */
+void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err);
+/* Smallest neighbour gap seen in the samples. */
+double hsbd_profile_min_gap(const hsbd_profile *p);
+
+/* ---- tagged-particle mean-squared displacement at log-spaced lags ---- */
+typedef struct hsbd_msd hsbd_msd;
+/* sample_dt: time between samples; max_lag: largest lag time. */
+hsbd_msd *hsbd_msd_alloc(size_t n, double sample_dt, uint64_t nsamples_total, double max_lag,
+                         int points_per_decade, size_t nblocks, hsbd_error *err);
+void hsbd_msd_free(hsbd_msd *m);
+void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v);
+size_t hsbd_msd_lags(const hsbd_msd *m);
+/* lag time, MSD, its error (block average over time origins) and number of origins */
+void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double *err,
+                     size_t *origins);
+
+/* ---- clusters: size histogram, mean size, merge events per step ---- */
+typedef struct hsbd_clusters hsbd_clusters;
+hsbd_clusters *hsbd_clusters_alloc(size_t n, size_t nblocks, uint64_t nsamples_total);
+void hsbd_clusters_free(hsbd_clusters *c);
+void hsbd_clusters_sample(hsbd_clusters *c, const hsbd_rods *rods,
+                          const hsbd_rods_step_stats *st);
+/* fraction of clusters of size s (1 <= s <= N) over all samples */
+double hsbd_clusters_size_fraction(const hsbd_clusters *c, size_t s);
+size_t hsbd_clusters_max_size(const hsbd_clusters *c);
+void hsbd_clusters_means(const hsbd_clusters *c, double *mean_size, double *mean_size_err,
+                         double *merges_per_step, double *merges_err);
+
+#endif

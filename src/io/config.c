@@ -1,0 +1,635 @@
+#include "hsbd/config.h"
+
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { K_INT, K_UINT64, K_DOUBLE, K_STRING, K_ENUM, K_BOOL } key_type;
+
+enum { OPEN_MIN = 1, OPEN_MAX = 2 };
+
+typedef struct key_spec {
+    const char *section, *key;
+    key_type type;
+    size_t offset;
+    double min, max;
+    unsigned flags;
+    const char *def;     /* default, parsed like user input */
+    const char *choices; /* K_ENUM: "a|b|c" (value = position) */
+    const char *doc;
+} key_spec;
+
+#define OFF(member) offsetof(hsbd_config, member)
+#define INF HUGE_VAL
+
+/* The one schema table. Ranges are closed unless flagged open. */
+static const key_spec schema[] = {
+    {"system", "model", K_ENUM, OFF(system.model), 0, 0, 0, "rods", "rods",
+     "particle model (rods: hard rods on a line, Brownian cluster dynamics)"},
+    {"system", "N", K_INT, OFF(system.n), 1, 2147483647.0, 0, "50", 0, "number of rods"},
+    {"system", "L", K_DOUBLE, OFF(system.length), 0, INF, OPEN_MIN | OPEN_MAX, "100", 0,
+     "ring length (periodic line); N*sigma must be < L"},
+    {"system", "sigma", K_DOUBLE, OFF(system.sigma), 0, INF, OPEN_MAX, "0.5", 0,
+     "rod length (hard-core diameter)"},
+    {"system", "D", K_DOUBLE, OFF(system.diffusion), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
+     "diffusion coefficient (length^2/time); mobility mu = D/kT"},
+    {"system", "kT", K_DOUBLE, OFF(system.kT), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
+     "thermal energy (energy unit); the authors' dialect uses kT = D (their mu = 1)"},
+    {"system", "seed", K_UINT64, OFF(system.seed), 0, 18446744073709551615.0, 0, "1", 0,
+     "random seed (64-bit); same seed and binary give byte-identical tables"},
+    {"system", "hard_core", K_BOOL, OFF(system.hard_core), 0, 1, 0, "on", 0,
+     "on: hard rods; off: free particles (benchmark bound, tests)"},
+    {"field", "type", K_ENUM, OFF(field.type), 0, 0, 0, "cosine", "none|cosine|tilt|cosine+tilt",
+     "external field: U = (amplitude/2) cos(2 pi x/wavelength) and/or constant force"},
+    {"field", "amplitude", K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX, "6",
+     0, "cosine amplitude U0 (kT), Antonov Eq. 21"},
+    {"field", "wavelength", K_DOUBLE, OFF(field.wavelength), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
+     "cosine wavelength lambda; must divide L"},
+    {"field", "force", K_DOUBLE, OFF(field.force), -INF, INF, OPEN_MIN | OPEN_MAX, "0", 0,
+     "constant force f (kT/length) for tilt fields"},
+    {"run", "dt", K_DOUBLE, OFF(run.dt), 0, INF, OPEN_MIN | OPEN_MAX, "1e-4", 0, "time step"},
+    {"run", "t_equil", K_DOUBLE, OFF(run.t_equil), 0, INF, OPEN_MAX, "10", 0,
+     "unsampled dynamics after the initial state"},
+    {"run", "t_total", K_DOUBLE, OFF(run.t_total), 0, INF, OPEN_MIN | OPEN_MAX, "100", 0,
+     "sampled (production) time"},
+    {"sample", "bin_width", K_DOUBLE, OFF(sample.bin_width), 0, INF, OPEN_MIN | OPEN_MAX, "1e-2",
+     0, "density bin width Delta_x (Eq. 24); must divide sample.period"},
+    {"sample", "contact_width", K_DOUBLE, OFF(sample.contact_width), 0, INF, OPEN_MIN | OPEN_MAX,
+     "1e-2", 0, "contact window Delta' (Eq. 26): gaps in [0, Delta'] count as contact"},
+    {"sample", "period", K_DOUBLE, OFF(sample.period), 0, INF, OPEN_MIN | OPEN_MAX, "", 0,
+     "profiles are folded into one period (default: field.wavelength); must divide L"},
+    {"sample", "every", K_INT, OFF(sample.every), 1, 1e15, 0, "1", 0,
+     "sample every this many steps"},
+    {"sample", "blocks", K_INT, OFF(sample.blocks), 2, 10000, 0, "20", 0,
+     "number of blocks for block-average error bars"},
+    {"sample", "msd_max_lag", K_DOUBLE, OFF(sample.msd_max_lag), 0, INF, OPEN_MAX, "0", 0,
+     "largest MSD lag time (0: t_total/10)"},
+    {"sample", "msd_points_per_decade", K_INT, OFF(sample.msd_points_per_decade), 1, 1000, 0,
+     "10", 0, "log-spaced MSD lags per decade"},
+    {"sample", "current_every", K_DOUBLE, OFF(sample.current_every), 0, INF, OPEN_MAX, "0", 0,
+     "write the particle current every this much time to current.tsv (0: off)"},
+    {"output", "dir", K_STRING, OFF(output.dir), 0, 0, 0, "", 0,
+     "run directory (default: runs/<config name>); --out overrides"},
+    {"output", "trajectory", K_ENUM, OFF(output.trajectory), 0, 0, 0, "none", "none|xyz",
+     "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD)"},
+    {"output", "trajectory_every", K_DOUBLE, OFF(output.trajectory_every), 0, INF, OPEN_MAX, "0",
+     0, "time between trajectory frames (0: t_total/100)"},
+    {"init", "positions", K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
+     "file with initial positions (one per line, '#' comments); default: exact equilibrium "
+     "sample of the field-free ring"},
+};
+enum { NKEYS = sizeof schema / sizeof schema[0] };
+_Static_assert((int)NKEYS <= (int)HSBD_CONFIG_MAX_KEYS, "raise HSBD_CONFIG_MAX_KEYS");
+
+/* The authors' section-less keys (Antonov et al., basep.cfg) and where they go. */
+typedef struct {
+    const char *name, *section, *key;
+} authors_key;
+static const authors_key authors_keys[] = {
+    {"particles", "system", "N"},          {"length", "system", "L"},
+    {"diameter", "system", "sigma"},       {"DiffusionConstant", "system", "D"},
+    {"force", "field", "force"},           {"AmpU", "field", "amplitude"},
+    {"totaltime", "run", "t_total"},       {"timestep", "run", "dt"},
+    {"eqtime", "run", "t_equil"},          {"delta", "sample", "bin_width"},
+    {"deltaPrime", "sample", "contact_width"}, {"prefix", "output", "dir"},
+    {"tTrajectory", "output", "trajectory_every"}, {"tCurrent", "sample", "current_every"},
+    {"gamma", 0, 0},                       {"order", 0, 0},
+    {"epsilon", 0, 0},
+};
+enum { NAUTHORS = sizeof authors_keys / sizeof authors_keys[0] };
+
+static void *slot(hsbd_config *cfg, const key_spec *k) {
+    return (char *)cfg + k->offset;
+}
+static const void *cslot(const hsbd_config *cfg, const key_spec *k) {
+    return (const char *)cfg + k->offset;
+}
+
+static const key_spec *find_key(const char *section, const char *key) {
+    for (size_t i = 0; i < NKEYS; ++i)
+        if (!strcmp(schema[i].section, section) && !strcmp(schema[i].key, key)) return &schema[i];
+    return NULL;
+}
+
+static size_t key_index(const key_spec *k) {
+    return (size_t)(k - schema);
+}
+
+/* ---- messages ------------------------------------------------------------------------ */
+
+static size_t edit_distance(const char *a, const char *b) {
+    size_t la = strlen(a), lb = strlen(b), prev[128], cur[128];
+    if (la > 120 || lb > 120) return 1000;
+    for (size_t j = 0; j <= lb; ++j) prev[j] = j;
+    for (size_t i = 1; i <= la; ++i) {
+        cur[0] = i;
+        for (size_t j = 1; j <= lb; ++j) {
+            size_t best = prev[j - 1] + ((a[i - 1] | 32) != (b[j - 1] | 32));
+            if (prev[j] + 1 < best) best = prev[j] + 1;
+            if (cur[j - 1] + 1 < best) best = cur[j - 1] + 1;
+            cur[j] = best;
+        }
+        memcpy(prev, cur, (lb + 1) * sizeof *prev);
+    }
+    return prev[lb];
+}
+
+/* Nearest known "section.key" to a misspelt one. */
+static const char *suggest(const char *section, const char *key, char *buf, size_t len) {
+    char want[256], cand[256];
+    snprintf(want, sizeof want, "%s.%s", section, key);
+    size_t best = 1000;
+    buf[0] = '\0';
+    for (size_t i = 0; i < NKEYS; ++i) {
+        snprintf(cand, sizeof cand, "%s.%s", schema[i].section, schema[i].key);
+        size_t d = edit_distance(want, cand);
+        const size_t dk = edit_distance(key, schema[i].key) + 1; /* right key, wrong section */
+        if (dk < d) d = dk;
+        if (d < best) best = d, snprintf(buf, len, "%s", cand);
+    }
+    return best <= 3 || best * 3 <= strlen(want) ? buf : NULL;
+}
+
+static void format_range(const key_spec *k, char *buf, size_t len) {
+    char lo[64], hi[64];
+    switch (k->type) {
+    case K_ENUM:
+        snprintf(buf, len, "one of %s", k->choices);
+        return;
+    case K_BOOL:
+        snprintf(buf, len, "on/off (also true/false, yes/no, 1/0)");
+        return;
+    case K_STRING:
+        snprintf(buf, len, "a text of at most %d characters", HSBD_PATH_MAX - 1);
+        return;
+    default:
+        break;
+    }
+    if (k->type == K_UINT64) {
+        snprintf(buf, len, "0 <= %s <= 18446744073709551615 (integer)", k->key);
+        return;
+    }
+    snprintf(lo, sizeof lo, "%.15g", k->min);
+    snprintf(hi, sizeof hi, "%.15g", k->max);
+    snprintf(buf, len, "%s %s %s %s %s%s", isinf(k->min) ? "-inf" : lo,
+             (k->flags & OPEN_MIN) ? "<" : "<=", k->key, (k->flags & OPEN_MAX) ? "<" : "<=",
+             isinf(k->max) ? "inf" : hi, k->type == K_INT ? " (integer)" : "");
+}
+
+/* ---- values ------------------------------------------------------------------------- */
+
+static int in_range(const key_spec *k, double v) {
+    if (k->flags & OPEN_MIN ? !(v > k->min) : !(v >= k->min)) return 0;
+    if (k->flags & OPEN_MAX ? !(v < k->max) : !(v <= k->max)) return 0;
+    return 1;
+}
+
+static char *trim(char *s) {
+    while (*s == ' ' || *s == '\t') ++s;
+    char *e = s + strlen(s);
+    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' || e[-1] == '\n')) --e;
+    *e = '\0';
+    return s;
+}
+
+/* Parse `text` into the key's slot; on failure a message naming the key and range. */
+static int parse_value(hsbd_config *cfg, const key_spec *k, const char *text, const char *where,
+                       hsbd_error *err) {
+    char buf[HSBD_PATH_MAX + 8], range[160];
+    if (strlen(text) >= sizeof buf)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s: value too long", where, k->section,
+                              k->key);
+    strcpy(buf, text);
+    char *v = trim(buf);
+    /* "value   # comment": libinih strips ';' comments only */
+    for (char *h = v; *h; ++h)
+        if (*h == '#' && h > v && (h[-1] == ' ' || h[-1] == '\t')) {
+            *h = '\0';
+            v = trim(v);
+            break;
+        }
+    format_range(k, range, sizeof range);
+    char *end = NULL;
+    errno = 0;
+    switch (k->type) {
+    case K_INT:
+    case K_DOUBLE: {
+        const double d = strtod(v, &end);
+        if (end == v || *end != '\0' || !isfinite(d))
+            return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a %s number; allowed: %s",
+                                  where, k->section, k->key, v, k->type == K_INT ? "whole" : "finite", range);
+        if (k->type == K_INT && d != floor(d))
+            return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a whole number; allowed: %s",
+                                  where, k->section, k->key, v, range);
+        if (!in_range(k, d))
+            return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = %s is out of range; allowed: %s",
+                                  where, k->section, k->key, v, range);
+        if (k->type == K_INT) *(int64_t *)slot(cfg, k) = (int64_t)d;
+        else *(double *)slot(cfg, k) = d;
+        return HSBD_OK;
+    }
+    case K_UINT64: {
+        const unsigned long long u = strtoull(v, &end, 10);
+        if (end == v || *end != '\0' || v[0] == '-' || errno == ERANGE)
+            return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a valid integer; allowed: %s",
+                                  where, k->section, k->key, v, range);
+        *(uint64_t *)slot(cfg, k) = (uint64_t)u;
+        return HSBD_OK;
+    }
+    case K_STRING:
+        strcpy((char *)slot(cfg, k), v);
+        return HSBD_OK;
+    case K_BOOL: {
+        static const char *yes[] = {"on", "true", "yes", "1"}, *no[] = {"off", "false", "no", "0"};
+        for (int i = 0; i < 4; ++i) {
+            if (!strcmp(v, yes[i])) return *(int *)slot(cfg, k) = 1, HSBD_OK;
+            if (!strcmp(v, no[i])) return *(int *)slot(cfg, k) = 0, HSBD_OK;
+        }
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a switch; allowed: %s",
+                              where, k->section, k->key, v, range);
+    }
+    case K_ENUM: {
+        const char *c = k->choices;
+        for (int idx = 0; *c; ++idx) {
+            const char *bar = strchr(c, '|');
+            const size_t len = bar ? (size_t)(bar - c) : strlen(c);
+            if (strlen(v) == len && !strncmp(v, c, len)) return *(int *)slot(cfg, k) = idx, HSBD_OK;
+            c += len + (bar ? 1 : 0);
+        }
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not known; allowed: %s",
+                              where, k->section, k->key, v, range);
+    }
+    }
+    return HSBD_OK;
+}
+
+static void format_value(const hsbd_config *cfg, const key_spec *k, char *buf, size_t len) {
+    const void *p = cslot(cfg, k);
+    switch (k->type) {
+    case K_INT:
+        snprintf(buf, len, "%lld", (long long)*(const int64_t *)p);
+        break;
+    case K_UINT64:
+        snprintf(buf, len, "%llu", (unsigned long long)*(const uint64_t *)p);
+        break;
+    case K_DOUBLE:
+        snprintf(buf, len, "%.17g", *(const double *)p);
+        break;
+    case K_STRING:
+        snprintf(buf, len, "%s", (const char *)p);
+        break;
+    case K_BOOL:
+        snprintf(buf, len, "%s", *(const int *)p ? "on" : "off");
+        break;
+    case K_ENUM: {
+        const char *c = k->choices;
+        for (int idx = 0; *c; ++idx) {
+            const char *bar = strchr(c, '|');
+            const int l = bar ? (int)(bar - c) : (int)strlen(c);
+            if (idx == *(const int *)p) {
+                snprintf(buf, len, "%.*s", l, c);
+                return;
+            }
+            c += l + (bar ? 1 : 0);
+        }
+        snprintf(buf, len, "?");
+    }
+    }
+}
+
+void hsbd_config_defaults(hsbd_config *cfg) {
+    memset(cfg, 0, sizeof *cfg);
+    for (size_t i = 0; i < NKEYS; ++i) {
+        if (schema[i].def[0] || schema[i].type == K_STRING)
+            parse_value(cfg, &schema[i], schema[i].def, "default", NULL);
+        snprintf(cfg->origin[i], HSBD_ORIGIN_MAX, "default");
+    }
+    cfg->sample.period = NAN; /* derived in finalize unless set */
+}
+
+/* ---- INI files ---------------------------------------------------------------------- */
+
+typedef struct {
+    hsbd_config *cfg;
+    const char *path;
+    FILE *file;
+    int line;
+    int seen_section, seen_authors;
+    hsbd_error *err;
+    char set_at[NKEYS]; /* key already set in this file */
+} ini_state;
+
+/* libinih reader that counts lines, so the handler knows where it is. */
+static char *counting_reader(char *str, int num, void *stream) {
+    ini_state *st = stream;
+    char *r = fgets(str, num, st->file);
+    if (r) ++st->line;
+    return r;
+}
+
+static int assign(ini_state *st, const key_spec *k, const char *value, const char *as) {
+    char where[HSBD_ORIGIN_MAX];
+    snprintf(where, sizeof where, "%s:%d", st->path, st->line);
+    const size_t idx = key_index(k);
+    if (st->set_at[idx]) {
+        hsbd_error_set(st->err, HSBD_EINPUT, "%s: %s is set twice (first at %s)", where, as,
+                       st->cfg->origin[idx]);
+        return 0;
+    }
+    if (parse_value(st->cfg, k, value, where, st->err) != HSBD_OK) return 0;
+    st->set_at[idx] = 1;
+    snprintf(st->cfg->origin[idx], HSBD_ORIGIN_MAX, "%s", where);
+    return 1;
+}
+
+static int authors_handler(ini_state *st, const char *name, const char *value) {
+    for (size_t i = 0; i < NAUTHORS; ++i) {
+        if (strcmp(authors_keys[i].name, name)) continue;
+        if (!authors_keys[i].section) {
+            /* sticky-contact keys: inert while gamma = 0, refused otherwise */
+            char *end;
+            const double d = strtod(value, &end);
+            if (end == value || !isfinite(d)) {
+                hsbd_error_set(st->err, HSBD_EINPUT, "%s:%d: %s = '%s' is not a number", st->path,
+                               st->line, name, value);
+                return 0;
+            }
+            if (!strcmp(name, "gamma") && d != 0.0) {
+                hsbd_error_set(st->err, HSBD_EINPUT,
+                               "%s:%d: gamma = %s: sticky (Baxter) contacts are not available in "
+                               "this version of hsbd; allowed: gamma = 0",
+                               st->path, st->line, value);
+                return 0;
+            }
+            return 1;
+        }
+        char as[128];
+        snprintf(as, sizeof as, "%s (%s.%s)", name, authors_keys[i].section, authors_keys[i].key);
+        const key_spec *k = find_key(authors_keys[i].section, authors_keys[i].key);
+        if (!assign(st, k, value, as)) return 0;
+        if (!strcmp(name, "tTrajectory")) st->cfg->output.trajectory = HSBD_TRAJ_XYZ;
+        return 1;
+    }
+    char known[1024] = "";
+    for (size_t i = 0; i < NAUTHORS; ++i) {
+        strcat(known, i ? ", " : "");
+        strcat(known, authors_keys[i].name);
+    }
+    hsbd_error_set(st->err, HSBD_EINPUT,
+                   "%s:%d: unknown key '%s' outside any [section]; hsbd keys live in sections "
+                   "([system], [field], [run], [sample], [output], [init]) and the authors' "
+                   "section-less keys are: %s",
+                   st->path, st->line, name, known);
+    return 0;
+}
+
+static int config_ini_handler(void *user, const char *section, const char *name, const char *value) {
+    ini_state *st = user;
+    if (st->err->status != HSBD_OK) return 0;
+    if (section[0] == '\0') {
+        st->seen_authors = 1;
+        if (st->seen_section) {
+            hsbd_error_set(st->err, HSBD_EINPUT, "%s:%d: mixing section-less keys with sections",
+                           st->path, st->line);
+            return 0;
+        }
+        return authors_handler(st, name, value);
+    }
+    st->seen_section = 1;
+    const key_spec *k = find_key(section, name);
+    if (!k) {
+        char near[256];
+        const char *s = suggest(section, name, near, sizeof near);
+        hsbd_error_set(st->err, HSBD_EINPUT, "%s:%d: unknown key '%s' in section [%s]%s%s%s",
+                       st->path, st->line, name, section, s ? "; did you mean '" : "", s ? s : "",
+                       s ? "'?" : " (hsbd run --help lists all keys)");
+        return 0;
+    }
+    char as[128];
+    snprintf(as, sizeof as, "%s.%s", section, name);
+    return assign(st, k, value, as);
+}
+
+int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err) {
+    hsbd_error_clear(err);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return hsbd_error_set(err, HSBD_EINPUT, "cannot read configuration file '%s': %s", path,
+                              strerror(errno));
+    ini_state st = {.cfg = cfg, .path = path, .file = f, .err = err};
+    const int rc = ini_parse_stream(counting_reader, &st, config_ini_handler, &st);
+    fclose(f);
+    if (err->status != HSBD_OK) return err->status;
+    if (rc < 0) return hsbd_error_set(err, HSBD_EIO, "cannot read configuration file '%s'", path);
+    if (rc > 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:%d: malformed line (expected 'key = value', '[section]' or a "
+                              "comment starting with '#' or ';'; lines are at most 199 characters)",
+                              path, rc);
+    snprintf(cfg->file, sizeof cfg->file, "%s", path);
+    if (st.seen_authors) {
+        cfg->authors_dialect = 1;
+        /* the authors' program: U = (AmpU/2) cos(2 pi x) + tilt, lambda = 1, mu = 1 */
+        cfg->field.type = HSBD_FIELD_COSINE_TILT;
+        cfg->field.wavelength = 1.0;
+        cfg->system.kT = cfg->system.diffusion;
+    }
+    return HSBD_OK;
+}
+
+int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin,
+                    hsbd_error *err) {
+    hsbd_error_clear(err);
+    char buf[HSBD_PATH_MAX + 128];
+    snprintf(buf, sizeof buf, "%s", assignment);
+    char *eq = strchr(buf, '='), *dot = strchr(buf, '.');
+    if (!eq || !dot || dot > eq)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s '%s': expected section.key=value (e.g. run.t_total=200)", origin,
+                              assignment);
+    *eq = '\0', *dot = '\0';
+    const char *section = trim(buf), *key = trim(dot + 1), *value = eq + 1;
+    const key_spec *k = find_key(section, key);
+    if (!k) {
+        char near[256];
+        const char *s = suggest(section, key, near, sizeof near);
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: unknown key '%s.%s'%s%s%s", origin, section,
+                              key, s ? "; did you mean '" : "", s ? s : "",
+                              s ? "'?" : " (hsbd run --help lists all keys)");
+    }
+    char where[HSBD_ORIGIN_MAX];
+    snprintf(where, sizeof where, "%s %s.%s", origin, section, key);
+    const int rc = parse_value(cfg, k, value, origin, err);
+    if (rc == HSBD_OK) snprintf(cfg->origin[key_index(k)], HSBD_ORIGIN_MAX, "%s", where);
+    return rc;
+}
+
+/* ---- checks across keys ------------------------------------------------------------- */
+
+static const char *origin_of(const hsbd_config *cfg, const char *section, const char *key) {
+    return cfg->origin[key_index(find_key(section, key))];
+}
+
+/* a / b is a whole number (relative tolerance 1e-9) */
+static int divides(double b, double a) {
+    const double q = a / b;
+    return q >= 1.0 - 1e-9 && fabs(q - round(q)) <= 1e-9 * q;
+}
+
+uint64_t hsbd_config_steps(const hsbd_config *cfg) {
+    return (uint64_t)llround(cfg->run.t_total / cfg->run.dt);
+}
+
+uint64_t hsbd_config_equil_steps(const hsbd_config *cfg) {
+    return (uint64_t)llround(cfg->run.t_equil / cfg->run.dt);
+}
+
+int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
+    hsbd_error_clear(err);
+    const double n = (double)cfg->system.n, L = cfg->system.length, sigma = cfg->system.sigma;
+    if (!(n * sigma < L))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: system.N = %lld with system.sigma = %g needs N*sigma = %g < "
+                              "system.L = %g (no room); allowed: N < %g",
+                              origin_of(cfg, "system", "N"), (long long)cfg->system.n, sigma,
+                              n * sigma, L, sigma > 0 ? L / sigma : INF);
+    const int has_cosine =
+        cfg->field.type == HSBD_FIELD_COSINE || cfg->field.type == HSBD_FIELD_COSINE_TILT;
+    if (has_cosine && !divides(cfg->field.wavelength, L))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: field.wavelength = %g must divide system.L = %g (the ring is "
+                              "periodic)",
+                              origin_of(cfg, "field", "wavelength"), cfg->field.wavelength, L);
+    if (isnan(cfg->sample.period)) {
+        cfg->sample.period = cfg->field.wavelength;
+        if (!divides(cfg->sample.period, L)) cfg->sample.period = L;
+        snprintf(cfg->origin[key_index(find_key("sample", "period"))], HSBD_ORIGIN_MAX,
+                 "default (field.wavelength or L)");
+    }
+    if (!divides(cfg->sample.period, L))
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: sample.period = %g must divide system.L = %g",
+                              origin_of(cfg, "sample", "period"), cfg->sample.period, L);
+    if (!divides(cfg->sample.bin_width, cfg->sample.period))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.bin_width = %g must divide sample.period = %g into a "
+                              "whole number of bins",
+                              origin_of(cfg, "sample", "bin_width"), cfg->sample.bin_width,
+                              cfg->sample.period);
+    if (cfg->run.t_total / cfg->run.dt > 9.0e15 || cfg->run.t_equil / cfg->run.dt > 9.0e15)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: run.dt = %g gives more than 9e15 steps",
+                              origin_of(cfg, "run", "dt"), cfg->run.dt);
+    const uint64_t steps = hsbd_config_steps(cfg);
+    if (steps < 1)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: run.t_total = %g is shorter than run.dt = %g",
+                              origin_of(cfg, "run", "t_total"), cfg->run.t_total, cfg->run.dt);
+    const uint64_t samples = steps / (uint64_t)cfg->sample.every;
+    if (samples < (uint64_t)cfg->sample.blocks)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.blocks = %lld needs at least as many samples, but "
+                              "t_total/(dt*every) = %llu; allowed: 2 <= blocks <= %llu",
+                              origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
+                              (unsigned long long)samples, (unsigned long long)samples);
+    if (cfg->sample.msd_max_lag == 0) cfg->sample.msd_max_lag = cfg->run.t_total / 10;
+    if (cfg->sample.msd_max_lag > cfg->run.t_total)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: sample.msd_max_lag = %g exceeds run.t_total = %g",
+                              origin_of(cfg, "sample", "msd_max_lag"), cfg->sample.msd_max_lag,
+                              cfg->run.t_total);
+    if (cfg->output.trajectory_every == 0) cfg->output.trajectory_every = cfg->run.t_total / 100;
+    if (cfg->output.trajectory_every < cfg->run.dt)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: output.trajectory_every = %g is shorter than run.dt = %g",
+                              origin_of(cfg, "output", "trajectory_every"),
+                              cfg->output.trajectory_every, cfg->run.dt);
+    if (cfg->sample.current_every > 0 && cfg->sample.current_every < cfg->run.dt)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.current_every = %g is shorter than run.dt = %g",
+                              origin_of(cfg, "sample", "current_every"), cfg->sample.current_every,
+                              cfg->run.dt);
+    return HSBD_OK;
+}
+
+/* ---- writers ------------------------------------------------------------------------ */
+
+void hsbd_config_write_header(const hsbd_config *cfg, FILE *out, const char *prefix) {
+    char v[HSBD_PATH_MAX + 64];
+    for (size_t i = 0; i < NKEYS; ++i) {
+        format_value(cfg, &schema[i], v, sizeof v);
+        fprintf(out, "%s%s.%s = %s\n", prefix, schema[i].section, schema[i].key, v);
+    }
+}
+
+static void json_string(FILE *out, const char *s) {
+    fputc('"', out);
+    for (; *s; ++s) {
+        if (*s == '"' || *s == '\\') fprintf(out, "\\%c", *s);
+        else if ((unsigned char)*s < 0x20) fprintf(out, "\\u%04x", *s);
+        else fputc(*s, out);
+    }
+    fputc('"', out);
+}
+
+void hsbd_config_write_json(const hsbd_config *cfg, FILE *out, int indent) {
+    char v[HSBD_PATH_MAX + 64];
+    fputc('{', out);
+    for (size_t i = 0; i < NKEYS; ++i) {
+        const key_spec *k = &schema[i];
+        const int first_in_section = i == 0 || strcmp(schema[i - 1].section, k->section);
+        const int last_in_section = i + 1 == NKEYS || strcmp(schema[i + 1].section, k->section);
+        if (first_in_section) fprintf(out, "\n%*s\"%s\": {", indent + 2, "", k->section);
+        format_value(cfg, k, v, sizeof v);
+        fprintf(out, "\n%*s\"%s\": ", indent + 4, "", k->key);
+        if (k->type == K_STRING || k->type == K_ENUM || k->type == K_BOOL) json_string(out, v);
+        else fputs(v, out);
+        if (!last_in_section) fputc(',', out);
+        else fprintf(out, "\n%*s}%s", indent + 2, "", i + 1 == NKEYS ? "" : ",");
+    }
+    fprintf(out, "\n%*s}", indent, "");
+}
+
+void hsbd_config_write_reference(FILE *out, int markdown) {
+    char range[160];
+    if (markdown) {
+        fprintf(out, "# Configuration reference\n\n"
+                     "Generated from the schema table in `src/io/config.c` by `hsbd config-doc`;\n"
+                     "`hsbd run --help` prints the same. Any key can be overridden on the command\n"
+                     "line with `--set section.key=value`. Inline comments: `; ...` or ` # ...`.\n"
+                     "Errors name the file, line, key and the allowed range, and exit with status 2.\n");
+    }
+    const char *open = NULL;
+    for (size_t i = 0; i < NKEYS; ++i) {
+        const key_spec *k = &schema[i];
+        format_range(k, range, sizeof range);
+        const char *def = k->def[0] ? k->def : "(derived)";
+        if (!open || strcmp(open, k->section)) {
+            open = k->section;
+            if (markdown)
+                fprintf(out, "\n## [%s]\n\n| key | default | allowed | meaning |\n|---|---|---|---|\n",
+                        open);
+            else
+                fprintf(out, "\n[%s]\n", open);
+        }
+        if (markdown)
+            fprintf(out, "| `%s` | `%s` | %s | %s |\n", k->key, def, range, k->doc);
+        else
+            fprintf(out, "  %-22s default %-8s %s\n  %-22s allowed: %s\n", k->key, def, k->doc, "",
+                    range);
+    }
+    if (markdown) {
+        fprintf(out, "\n## The authors' configuration files\n\n"
+                     "Files without sections are read in the dialect of the authors' BCD program\n"
+                     "(Antonov et al. 2022). Their keys map as follows; `gamma` must be 0 in this\n"
+                     "version (sticky contacts are not available yet), `order` and `epsilon` are then\n"
+                     "inert. The field is their `U = (AmpU/2) cos(2 pi x) - force x` with wavelength 1,\n"
+                     "and kT = D (their mobility is 1).\n\n| authors' key | hsbd key |\n|---|---|\n");
+        for (size_t i = 0; i < NAUTHORS; ++i) {
+            if (authors_keys[i].section)
+                fprintf(out, "| `%s` | `%s.%s` |\n", authors_keys[i].name, authors_keys[i].section,
+                        authors_keys[i].key);
+            else
+                fprintf(out, "| `%s` | sticky contacts: must be 0 / inert |\n", authors_keys[i].name);
+        }
+    }
+}

@@ -1,0 +1,129 @@
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <dirent.h>
+#include <unistd.h>
+
+#include "hsbd/io.h"
+
+int hsbd_outfile_open(hsbd_outfile *o, const char *dir, const char *name, hsbd_error *err) {
+    snprintf(o->path, sizeof o->path, "%s/%s", dir, name);
+    snprintf(o->tmp, sizeof o->tmp, "%s.part", o->path);
+    o->f = fopen(o->tmp, "w");
+    if (!o->f)
+        return hsbd_error_set(err, HSBD_EIO, "cannot write '%s': %s", o->tmp, strerror(errno));
+    return HSBD_OK;
+}
+
+int hsbd_outfile_commit(hsbd_outfile *o, hsbd_error *err) {
+    if (!o->f) return HSBD_OK;
+    int bad = fflush(o->f) != 0 || ferror(o->f);
+    if (!bad) fsync(fileno(o->f));
+    bad |= fclose(o->f) != 0;
+    o->f = NULL;
+    if (bad) {
+        remove(o->tmp);
+        return hsbd_error_set(err, HSBD_EIO, "writing '%s' failed: %s", o->path, strerror(errno));
+    }
+    if (rename(o->tmp, o->path) != 0)
+        return hsbd_error_set(err, HSBD_EIO, "cannot rename '%s' to '%s': %s", o->tmp, o->path,
+                              strerror(errno));
+    return HSBD_OK;
+}
+
+void hsbd_outfile_discard(hsbd_outfile *o) {
+    if (!o->f) return;
+    fclose(o->f);
+    o->f = NULL;
+    remove(o->tmp);
+}
+
+static int mkdir_parents(char *path) {
+    for (char *p = path + 1; *p; ++p) {
+        if (*p != '/') continue;
+        *p = '\0';
+        const int rc = mkdir(path, 0777);
+        *p = '/';
+        if (rc != 0 && errno != EEXIST) return -1;
+    }
+    return mkdir(path, 0777) != 0 && errno != EEXIST ? -1 : 0;
+}
+
+int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err) {
+    if (!dir[0]) return hsbd_error_set(err, HSBD_EINPUT, "no output directory given (use --out DIR)");
+    struct stat st;
+    if (stat(dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode))
+            return hsbd_error_set(err, HSBD_EINPUT, "output path '%s' exists and is not a directory",
+                                  dir);
+        DIR *d = opendir(dir);
+        int empty = 1;
+        if (d) {
+            for (struct dirent *e; (e = readdir(d));)
+                if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
+            closedir(d);
+        }
+        if (!empty && !force)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "output directory '%s' already exists and is not empty; choose "
+                                  "another --out or pass --force to overwrite its files",
+                                  dir);
+        return HSBD_OK;
+    }
+    char buf[HSBD_PATH_MAX];
+    snprintf(buf, sizeof buf, "%s", dir);
+    if (mkdir_parents(buf) != 0)
+        return hsbd_error_set(err, HSBD_EIO, "cannot create output directory '%s': %s", dir,
+                              strerror(errno));
+    return HSBD_OK;
+}
+
+int hsbd_read_positions(const char *path, size_t n, double *x, hsbd_error *err) {
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return hsbd_error_set(err, HSBD_EINPUT, "init.positions: cannot read '%s': %s", path,
+                              strerror(errno));
+    char line[512];
+    size_t count = 0;
+    int lineno = 0, rc = HSBD_OK;
+    while (fgets(line, sizeof line, f)) {
+        ++lineno;
+        char *s = line;
+        while (*s == ' ' || *s == '\t') ++s;
+        if (*s == '#' || *s == '\n' || *s == '\r' || *s == '\0') continue;
+        char *end;
+        const double v = strtod(s, &end);
+        while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n') ++end;
+        if (end == s || *end != '\0' || !isfinite(v)) {
+            rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%d: expected one finite number per line",
+                                path, lineno);
+            break;
+        }
+        if (count == n) {
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s:%d: more positions than system.N = %zu", path, lineno, n);
+            break;
+        }
+        x[count++] = v;
+    }
+    fclose(f);
+    if (rc == HSBD_OK && count != n)
+        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: %zu positions for system.N = %zu", path, count, n);
+    return rc;
+}
+
+void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v) {
+    const double L = v->length;
+    fprintf(f, "%zu\n", v->n);
+    fprintf(f,
+            "Lattice=\"%.17g 0 0 0 1 0 0 0 1\" pbc=\"T F F\" Time=%.17g Step=%llu "
+            "Properties=species:S:1:pos:R:3:radius:R:1:x_unwrapped:R:1:id:I:1\n",
+            L, v->time, (unsigned long long)v->step);
+    for (size_t i = 0; i < v->n; ++i) {
+        const double xu = v->z[i] + v->offset[i] + v->unwrap;
+        const double xw = xu - L * floor(xu / L);
+        fprintf(f, "R %.10g 0 0 %.10g %.15g %zu\n", xw, 0.5 * v->sigma, xu, i + 1);
+    }
+}

@@ -1,0 +1,366 @@
+/* Run driver for hard rods: builds the system from a finalized configuration, runs
+ * equilibration and production, feeds the observers and writes the results. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/progress.h"
+#include "core/vmath.h"
+#include "hsbd/io.h"
+#include "hsbd/observe.h"
+#include "hsbd/rods.h"
+#include "hsbd/run.h"
+#include "hsbd_version.h"
+
+typedef struct run_state {
+    const hsbd_config *cfg;
+    const hsbd_run_options *opt;
+    hsbd_rods *rods;
+    hsbd_profile *profile;
+    hsbd_msd *msd;
+    hsbd_clusters *clusters;
+    hsbd_outfile trajectory, current;
+    uint64_t steps_done, equil_done;
+    double wall_equil, wall_prod;
+    double sum_x_start, sum_x_last_current; /* for the particle current */
+    uint64_t last_current_step;
+    int completed;
+    double min_gap_checked;
+} run_state;
+
+static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
+    hsbd_rods_params p = {
+        .n = (size_t)cfg->system.n,
+        .length = cfg->system.length,
+        .sigma = cfg->system.sigma,
+        .diffusion = cfg->system.diffusion,
+        .kT = cfg->system.kT,
+        .dt = cfg->run.dt,
+        .seed = cfg->system.seed,
+        .hard_core = cfg->system.hard_core,
+    };
+    const int t = cfg->field.type;
+    if (t == HSBD_FIELD_COSINE || t == HSBD_FIELD_COSINE_TILT)
+        hsbd_field_add(&p.field, hsbd_field_cosine(cfg->field.amplitude, cfg->field.wavelength));
+    if (t == HSBD_FIELD_TILT || t == HSBD_FIELD_COSINE_TILT)
+        hsbd_field_add(&p.field, hsbd_field_tilt(cfg->field.force));
+    return p;
+}
+
+static double sum_unwrapped(const hsbd_rods *rods) {
+    const hsbd_rods_view v = hsbd_rods_get_view(rods);
+    double s = 0;
+    for (size_t i = 0; i < v.n; ++i) s += v.z[i] + v.offset[i] + v.unwrap;
+    return s;
+}
+
+static void write_table_header(FILE *f, const hsbd_config *cfg, const char *what,
+                               const char *columns) {
+    fprintf(f, "# hsbd %s (git %s): %s\n", HSBD_VERSION_STRING, HSBD_GIT_COMMIT, what);
+    hsbd_config_write_header(cfg, f, "# ");
+    fprintf(f, "%s\n", columns);
+}
+
+/* ---- result tables ------------------------------------------------------------------ */
+
+static int write_profiles(run_state *s, hsbd_error *err) {
+    const size_t nb = hsbd_profile_bins(s->profile);
+    double *x = malloc(nb * sizeof *x), *val = malloc(nb * sizeof *val), *e = malloc(nb * sizeof *e);
+    if (!x || !val || !e) {
+        free(x), free(val), free(e);
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing profiles");
+    }
+    hsbd_outfile o;
+    int rc = hsbd_outfile_open(&o, s->cfg->output.dir, "density.tsv", err);
+    if (rc == HSBD_OK) {
+        write_table_header(o.f, s->cfg,
+                           "density profile folded into one period, Antonov Eq. 25, normalised "
+                           "to mean N/L; errors from block averages",
+                           "x\trho\trho_err");
+        hsbd_profile_density(s->profile, x, val, e);
+        for (size_t k = 0; k < nb; ++k) fprintf(o.f, "%.10g\t%.10g\t%.4g\n", x[k], val[k], e[k]);
+        rc = hsbd_outfile_commit(&o, err);
+    }
+    if (rc == HSBD_OK && s->cfg->system.hard_core) {
+        rc = hsbd_outfile_open(&o, s->cfg->output.dir, "contact.tsv", err);
+        if (rc == HSBD_OK) {
+            write_table_header(o.f, s->cfg,
+                               "two-particle density at contact rho2(x, x+sigma), x = left rod, "
+                               "Antonov Eq. 26 with gaps in [0, contact_width]",
+                               "x\trho2\trho2_err");
+            hsbd_profile_contact(s->profile, x, val, e);
+            for (size_t k = 0; k < nb; ++k)
+                fprintf(o.f, "%.10g\t%.10g\t%.4g\n", x[k], val[k], e[k]);
+            rc = hsbd_outfile_commit(&o, err);
+        }
+    }
+    free(x), free(val), free(e);
+    return rc;
+}
+
+static int write_msd(run_state *s, hsbd_error *err) {
+    hsbd_outfile o;
+    int rc = hsbd_outfile_open(&o, s->cfg->output.dir, "msd.tsv", err);
+    if (rc != HSBD_OK) return rc;
+    write_table_header(o.f, s->cfg,
+                       "tagged-particle mean-squared displacement (unwrapped positions); errors "
+                       "from block averages over time origins",
+                       "t\tmsd\tmsd_err\torigins");
+    for (size_t k = 0; k < hsbd_msd_lags(s->msd); ++k) {
+        double t, m, e;
+        size_t origins;
+        hsbd_msd_result(s->msd, k, &t, &m, &e, &origins);
+        if (origins) fprintf(o.f, "%.10g\t%.10g\t%.4g\t%zu\n", t, m, e, origins);
+    }
+    return hsbd_outfile_commit(&o, err);
+}
+
+static int write_clusters(run_state *s, hsbd_error *err) {
+    hsbd_outfile o;
+    int rc = hsbd_outfile_open(&o, s->cfg->output.dir, "clusters.tsv", err);
+    if (rc != HSBD_OK) return rc;
+    write_table_header(o.f, s->cfg, "sizes of clusters of touching rods at sampled step ends",
+                       "size\tfraction");
+    const size_t maxs = hsbd_clusters_max_size(s->clusters);
+    for (size_t k = 1; k <= maxs; ++k)
+        fprintf(o.f, "%zu\t%.10g\n", k, hsbd_clusters_size_fraction(s->clusters, k));
+    return hsbd_outfile_commit(&o, err);
+}
+
+static void json_number(FILE *f, const char *key, double v, int comma) {
+    if (isfinite(v)) fprintf(f, "  \"%s\": %.10g%s\n", key, v, comma ? "," : "");
+    else fprintf(f, "  \"%s\": null%s\n", key, comma ? "," : "");
+}
+
+static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    hsbd_outfile o;
+    int rc = hsbd_outfile_open(&o, cfg->output.dir, "summary.json", err);
+    if (rc != HSBD_OK) return rc;
+    FILE *f = o.f;
+    const double n = (double)cfg->system.n;
+    const hsbd_rods_view v = hsbd_rods_get_view(s->rods);
+    double mean_size = NAN, mean_size_err = NAN, merges = NAN, merges_err = NAN;
+    if (cfg->system.hard_core)
+        hsbd_clusters_means(s->clusters, &mean_size, &mean_size_err, &merges, &merges_err);
+    const double t_prod = (double)s->steps_done * cfg->run.dt;
+    const double current = t_prod > 0 ? (sum_unwrapped(s->rods) - s->sum_x_start) /
+                                            (cfg->system.length * t_prod)
+                                      : NAN;
+    fprintf(f, "{\n  \"program\": \"hsbd\",\n  \"version\": \"%s\",\n  \"git\": \"%s\",\n",
+            HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
+    fprintf(f, "  \"model\": \"rods\",\n  \"seed\": %llu,\n",
+            (unsigned long long)cfg->system.seed);
+    fprintf(f, "  \"completed\": %s,\n", s->completed ? "true" : "false");
+    fprintf(f, "  \"stop_reason\": \"%s\",\n", stop_reason);
+    fprintf(f, "  \"steps\": %llu,\n  \"steps_planned\": %llu,\n  \"equilibration_steps\": %llu,\n",
+            (unsigned long long)s->steps_done, (unsigned long long)hsbd_config_steps(cfg),
+            (unsigned long long)s->equil_done);
+    fprintf(f, "  \"samples\": %llu,\n",
+            (unsigned long long)(s->steps_done / (uint64_t)cfg->sample.every));
+    json_number(f, "time_simulated", t_prod, 1);
+    json_number(f, "wall_seconds", s->wall_prod + s->wall_equil, 1);
+    json_number(f, "wall_seconds_production", s->wall_prod, 1);
+    json_number(f, "particle_steps_per_second",
+                s->wall_prod > 0 ? n * (double)s->steps_done / s->wall_prod : NAN, 1);
+    fprintf(f, "  \"vectorised_math\": %s,\n", hsbd_vmath_vectorised() ? "true" : "false");
+    json_number(f, "merge_events_per_step", merges, 1);
+    json_number(f, "merge_events_per_step_err", merges_err, 1);
+    json_number(f, "mean_cluster_size", mean_size, 1);
+    json_number(f, "mean_cluster_size_err", mean_size_err, 1);
+    json_number(f, "min_gap", cfg->system.hard_core ? hsbd_profile_min_gap(s->profile) : NAN, 1);
+    json_number(f, "particle_current", current, 1);
+    json_number(f, "final_time", v.time, 1);
+    fprintf(f, "  \"parameters\": ");
+    hsbd_config_write_json(cfg, f, 2);
+    fprintf(f, "\n}\n");
+    return hsbd_outfile_commit(&o, err);
+}
+
+/* ---- the run ------------------------------------------------------------------------ */
+
+static int setup(run_state *s, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const hsbd_rods_params par = rods_params_from(cfg);
+    s->rods = hsbd_rods_alloc(&par, err);
+    if (!s->rods) return err->status;
+    if (cfg->init.positions[0]) {
+        double *x = malloc(par.n * sizeof *x);
+        if (!x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        int rc = hsbd_read_positions(cfg->init.positions, par.n, x, err);
+        if (rc == HSBD_OK) rc = hsbd_rods_set_positions(s->rods, x, err);
+        free(x);
+        if (rc != HSBD_OK) return rc;
+    } else {
+        hsbd_rods_init_equilibrium(s->rods);
+    }
+    const uint64_t samples = hsbd_config_steps(cfg) / (uint64_t)cfg->sample.every;
+    const size_t blocks = (size_t)cfg->sample.blocks;
+    s->profile = hsbd_profile_alloc(cfg->sample.period, cfg->sample.bin_width,
+                                    cfg->sample.contact_width, blocks, samples, err);
+    if (!s->profile) return err->status;
+    s->msd = hsbd_msd_alloc(par.n, cfg->run.dt * (double)cfg->sample.every, samples,
+                            cfg->sample.msd_max_lag, (int)cfg->sample.msd_points_per_decade, blocks,
+                            err);
+    if (!s->msd) return err->status;
+    s->clusters = hsbd_clusters_alloc(par.n, blocks, samples);
+    if (!s->clusters) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    return HSBD_OK;
+}
+
+static int check_hard_core(run_state *s, hsbd_error *err) {
+    int finite;
+    const double g = hsbd_rods_min_gap(s->rods, &finite);
+    if (g < s->min_gap_checked) s->min_gap_checked = g;
+    const double sigma = s->cfg->system.sigma;
+    if (!finite)
+        return hsbd_error_set(err, HSBD_ENUMERIC, "non-finite position after step %llu",
+                              (unsigned long long)hsbd_rods_get_view(s->rods).step);
+    if (s->cfg->system.hard_core && g < -1e-9 * (sigma > 0 ? sigma : 1.0))
+        return hsbd_error_set(err, HSBD_ENUMERIC, "--check: overlap %.3g after step %llu", g,
+                              (unsigned long long)hsbd_rods_get_view(s->rods).step);
+    return HSBD_OK;
+}
+
+static int stop_requested(const run_state *s) {
+    return s->opt->stop && *s->opt->stop;
+}
+
+static int equilibrate(run_state *s, hsbd_error *err) {
+    const uint64_t n = hsbd_config_equil_steps(s->cfg);
+    hsbd_progress pr;
+    hsbd_progress_start(&pr, s->opt->progress, "equilibrating", (double)s->cfg->system.n);
+    const double t0 = hsbd_wall_seconds();
+    int rc = HSBD_OK;
+    for (uint64_t k = 0; k < n; ++k) {
+        hsbd_rods_step(s->rods, NULL);
+        s->equil_done = k + 1;
+        if (s->opt->check && (rc = check_hard_core(s, err)) != HSBD_OK) break;
+        if ((k & 255) == 0) {
+            hsbd_progress_update(&pr, k, n);
+            if (stop_requested(s)) break;
+        }
+    }
+    s->wall_equil = hsbd_wall_seconds() - t0;
+    hsbd_progress_end(&pr);
+    return rc;
+}
+
+static int produce(run_state *s, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const uint64_t n = hsbd_config_steps(cfg), every = (uint64_t)cfg->sample.every;
+    const uint64_t traj_every =
+        cfg->output.trajectory == HSBD_TRAJ_XYZ
+            ? (uint64_t)fmax(1.0, round(cfg->output.trajectory_every / cfg->run.dt))
+            : 0;
+    const uint64_t cur_every =
+        cfg->sample.current_every > 0 ? (uint64_t)fmax(1.0, round(cfg->sample.current_every / cfg->run.dt)) : 0;
+    const int hard = cfg->system.hard_core;
+    hsbd_progress pr;
+    hsbd_progress_start(&pr, s->opt->progress, "running", (double)cfg->system.n);
+    s->sum_x_start = s->sum_x_last_current = sum_unwrapped(s->rods);
+    const double t0 = hsbd_wall_seconds();
+    int rc = HSBD_OK;
+    for (uint64_t k = 0; k < n; ++k) {
+        const int sample = (k + 1) % every == 0;
+        hsbd_rods_step_stats st;
+        hsbd_rods_step(s->rods, sample && hard ? &st : NULL);
+        s->steps_done = k + 1;
+        if (s->opt->check && (rc = check_hard_core(s, err)) != HSBD_OK) break;
+        if (sample) {
+            const hsbd_rods_view v = hsbd_rods_get_view(s->rods);
+            hsbd_profile_sample(s->profile, &v);
+            hsbd_msd_sample(s->msd, &v);
+            if (hard) hsbd_clusters_sample(s->clusters, s->rods, &st);
+            if (!isfinite(v.z[0]) || !isfinite(v.z[v.n - 1])) {
+                rc = check_hard_core(s, err);
+                if (rc != HSBD_OK) break;
+            }
+        }
+        if (traj_every && (k + 1) % traj_every == 0) {
+            const hsbd_rods_view v = hsbd_rods_get_view(s->rods);
+            hsbd_xyz_write_rods(s->trajectory.f, &v);
+        }
+        if (cur_every && (k + 1) % cur_every == 0) {
+            const double sx = sum_unwrapped(s->rods);
+            const double span = (double)(k + 1 - s->last_current_step) * cfg->run.dt;
+            fprintf(s->current.f, "%.10g\t%.10g\n", (double)(k + 1) * cfg->run.dt,
+                    (sx - s->sum_x_last_current) / (cfg->system.length * span));
+            s->sum_x_last_current = sx;
+            s->last_current_step = k + 1;
+        }
+        if ((k & 255) == 0) {
+            hsbd_progress_update(&pr, k, n);
+            if (stop_requested(s)) break;
+        }
+    }
+    s->wall_prod = hsbd_wall_seconds() - t0;
+    hsbd_progress_end(&pr);
+    s->completed = rc == HSBD_OK && s->steps_done == n;
+    return rc;
+}
+
+static int open_streams(run_state *s, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    int rc = HSBD_OK;
+    if (cfg->output.trajectory == HSBD_TRAJ_XYZ)
+        rc = hsbd_outfile_open(&s->trajectory, cfg->output.dir, "trajectory.xyz", err);
+    if (rc == HSBD_OK && cfg->sample.current_every > 0) {
+        rc = hsbd_outfile_open(&s->current, cfg->output.dir, "current.tsv", err);
+        if (rc == HSBD_OK)
+            write_table_header(s->current.f, cfg,
+                               "particle current J = sum of displacements / (L interval), per "
+                               "interval ending at t",
+                               "t\tJ");
+    }
+    return rc;
+}
+
+static int finish(run_state *s, int run_rc, hsbd_error *err) {
+    const char *reason = run_rc == HSBD_OK ? (s->completed ? "completed" : "interrupted")
+                                           : "error";
+    hsbd_error werr;
+    hsbd_error_clear(&werr);
+    int rc = write_profiles(s, &werr);
+    if (rc == HSBD_OK) rc = write_msd(s, &werr);
+    if (rc == HSBD_OK && s->cfg->system.hard_core) rc = write_clusters(s, &werr);
+    if (rc == HSBD_OK) rc = hsbd_outfile_commit(&s->trajectory, &werr);
+    if (rc == HSBD_OK) rc = hsbd_outfile_commit(&s->current, &werr);
+    if (rc == HSBD_OK) rc = write_summary(s, reason, &werr);
+    if (run_rc != HSBD_OK) return run_rc; /* the run's own error message stays in err */
+    if (rc != HSBD_OK) return hsbd_error_set(err, rc, "%s", werr.message);
+    if (!s->completed)
+        return hsbd_error_set(err, HSBD_EINTERRUPT,
+                              "stopped after %llu of %llu steps; results so far are in '%s' "
+                              "(summary.json says \"completed\": false)",
+                              (unsigned long long)s->steps_done,
+                              (unsigned long long)hsbd_config_steps(s->cfg), s->cfg->output.dir);
+    return HSBD_OK;
+}
+
+static void release(run_state *s) {
+    hsbd_outfile_discard(&s->trajectory);
+    hsbd_outfile_discard(&s->current);
+    hsbd_rods_free(s->rods);
+    hsbd_profile_free(s->profile);
+    hsbd_msd_free(s->msd);
+    hsbd_clusters_free(s->clusters);
+}
+
+int hsbd_run_rods(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err) {
+    hsbd_error_clear(err);
+    run_state s = {.cfg = cfg, .opt = opt, .min_gap_checked = HUGE_VAL};
+    /* everything that can reject the input happens before the directory is touched */
+    int rc = setup(&s, err);
+    if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(cfg->output.dir, opt->force, err);
+    if (rc == HSBD_OK) rc = open_streams(&s, err);
+    if (rc != HSBD_OK) {
+        release(&s);
+        return rc;
+    }
+    rc = equilibrate(&s, err);
+    if (rc == HSBD_OK && !stop_requested(&s)) rc = produce(&s, err);
+    rc = finish(&s, rc, err);
+    release(&s);
+    return rc;
+}

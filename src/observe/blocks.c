@@ -1,0 +1,88 @@
+/* Block averages: the production samples are cut into nblocks consecutive blocks; the
+ * error of a mean is the standard deviation of the block means divided by
+ * sqrt(nblocks), valid when blocks are longer than the correlation time. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hsbd/observe.h"
+
+struct hsbd_blocks {
+    size_t nvalues, nblocks;
+    uint64_t nsamples_total, nsamples;
+    double *acc;       /* current block's running sums */
+    double *block_sum; /* nblocks x nvalues */
+    uint64_t *block_n;
+};
+
+hsbd_blocks *hsbd_blocks_alloc(size_t nvalues, size_t nblocks, uint64_t nsamples_total) {
+    hsbd_blocks *b = calloc(1, sizeof *b);
+    if (!b) return NULL;
+    b->nvalues = nvalues;
+    b->nblocks = nblocks;
+    b->nsamples_total = nsamples_total;
+    b->acc = calloc(nvalues, sizeof *b->acc);
+    b->block_sum = calloc(nvalues * nblocks, sizeof *b->block_sum);
+    b->block_n = calloc(nblocks, sizeof *b->block_n);
+    if (!b->acc || !b->block_sum || !b->block_n) {
+        hsbd_blocks_free(b);
+        return NULL;
+    }
+    return b;
+}
+
+void hsbd_blocks_free(hsbd_blocks *b) {
+    if (!b) return;
+    free(b->acc);
+    free(b->block_sum);
+    free(b->block_n);
+    free(b);
+}
+
+double *hsbd_blocks_acc(hsbd_blocks *b) {
+    return b->acc;
+}
+
+static size_t block_of(const hsbd_blocks *b, uint64_t sample) {
+    const size_t k = (size_t)(sample * b->nblocks / (b->nsamples_total ? b->nsamples_total : 1));
+    return k < b->nblocks ? k : b->nblocks - 1;
+}
+
+void hsbd_blocks_end_sample(hsbd_blocks *b) {
+    const size_t k = block_of(b, b->nsamples);
+    b->block_n[k] += 1;
+    b->nsamples += 1;
+    if (b->nsamples == b->nsamples_total || block_of(b, b->nsamples) != k) {
+        double *dst = b->block_sum + k * b->nvalues;
+        for (size_t j = 0; j < b->nvalues; ++j) dst[j] += b->acc[j];
+        memset(b->acc, 0, b->nvalues * sizeof *b->acc);
+    }
+}
+
+uint64_t hsbd_blocks_samples(const hsbd_blocks *b) {
+    return b->nsamples;
+}
+
+size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err) {
+    /* a partially filled block (interrupted run) is included with its own weight */
+    const size_t cur = block_of(b, b->nsamples);
+    size_t used = 0;
+    uint64_t total = 0;
+    for (size_t k = 0; k < b->nblocks; ++k) used += b->block_n[k] > 0, total += b->block_n[k];
+    for (size_t j = 0; j < b->nvalues; ++j) {
+        double sum = 0;
+        for (size_t k = 0; k < b->nblocks; ++k)
+            sum += b->block_sum[k * b->nvalues + j] + (k == cur ? b->acc[j] : 0.0);
+        const double m = total ? sum / (double)total : NAN;
+        double var = 0;
+        for (size_t k = 0; k < b->nblocks; ++k) {
+            if (!b->block_n[k]) continue;
+            const double s = b->block_sum[k * b->nvalues + j] + (k == cur ? b->acc[j] : 0.0);
+            const double d = s / (double)b->block_n[k] - m;
+            var += d * d;
+        }
+        mean[j] = m;
+        err[j] = used > 1 ? sqrt(var / ((double)used * (double)(used - 1))) : NAN;
+    }
+    return used;
+}

@@ -1,0 +1,137 @@
+/* Tagged-particle MSD from unwrapped positions at log-spaced lag times. Time origins are
+ * spaced so that at most `slots` snapshots of N positions are alive (memory bounded at
+ * large N); each (origin, lag) pair gives one particle-averaged value, and the error of
+ * a lag is the block average over its origins in time order. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hsbd/observe.h"
+
+struct hsbd_msd {
+    size_t n, nlags, slots, nblocks;
+    double sample_dt;
+    uint64_t origin_every, max_origins, sample;
+    uint64_t *lag;      /* lag k in samples */
+    long *lag_index;    /* samples -> k, or -1 (size max lag + 1) */
+    uint64_t max_lag;   /* in samples */
+    double *snap;       /* slots x n unwrapped positions */
+    uint64_t *snap_at;  /* sample index of each slot's origin */
+    double *value;      /* nlags x max_origins */
+    size_t *count;      /* values per lag */
+};
+
+void hsbd_msd_free(hsbd_msd *m) {
+    if (!m) return;
+    free(m->lag);
+    free(m->lag_index);
+    free(m->snap);
+    free(m->snap_at);
+    free(m->value);
+    free(m->count);
+    free(m);
+}
+
+hsbd_msd *hsbd_msd_alloc(size_t n, double sample_dt, uint64_t nsamples_total, double max_lag,
+                         int points_per_decade, size_t nblocks, hsbd_error *err) {
+    hsbd_msd *m = calloc(1, sizeof *m);
+    if (!m) return hsbd_error_set(err, HSBD_ENOMEM, "msd: out of memory"), NULL;
+    m->n = n;
+    m->sample_dt = sample_dt;
+    m->nblocks = nblocks;
+    uint64_t lmax = (uint64_t)floor(max_lag / sample_dt + 1e-9);
+    if (lmax >= nsamples_total) lmax = nsamples_total ? nsamples_total - 1 : 0;
+    if (lmax < 1) lmax = 1;
+    m->max_lag = lmax;
+    /* log-spaced lags 1 .. lmax, duplicates removed */
+    const size_t cap = (size_t)(points_per_decade * (log10((double)lmax) + 1) + 2);
+    m->lag = malloc(cap * sizeof *m->lag);
+    m->lag_index = malloc((lmax + 1) * sizeof *m->lag_index);
+    if (!m->lag || !m->lag_index) goto oom;
+    for (uint64_t l = 0; l <= lmax; ++l) m->lag_index[l] = -1;
+    for (int j = 0;; ++j) {
+        uint64_t l = (uint64_t)llround(pow(10.0, (double)j / points_per_decade));
+        if (l > lmax) l = lmax;
+        if (m->lag_index[l] < 0 && m->nlags < cap) {
+            m->lag_index[l] = (long)m->nlags;
+            m->lag[m->nlags++] = l;
+        }
+        if (l == lmax) break;
+    }
+    /* snapshots alive: at most ~128 MiB worth, between 4 and 64 */
+    size_t slots = (size_t)((128u << 20) / (8 * (n ? n : 1)));
+    slots = slots < 4 ? 4 : slots > 64 ? 64 : slots;
+    m->origin_every = (lmax + slots - 2) / (slots - 1);
+    if (m->origin_every < 1) m->origin_every = 1;
+    const uint64_t min_every = nsamples_total / 4000; /* at most ~4000 origins */
+    if (m->origin_every < min_every) m->origin_every = min_every;
+    m->slots = (size_t)(lmax / m->origin_every + 2);
+    m->max_origins = nsamples_total / m->origin_every + 1;
+    m->snap = malloc(m->slots * n * sizeof *m->snap);
+    m->snap_at = calloc(m->slots, sizeof *m->snap_at);
+    m->value = malloc(m->nlags * m->max_origins * sizeof *m->value);
+    m->count = calloc(m->nlags, sizeof *m->count);
+    if (!m->snap || !m->snap_at || !m->value || !m->count) goto oom;
+    for (size_t s = 0; s < m->slots; ++s) m->snap_at[s] = UINT64_MAX;
+    return m;
+oom:
+    hsbd_msd_free(m);
+    hsbd_error_set(err, HSBD_ENOMEM, "msd: out of memory for N = %zu", n);
+    return NULL;
+}
+
+void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
+    const uint64_t k = m->sample++;
+    const size_t n = m->n;
+    /* displacements from every live origin whose lag is on the grid */
+    for (size_t s = 0; s < m->slots; ++s) {
+        const uint64_t o = m->snap_at[s];
+        if (o == UINT64_MAX || k <= o || k - o > m->max_lag) continue;
+        const long j = m->lag_index[k - o];
+        if (j < 0) continue;
+        const double *x0 = m->snap + s * n;
+        double sum = 0;
+        for (size_t i = 0; i < n; ++i) {
+            const double d = v->z[i] + v->offset[i] + v->unwrap - x0[i];
+            sum += d * d;
+        }
+        const size_t c = m->count[j];
+        if (c < m->max_origins) m->value[(size_t)j * m->max_origins + c] = sum / (double)n, m->count[j] = c + 1;
+    }
+    if (k % m->origin_every == 0) {
+        const size_t s = (size_t)((k / m->origin_every) % m->slots);
+        double *x0 = m->snap + s * n;
+        for (size_t i = 0; i < n; ++i) x0[i] = v->z[i] + v->offset[i] + v->unwrap;
+        m->snap_at[s] = k;
+    }
+}
+
+size_t hsbd_msd_lags(const hsbd_msd *m) {
+    return m->nlags;
+}
+
+void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double *err,
+                     size_t *origins) {
+    const size_t c = m->count[k];
+    const double *val = m->value + k * m->max_origins;
+    *t = (double)m->lag[k] * m->sample_dt;
+    *origins = c;
+    double sum = 0;
+    for (size_t i = 0; i < c; ++i) sum += val[i];
+    *msd = c ? sum / (double)c : NAN;
+    /* block average over origins in time order */
+    const size_t nb = c < m->nblocks ? c : m->nblocks;
+    if (nb < 2) {
+        *err = NAN;
+        return;
+    }
+    double var = 0;
+    for (size_t b = 0; b < nb; ++b) {
+        const size_t lo = b * c / nb, hi = (b + 1) * c / nb;
+        double s = 0;
+        for (size_t i = lo; i < hi; ++i) s += val[i];
+        const double d = s / (double)(hi - lo) - *msd;
+        var += d * d;
+    }
+    *err = sqrt(var / ((double)nb * (double)(nb - 1)));
+}
