@@ -1,0 +1,163 @@
+#!/usr/bin/env bash
+# End-to-end tests of the hsbd command line: bad input gets exit status 2 and one message
+# naming file, line, key and allowed range, and leaves no output behind; examples and
+# the authors' dialect run; outputs are reproducible and atomic; interrupts keep results.
+set -u
+HSBD=${1:?usage: test_cli.sh path/to/hsbd}
+HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
+SRC=$(cd "$(dirname "$0")/../.." && pwd)
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+cd "$T"
+pass=0 fail=0
+
+ok()  { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+
+# quick settings so every run takes well under a second
+QUICK=(--set run.t_total=0.5 --set run.t_equil=0.1 --set run.dt=1e-3 --set sample.blocks=4 --quiet)
+
+base_ini() {
+    cat <<'INI'
+[system]
+N = 20
+L = 40
+sigma = 0.5
+[field]
+type = cosine
+amplitude = 6
+[run]
+dt = 1e-3
+t_equil = 0.1
+t_total = 0.5
+[sample]
+bin_width = 0.05
+blocks = 4
+INI
+}
+
+# expect_fail NAME 'substring' ['substring'...] -- hsbd-args...
+expect_fail() {
+    local name=$1; shift
+    local subs=()
+    while [ "$1" != "--" ]; do subs+=("$1"); shift; done
+    shift
+    local out="$T/out-$name"
+    "$HSBD" "$@" --out "$out" --quiet >"$T/stdout" 2>"$T/stderr"
+    local rc=$?
+    if [ $rc -ne 2 ]; then bad "$name: exit $rc, expected 2 ($(cat "$T/stderr"))"; return; fi
+    if [ "$(wc -l <"$T/stderr")" -ne 1 ]; then bad "$name: expected one message line, got: $(cat "$T/stderr")"; return; fi
+    for s in "${subs[@]}"; do
+        if ! grep -qF -- "$s" "$T/stderr"; then bad "$name: message lacks '$s': $(cat "$T/stderr")"; return; fi
+    done
+    if [ -e "$out" ]; then bad "$name: output directory was created"; return; fi
+    ok
+}
+
+with_line() { # with_line SECTION 'key = value' -> config with that line appended to SECTION
+    base_ini | awk -v sec="[$1]" -v line="$2" '{print} $0==sec{print line}'
+}
+
+with_line system 'N = 0' >n0.ini
+expect_fail n-zero "n0.ini:2:" "system.N = 0" "allowed: 1 <= N" -- run n0.ini
+with_line system 'sigma = -0.1' >sneg.ini
+expect_fail sigma-negative "sneg.ini:" "system.sigma = -0.1" "0 <= sigma" -- run sneg.ini
+with_line system 'N = 5x' >nfmt.ini
+expect_fail malformed-number "nfmt.ini:2:" "'5x' is not a whole number" -- run nfmt.ini
+with_line run 'dt = 0' >dt0.ini
+expect_fail dt-zero "dt0.ini:" "run.dt = 0" "0 < dt" -- run dt0.ini
+with_line run 't_total = -1' >tt.ini
+expect_fail t-total "tt.ini:" "run.t_total = -1" "0 < t_total" -- run tt.ini
+base_ini | sed 's/^N = 20/N = 80/' >room.ini
+expect_fail no-room "room.ini:2:" "system.N = 80" "no room" "N < 80" -- run room.ini
+with_line sample 'bin_widht = 0.01' >typo.ini
+expect_fail unknown-key "typo.ini:" "unknown key 'bin_widht'" "did you mean 'sample.bin_width'" -- run typo.ini
+with_line sample 'period = 0.3' >per.ini
+expect_fail period "per.ini:" "sample.period = 0.3 must divide system.L" -- run per.ini
+base_ini | sed 's/^bin_width = 0.05/bin_width = 0.3/' >bw.ini
+expect_fail bin-width "bw.ini:" "sample.bin_width = 0.3 must divide sample.period" -- run bw.ini
+with_line field 'type = cosinus' >ft.ini
+expect_fail enum "ft.ini:" "field.type = 'cosinus' is not known" "one of none|cosine|tilt|cosine+tilt" -- run ft.ini
+with_line system 'N = 30' >dup.ini
+expect_fail duplicate "dup.ini:" "system.N is set twice" -- run dup.ini
+printf '[system]\nthis line has no equals sign\n' >mal.ini
+expect_fail malformed-line "mal.ini:2:" "malformed line" -- run mal.ini
+expect_fail unreadable "cannot read configuration file 'missing.ini'" -- run missing.ini
+base_ini >good.ini
+expect_fail set-unknown "unknown key 'run.t_totl'" "did you mean 'run.t_total'" -- run good.ini --set run.t_totl=5
+expect_fail set-range "command line (--set)" "run.dt = -3 is out of range" -- run good.ini --set run.dt=-3
+expect_fail bad-flag "unknown option '--frobnicate'" -- run good.ini --frobnicate
+printf 'particles = 10\nlength = 20\ndiameter = 0.5\ngamma = 1.0\n' >sticky.cfg
+expect_fail authors-gamma "sticky.cfg:4:" "gamma = 1.0" "allowed: gamma = 0" -- run sticky.cfg
+printf 'particles = 10\nlenght = 20\n' >authtypo.cfg
+expect_fail authors-unknown "authtypo.cfg:2:" "unknown key 'lenght' outside any [section]" -- run authtypo.cfg
+printf '1.0\n1.2\n5\n' >pos.txt
+expect_fail positions-count "pos.txt" "3 positions for system.N = 20" -- run good.ini --set init.positions=pos.txt
+
+# an existing, non-empty run directory is refused without --force, accepted with it
+mkdir -p existing && echo keep >existing/note
+"$HSBD" run good.ini --out existing --quiet 2>"$T/stderr"
+if [ $? -eq 2 ] && grep -q "already exists" "$T/stderr" && [ ! -e existing/density.tsv ]; then ok; else bad "existing dir not refused"; fi
+if "$HSBD" run good.ini --out existing --force --quiet && [ -s existing/density.tsv ] && [ -e existing/note ]; then ok; else bad "--force"; fi
+
+# every example runs (shortened)
+for ini in "$SRC"/examples/*.ini; do
+    name=$(basename "$ini" .ini)
+    if "$HSBD" run "$ini" "${QUICK[@]}" --out "ex-$name" && [ -s "ex-$name/summary.json" ]; then ok; else bad "example $name"; fi
+done
+
+# the authors' dialect (their key names, no sections) runs unchanged
+cat >authors.cfg <<'CFG'
+particles = 20
+length = 40
+diameter = 0.5
+force = 1.0
+AmpU = 6.0
+DiffusionConstant = 1.0
+totaltime = 0.5
+timestep = 0.001
+tCurrent = 0.1
+tTrajectory = 0.25
+eqtime = 0.1
+order = 3
+epsilon = 0.05
+delta = 0.01
+deltaPrime = 0.01
+gamma = 0.0
+prefix = authors-out
+CFG
+if "$HSBD" run authors.cfg --quiet --set sample.blocks=4 && [ -s authors-out/current.tsv ] &&
+    [ "$(grep -c '^20$' authors-out/trajectory.xyz)" -eq 2 ] &&
+    grep -q '"type": "cosine+tilt"' authors-out/summary.json; then ok; else bad "authors' dialect"; fi
+
+# initial positions from a file
+seq 0 2 38 >pos20.txt
+if "$HSBD" run good.ini --set init.positions=pos20.txt --out posrun --quiet && [ -s posrun/density.tsv ]; then ok; else bad "init.positions"; fi
+printf '0\n0.3\n' >overlap.txt
+expect_fail positions-overlap "overlap" -- run good.ini --set system.N=2 --set init.positions=overlap.txt
+
+# same seed -> byte-identical tables; another seed -> different
+"$HSBD" run good.ini --seed 7 --out r1 --quiet && "$HSBD" run good.ini --seed 7 --out r2 --quiet &&
+    "$HSBD" run good.ini --seed 8 --out r3 --quiet
+same=1
+for f in density.tsv contact.tsv msd.tsv clusters.tsv; do cmp -s "r1/$f" "r2/$f" || same=0; done
+if [ $same -eq 1 ]; then ok; else bad "same seed gave different tables"; fi
+if ! cmp -s r1/density.tsv r3/density.tsv; then ok; else bad "seed has no effect"; fi
+if grep -q '^# system.seed = 7$' r1/density.tsv && grep -q '^x	rho	rho_err$' r1/density.tsv; then ok; else bad "table header"; fi
+if ls r1/*.part >/dev/null 2>&1; then bad "temporary files left"; else ok; fi
+
+# SIGINT: results so far are written, marked incomplete, exit 130
+"$HSBD" run good.ini --set run.t_total=1e4 --set output.trajectory=xyz --out intr --quiet &
+pid=$!
+sleep 1
+kill -INT $pid
+wait $pid
+rc=$?
+if [ $rc -eq 130 ] && grep -q '"completed": false' intr/summary.json && [ -s intr/density.tsv ] &&
+    ! ls intr/*.part >/dev/null 2>&1; then ok; else bad "interrupt: rc=$rc"; fi
+
+# the configuration reference in docs/ is the one the schema generates
+if "$HSBD" config-doc | diff -q - "$SRC/docs/config.md" >/dev/null; then ok; else bad "docs/config.md is stale: run 'build/hsbd config-doc > docs/config.md'"; fi
+
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]
