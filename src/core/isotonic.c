@@ -2,29 +2,30 @@
 
 #include <stdlib.h>
 
-/* Blocks live in plain arrays used as a deque: [head, tail). A block covers the
- * "virtual" indices start .. start+len-1; index j >= n stands for element j - n seen
- * through the ring's periodic shift. */
+/* A block of pooled elements: weighted sum and total weight (its mean is sum/weight,
+ * computed only when the fit is written: the pooling loop compares means by
+ * cross-multiplication, which keeps divisions off its dependency chain). */
+typedef struct pava_block {
+    double sum;    /* sum of w_i y_i (virtual coordinates) */
+    double weight; /* sum of w_i > 0 */
+    size_t len;
+} pava_block;
+
+/* Blocks form a deque [head, tail) in one array. The head block starts at virtual
+ * index head_start; the others follow contiguously. Virtual index j >= n stands for
+ * element j - n seen through the ring's periodic shift. */
 struct hsbd_pava {
-    size_t nmax;
-    size_t head, tail;
-    size_t *start;
-    size_t *len;
-    double *weight; /* sum of member weights */
-    double *mean;   /* weighted mean of member values (virtual coordinates) */
+    size_t nmax, head, tail, head_start;
+    pava_block *block;
 };
 
 hsbd_pava *hsbd_pava_alloc(size_t nmax) {
     hsbd_pava *p = calloc(1, sizeof *p);
     if (!p) return NULL;
-    const size_t cap = nmax + 1;
     p->nmax = nmax;
-    p->start = malloc(cap * sizeof *p->start);
-    p->len = malloc(cap * sizeof *p->len);
-    p->weight = malloc(cap * sizeof *p->weight);
-    p->mean = malloc(cap * sizeof *p->mean);
-    if (!p->start || !p->len || !p->weight || !p->mean) {
-        hsbd_pava_free(p);
+    p->block = malloc((nmax + 1) * sizeof *p->block);
+    if (!p->block) {
+        free(p);
         return NULL;
     }
     return p;
@@ -32,72 +33,102 @@ hsbd_pava *hsbd_pava_alloc(size_t nmax) {
 
 void hsbd_pava_free(hsbd_pava *p) {
     if (!p) return;
-    free(p->start);
-    free(p->len);
-    free(p->weight);
-    free(p->mean);
+    free(p->block);
     free(p);
 }
 
-/* Pool block b into block a (a directly left of b); value_shift is added to b's mean. */
-static inline void pool_into(hsbd_pava *p, size_t a, size_t b, double value_shift) {
-    const double wa = p->weight[a], wb = p->weight[b];
-    const double w = wa + wb;
-    p->mean[a] = (wa * p->mean[a] + wb * (p->mean[b] + value_shift)) / w;
-    p->weight[a] = w;
-    p->len[a] += p->len[b];
+/* mean(a) >= mean(b), weights positive */
+static inline int violates(const pava_block *a, const pava_block *b) {
+    return a->sum * b->weight >= b->sum * a->weight;
 }
 
-/* Push element i as a block onto the tail and pool backwards while violated. */
-static void pava_push_all(hsbd_pava *p, size_t n, const double *y, const double *w) {
-    size_t t = p->tail;
-    for (size_t i = 0; i < n; ++i) {
-        p->start[t] = i;
-        p->len[t] = 1;
-        p->weight[t] = w ? w[i] : 1.0;
-        p->mean[t] = y[i];
-        ++t;
-        while (t - p->head >= 2 && p->mean[t - 2] >= p->mean[t - 1]) {
-            pool_into(p, t - 2, t - 1, 0.0);
-            --t;
+static inline void pool(pava_block *a, const pava_block *b) {
+    a->sum += b->sum;
+    a->weight += b->weight;
+    a->len += b->len;
+}
+
+/* Push every element as a block and pool backwards while the last two violate. The top
+ * block stays in registers and is stored only when a new block starts, so the common
+ * no-pooling path carries no store-to-load dependency from one element to the next.
+ * `weighted` is a compile-time constant at each call site, so both variants inline. */
+static inline size_t push_all(pava_block *restrict blk, size_t head, size_t n,
+                              const double *restrict y, const double *restrict w, int weighted) {
+    if (n == 0) return head;
+    size_t t = head; /* blocks below the top: blk[head .. t) */
+    pava_block top = {weighted ? w[0] * y[0] : y[0], weighted ? w[0] : 1.0, 1};
+    for (size_t i = 1; i < n; ++i) {
+        const double wi = weighted ? w[i] : 1.0;
+        const pava_block cur = {wi * y[i], wi, 1};
+        if (!violates(&top, &cur)) {
+            blk[t++] = top;
+            top = cur;
+            continue;
+        }
+        pool(&top, &cur);
+        while (t > head && violates(&blk[t - 1], &top)) {
+            pava_block below = blk[--t];
+            pool(&below, &top);
+            top = below;
         }
     }
-    p->tail = t;
+    blk[t++] = top;
+    return t;
 }
 
-static void write_fit(const hsbd_pava *p, size_t n, double shift, double *fit) {
-    for (size_t b = p->head; b < p->tail; ++b) {
-        const size_t s = p->start[b], e = s + p->len[b];
-        const double m = p->mean[b];
-        for (size_t j = s; j < e && j < n; ++j) fit[j] = m;
-        for (size_t j = (s > n ? s : n); j < e; ++j) fit[j - n] = m - shift;
+/* Block mean; a block of weight exactly 1 (an unweighted singleton) is its own sum, and
+ * skipping the division there is bit-identical and saves most divisions of a step. */
+static inline double block_mean(const pava_block *b) {
+    return b->weight == 1.0 ? b->sum : b->sum / b->weight;
+}
+
+static void write_fit(const hsbd_pava *p, size_t n, double shift, double *restrict fit) {
+    size_t j = p->head_start;
+    const size_t last = p->tail - 1;
+    /* all blocks but the last end inside [0, n): a tight loop */
+    for (size_t b = p->head; b < last; ++b) {
+        const double m = block_mean(&p->block[b]);
+        const size_t end = j + p->block[b].len;
+        do fit[j] = m;
+        while (++j < end);
     }
+    /* the last block may wrap around to the start of the array */
+    const double m = block_mean(&p->block[last]);
+    const size_t end = j + p->block[last].len;
+    for (; j < end && j < n; ++j) fit[j] = m;
+    for (; j < end; ++j) fit[j - n] = m - shift;
+}
+
+static void run_push(hsbd_pava *p, size_t n, const double *y, const double *w) {
+    p->head = p->head_start = 0;
+    p->tail = w ? push_all(p->block, 0, n, y, w, 1) : push_all(p->block, 0, n, y, NULL, 0);
 }
 
 size_t hsbd_pava_line(hsbd_pava *p, size_t n, const double *y, const double *w, double *fit) {
-    p->head = p->tail = 0;
-    pava_push_all(p, n, y, w);
+    run_push(p, n, y, w);
     write_fit(p, n, 0.0, fit);
     return p->tail - p->head;
 }
 
 size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w, double shift,
                       double *fit) {
-    p->head = p->tail = 0;
-    pava_push_all(p, n, y, w);
-    /* Close the ring: the last block meets the image (+shift) of the first one. Each
-     * pooling removes a block, so this loop is O(n) in total. */
+    run_push(p, n, y, w);
+    pava_block *blk = p->block;
+    /* Close the ring: the last block meets the image (+shift) of the first one; pool them
+     * and keep pooling backwards. Each pooling removes a block: O(n) in total. */
     while (p->tail - p->head >= 2) {
-        const size_t first = p->head, last = p->tail - 1;
-        if (p->mean[last] < p->mean[first] + shift) break;
-        p->start[first] += n; /* the first block re-enters at the end, as its image */
-        pool_into(p, last, first, shift);
+        pava_block first = blk[p->head];
+        first.sum += shift * first.weight; /* the image of the first block */
+        if (!violates(&blk[p->tail - 1], &first)) break;
+        p->head_start += first.len;
         ++p->head;
+        pava_block cur = first;
         size_t t = p->tail;
-        while (t - p->head >= 2 && p->mean[t - 2] >= p->mean[t - 1]) {
-            pool_into(p, t - 2, t - 1, 0.0);
-            --t;
+        while (t > p->head && violates(&blk[t - 1], &cur)) {
+            pool(&blk[t - 1], &cur);
+            cur = blk[--t];
         }
+        blk[t++] = cur;
         p->tail = t;
     }
     write_fit(p, n, shift, fit);
@@ -105,5 +136,5 @@ size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w, 
 }
 
 size_t hsbd_pava_block_size(const hsbd_pava *p, size_t k) {
-    return p->len[p->head + k];
+    return p->block[p->head + k].len;
 }
