@@ -23,7 +23,7 @@ asan: deps
 demo: build
 	@rm -rf runs/demo
 	@$(BUILD)/hsbd run examples/rods-cosine.ini --out runs/demo
-	@python3 tools/plot_rods.py runs/demo
+	@/usr/bin/python3 tools/plot_rods.py runs/demo
 
 # Whole test suite: optimised build (all tests) and AddressSanitizer+UBSan build (all tests).
 check: build asan

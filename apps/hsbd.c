@@ -105,7 +105,8 @@ static int cmd_run(int argc, char **argv) {
         fprintf(stderr, "hsbd run: no configuration file given (hsbd run --help)\n");
         return EXIT_INPUT;
     }
-    if (hsbd_config_load_file(&cfg, config_path, &err) != HSBD_OK) return fail(err.status, err.message);
+    if (hsbd_config_load_file(&cfg, config_path, &err) != HSBD_OK)
+        return fail(err.status, err.message);
     if (!cfg.output.dir[0]) default_out_dir(config_path, cfg.output.dir, sizeof cfg.output.dir);
     /* second pass: overrides in command-line order */
     for (int i = 2; i < argc; ++i) {
@@ -117,9 +118,12 @@ static int cmd_run(int argc, char **argv) {
             fprintf(stderr, "hsbd run: %s needs a value\n", a);
             return EXIT_INPUT;
         }
-        if (!strcmp(a, "--set")) snprintf(buf, sizeof buf, "%s", argv[++i]);
-        else if (!strcmp(a, "--out")) snprintf(buf, sizeof buf, "output.dir=%s", argv[++i]);
-        else if (!strcmp(a, "--seed")) snprintf(buf, sizeof buf, "system.seed=%s", argv[++i]);
+        if (!strcmp(a, "--set"))
+            snprintf(buf, sizeof buf, "%s", argv[++i]);
+        else if (!strcmp(a, "--out"))
+            snprintf(buf, sizeof buf, "output.dir=%s", argv[++i]);
+        else if (!strcmp(a, "--seed"))
+            snprintf(buf, sizeof buf, "system.seed=%s", argv[++i]);
         else if (!strcmp(a, "--force")) {
             opt.force = 1;
             continue;
@@ -135,7 +139,8 @@ static int cmd_run(int argc, char **argv) {
         }
         char origin[64];
         snprintf(origin, sizeof origin, "command line (%s)", a);
-        if (hsbd_config_set(&cfg, buf, origin, &err) != HSBD_OK) return fail(err.status, err.message);
+        if (hsbd_config_set(&cfg, buf, origin, &err) != HSBD_OK)
+            return fail(err.status, err.message);
     }
     if (hsbd_config_finalize(&cfg, &err) != HSBD_OK) return fail(err.status, err.message);
 
@@ -156,9 +161,12 @@ typedef struct bench_case {
 } bench_case;
 
 static const bench_case bench_cases[] = {
-    {"s0.5-rho0.2", 0.5, 0.2, 0},      {"s0.5-rho0.5", 0.5, 0.5, 0},
-    {"s0.5-rho0.8", 0.5, 0.8, 0},      {"s0.1-rho0.8", 0.1, 0.8, 0},
-    {"s0.5-rho0.5-N1e4", 0.5, 0.5, 10000}, {"s0.5-rho0.5-N1e6", 0.5, 0.5, 1000000},
+    {"s0.5-rho0.2", 0.5, 0.2, 0},
+    {"s0.5-rho0.5", 0.5, 0.5, 0},
+    {"s0.5-rho0.8", 0.5, 0.8, 0},
+    {"s0.1-rho0.8", 0.1, 0.8, 0},
+    {"s0.5-rho0.5-N1e4", 0.5, 0.5, 10000},
+    {"s0.5-rho0.5-N1e6", 0.5, 0.5, 1000000},
     {"dense-s0.9-rho1.0-N1e4", 0.9, 1.0, 10000},
 };
 
@@ -172,19 +180,27 @@ static double now_seconds(void) {
 static double bench_rate(const bench_case *c, int hard_core, double seconds) {
     const size_t n = c->n ? c->n : (size_t)llround(c->rho * 100.0);
     const double L = c->n ? (double)c->n / c->rho : 100.0;
-    hsbd_rods_params p = {.n = n, .length = L, .sigma = c->sigma, .diffusion = 1, .kT = 1,
-                          .dt = 1e-4, .seed = 1, .hard_core = hard_core};
+    hsbd_rods_params p = {.n = n,
+                          .length = L,
+                          .sigma = c->sigma,
+                          .diffusion = 1,
+                          .kT = 1,
+                          .dt = 1e-4,
+                          .seed = 1,
+                          .hard_core = hard_core};
     hsbd_field_add(&p.field, hsbd_field_cosine(6.0, 1.0));
     hsbd_error err;
     hsbd_rods *r = hsbd_rods_alloc(&p, &err);
     if (!r) return NAN;
     hsbd_rods_init_equilibrium(r);
     uint64_t batch = 1 + (uint64_t)(2e6 / (double)n), steps = 0;
-    for (uint64_t k = 0; k < batch; ++k) hsbd_rods_step(r, NULL); /* warm-up */
+    for (uint64_t k = 0; k < batch; ++k)
+        hsbd_rods_step(r, NULL); /* warm-up */
     const double t0 = now_seconds();
     double t = t0;
     while (t - t0 < seconds) {
-        for (uint64_t k = 0; k < batch; ++k) hsbd_rods_step(r, NULL);
+        for (uint64_t k = 0; k < batch; ++k)
+            hsbd_rods_step(r, NULL);
         steps += batch;
         t = now_seconds();
     }
@@ -221,7 +237,8 @@ static int cmd_bench(int argc, char **argv) {
         found = 1;
         const double hard = bench_rate(c, 1, seconds), free_ = bench_rate(c, 0, seconds);
         const size_t n = c->n ? c->n : (size_t)llround(c->rho * 100.0);
-        printf("%-26s %9zu %12.1f %12.1f %8.2f\n", c->name, n, hard / 1e6, free_ / 1e6, free_ / hard);
+        printf("%-26s %9zu %12.1f %12.1f %8.2f\n", c->name, n, hard / 1e6, free_ / 1e6,
+               free_ / hard);
         fflush(stdout);
     }
     if (!found) {

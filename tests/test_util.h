@@ -10,19 +10,19 @@
 static int test_failures = 0;
 static int test_checks = 0;
 
-#define CHECK(cond, ...)                                                                       \
-    do {                                                                                       \
-        ++test_checks;                                                                         \
-        if (!(cond)) {                                                                         \
-            fprintf(stderr, "%s:%d: CHECK(%s) failed: ", __FILE__, __LINE__, #cond);           \
-            fprintf(stderr, __VA_ARGS__);                                                      \
-            fputc('\n', stderr);                                                               \
-            ++test_failures;                                                                   \
-        }                                                                                      \
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        ++test_checks;                                                                             \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: CHECK(%s) failed: ", __FILE__, __LINE__, #cond);               \
+            fprintf(stderr, __VA_ARGS__);                                                          \
+            fputc('\n', stderr);                                                                   \
+            ++test_failures;                                                                       \
+        }                                                                                          \
     } while (0)
 
-#define CHECK_CLOSE(a, b, tol)                                                                 \
-    CHECK(fabs((double)(a) - (double)(b)) <= (tol), "%s = %.17g, %s = %.17g, |diff| = %.3g > %g", \
+#define CHECK_CLOSE(a, b, tol)                                                                     \
+    CHECK(fabs((double)(a) - (double)(b)) <= (tol), "%s = %.17g, %s = %.17g, |diff| = %.3g > %g",  \
           #a, (double)(a), #b, (double)(b), fabs((double)(a) - (double)(b)), (double)(tol))
 
 static inline int test_finish(const char *name) {

@@ -58,8 +58,7 @@ void hsbd_config_defaults(hsbd_config *cfg);
 /* Read an INI file (hsbd sections, or the authors' section-less keys). */
 int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err);
 /* Apply "section.key=value" (from --set). */
-int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin,
-                    hsbd_error *err);
+int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin, hsbd_error *err);
 /* Derived defaults and checks that involve several keys; call once after all input. */
 int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
 

@@ -52,8 +52,7 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
 typedef struct hsbd_clusters hsbd_clusters;
 hsbd_clusters *hsbd_clusters_alloc(size_t n, size_t nblocks, uint64_t nsamples_total);
 void hsbd_clusters_free(hsbd_clusters *c);
-void hsbd_clusters_sample(hsbd_clusters *c, const hsbd_rods *rods,
-                          const hsbd_rods_step_stats *st);
+void hsbd_clusters_sample(hsbd_clusters *c, const hsbd_rods *rods, const hsbd_rods_step_stats *st);
 /* fraction of clusters of size s (1 <= s <= N) over all samples */
 double hsbd_clusters_size_fraction(const hsbd_clusters *c, size_t s);
 size_t hsbd_clusters_max_size(const hsbd_clusters *c);

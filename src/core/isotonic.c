@@ -89,14 +89,17 @@ static void write_fit(const hsbd_pava *p, size_t n, double shift, double *restri
     for (size_t b = p->head; b < last; ++b) {
         const double m = block_mean(&p->block[b]);
         const size_t end = j + p->block[b].len;
-        do fit[j] = m;
+        do
+            fit[j] = m;
         while (++j < end);
     }
     /* the last block may wrap around to the start of the array */
     const double m = block_mean(&p->block[last]);
     const size_t end = j + p->block[last].len;
-    for (; j < end && j < n; ++j) fit[j] = m;
-    for (; j < end; ++j) fit[j - n] = m - shift;
+    for (; j < end && j < n; ++j)
+        fit[j] = m;
+    for (; j < end; ++j)
+        fit[j - n] = m - shift;
 }
 
 static void run_push(hsbd_pava *p, size_t n, const double *y, const double *w) {

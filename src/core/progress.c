@@ -26,8 +26,8 @@ void hsbd_progress_update(hsbd_progress *p, uint64_t done, uint64_t total) {
     const double eta = rate > 0 ? (double)(total - done) / rate : 0;
     const long e = (long)(eta + 0.5);
     fprintf(stderr, "\r%s %5.1f%%  %.3g M particle-steps/s  ETA %ld:%02ld:%02ld   ", p->label,
-            100.0 * (double)done / (double)(total ? total : 1), rate * p->particles / 1e6,
-            e / 3600, e / 60 % 60, e % 60);
+            100.0 * (double)done / (double)(total ? total : 1), rate * p->particles / 1e6, e / 3600,
+            e / 60 % 60, e % 60);
     fflush(stderr);
 }
 

@@ -42,9 +42,11 @@ void hsbd_vmath_scaled_sinpi_avx2(size_t n, const double *restrict t, double sca
     }
     if (i < n) {
         double x[4] = {0, 0, 0, 0}, y[4];
-        for (size_t j = i; j < n; ++j) x[j - i] = t[j];
+        for (size_t j = i; j < n; ++j)
+            x[j - i] = t[j];
         hsbd_vmath_scaled_sinpi_avx2(4, x, scale, y);
-        for (size_t j = i; j < n; ++j) out[j] = y[j - i];
+        for (size_t j = i; j < n; ++j)
+            out[j] = y[j - i];
     }
 }
 #else

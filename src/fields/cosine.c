@@ -16,9 +16,11 @@ static void cosine_add_force(const hsbd_field_term *t, size_t n, const double *r
     double arg[COS_CHUNK], s[COS_CHUNK];
     for (size_t i0 = 0; i0 < n; i0 += COS_CHUNK) {
         const size_t m = n - i0 < COS_CHUNK ? n - i0 : COS_CHUNK;
-        for (size_t j = 0; j < m; ++j) arg[j] = two_over_lambda * x[i0 + j];
+        for (size_t j = 0; j < m; ++j)
+            arg[j] = two_over_lambda * x[i0 + j];
         hsbd_vmath_scaled_sinpi(m, arg, amplitude, s);
-        for (size_t j = 0; j < m; ++j) f[i0 + j] += s[j];
+        for (size_t j = 0; j < m; ++j)
+            f[i0 + j] += s[j];
     }
 }
 

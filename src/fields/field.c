@@ -11,7 +11,8 @@ void hsbd_field_force(const hsbd_field *field, size_t n, const double *restrict 
 
 double hsbd_field_potential(const hsbd_field *field, double x) {
     double u = 0.0;
-    for (size_t k = 0; k < field->nterms; ++k) u += field->term[k].ops->potential(&field->term[k], x);
+    for (size_t k = 0; k < field->nterms; ++k)
+        u += field->term[k].ops->potential(&field->term[k], x);
     return u;
 }
 

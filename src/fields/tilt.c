@@ -5,7 +5,8 @@ static void tilt_add_force(const hsbd_field_term *t, size_t n, const double *res
                            double *restrict f) {
     (void)x;
     const double force = t->p[0];
-    for (size_t i = 0; i < n; ++i) f[i] += force;
+    for (size_t i = 0; i < n; ++i)
+        f[i] += force;
 }
 
 static double tilt_potential(const hsbd_field_term *t, double x) {

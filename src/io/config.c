@@ -23,7 +23,7 @@ typedef struct key_spec {
 } key_spec;
 
 #define OFF(member) offsetof(hsbd_config, member)
-#define INF HUGE_VAL
+#define INF         HUGE_VAL
 
 /* The one schema table. Ranges are closed unless flagged open. */
 static const key_spec schema[] = {
@@ -44,8 +44,8 @@ static const key_spec schema[] = {
      "on: hard rods; off: free particles (benchmark bound, tests)"},
     {"field", "type", K_ENUM, OFF(field.type), 0, 0, 0, "cosine", "none|cosine|tilt|cosine+tilt",
      "external field: U = (amplitude/2) cos(2 pi x/wavelength) and/or constant force"},
-    {"field", "amplitude", K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX, "6",
-     0, "cosine amplitude U0 (kT), Antonov Eq. 21"},
+    {"field", "amplitude", K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX, "6", 0,
+     "cosine amplitude U0 (kT), Antonov Eq. 21"},
     {"field", "wavelength", K_DOUBLE, OFF(field.wavelength), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
      "cosine wavelength lambda; must divide L"},
     {"field", "force", K_DOUBLE, OFF(field.force), -INF, INF, OPEN_MIN | OPEN_MAX, "0", 0,
@@ -55,8 +55,8 @@ static const key_spec schema[] = {
      "unsampled dynamics after the initial state"},
     {"run", "t_total", K_DOUBLE, OFF(run.t_total), 0, INF, OPEN_MIN | OPEN_MAX, "100", 0,
      "sampled (production) time"},
-    {"sample", "bin_width", K_DOUBLE, OFF(sample.bin_width), 0, INF, OPEN_MIN | OPEN_MAX, "1e-2",
-     0, "density bin width Delta_x (Eq. 24); must divide sample.period"},
+    {"sample", "bin_width", K_DOUBLE, OFF(sample.bin_width), 0, INF, OPEN_MIN | OPEN_MAX, "1e-2", 0,
+     "density bin width Delta_x (Eq. 24); must divide sample.period"},
     {"sample", "contact_width", K_DOUBLE, OFF(sample.contact_width), 0, INF, OPEN_MIN | OPEN_MAX,
      "1e-2", 0, "contact window Delta' (Eq. 26): gaps in [0, Delta'] count as contact"},
     {"sample", "period", K_DOUBLE, OFF(sample.period), 0, INF, OPEN_MIN | OPEN_MAX, "", 0,
@@ -67,16 +67,16 @@ static const key_spec schema[] = {
      "number of blocks for block-average error bars"},
     {"sample", "msd_max_lag", K_DOUBLE, OFF(sample.msd_max_lag), 0, INF, OPEN_MAX, "0", 0,
      "largest MSD lag time (0: t_total/10)"},
-    {"sample", "msd_points_per_decade", K_INT, OFF(sample.msd_points_per_decade), 1, 1000, 0,
-     "10", 0, "log-spaced MSD lags per decade"},
+    {"sample", "msd_points_per_decade", K_INT, OFF(sample.msd_points_per_decade), 1, 1000, 0, "10",
+     0, "log-spaced MSD lags per decade"},
     {"sample", "current_every", K_DOUBLE, OFF(sample.current_every), 0, INF, OPEN_MAX, "0", 0,
      "write the particle current every this much time to current.tsv (0: off)"},
     {"output", "dir", K_STRING, OFF(output.dir), 0, 0, 0, "", 0,
      "run directory (default: runs/<config name>); --out overrides"},
     {"output", "trajectory", K_ENUM, OFF(output.trajectory), 0, 0, 0, "none", "none|xyz",
      "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD)"},
-    {"output", "trajectory_every", K_DOUBLE, OFF(output.trajectory_every), 0, INF, OPEN_MAX, "0",
-     0, "time between trajectory frames (0: t_total/100)"},
+    {"output", "trajectory_every", K_DOUBLE, OFF(output.trajectory_every), 0, INF, OPEN_MAX, "0", 0,
+     "time between trajectory frames (0: t_total/100)"},
     {"init", "positions", K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
      "file with initial positions (one per line, '#' comments); default: exact equilibrium "
      "sample of the field-free ring"},
@@ -89,14 +89,22 @@ typedef struct {
     const char *name, *section, *key;
 } authors_key;
 static const authors_key authors_keys[] = {
-    {"particles", "system", "N"},          {"length", "system", "L"},
-    {"diameter", "system", "sigma"},       {"DiffusionConstant", "system", "D"},
-    {"force", "field", "force"},           {"AmpU", "field", "amplitude"},
-    {"totaltime", "run", "t_total"},       {"timestep", "run", "dt"},
-    {"eqtime", "run", "t_equil"},          {"delta", "sample", "bin_width"},
-    {"deltaPrime", "sample", "contact_width"}, {"prefix", "output", "dir"},
-    {"tTrajectory", "output", "trajectory_every"}, {"tCurrent", "sample", "current_every"},
-    {"gamma", 0, 0},                       {"order", 0, 0},
+    {"particles", "system", "N"},
+    {"length", "system", "L"},
+    {"diameter", "system", "sigma"},
+    {"DiffusionConstant", "system", "D"},
+    {"force", "field", "force"},
+    {"AmpU", "field", "amplitude"},
+    {"totaltime", "run", "t_total"},
+    {"timestep", "run", "dt"},
+    {"eqtime", "run", "t_equil"},
+    {"delta", "sample", "bin_width"},
+    {"deltaPrime", "sample", "contact_width"},
+    {"prefix", "output", "dir"},
+    {"tTrajectory", "output", "trajectory_every"},
+    {"tCurrent", "sample", "current_every"},
+    {"gamma", 0, 0},
+    {"order", 0, 0},
     {"epsilon", 0, 0},
 };
 enum { NAUTHORS = sizeof authors_keys / sizeof authors_keys[0] };
@@ -123,7 +131,8 @@ static size_t key_index(const key_spec *k) {
 static size_t edit_distance(const char *a, const char *b) {
     size_t la = strlen(a), lb = strlen(b), prev[128], cur[128];
     if (la > 120 || lb > 120) return 1000;
-    for (size_t j = 0; j <= lb; ++j) prev[j] = j;
+    for (size_t j = 0; j <= lb; ++j)
+        prev[j] = j;
     for (size_t i = 1; i <= la; ++i) {
         cur[0] = i;
         for (size_t j = 1; j <= lb; ++j) {
@@ -175,8 +184,9 @@ static void format_range(const key_spec *k, char *buf, size_t len) {
     snprintf(lo, sizeof lo, "%.15g", k->min);
     snprintf(hi, sizeof hi, "%.15g", k->max);
     snprintf(buf, len, "%s %s %s %s %s%s", isinf(k->min) ? "-inf" : lo,
-             (k->flags & OPEN_MIN) ? "<" : "<=", k->key, (k->flags & OPEN_MAX) ? "<" : "<=",
-             isinf(k->max) ? "inf" : hi, k->type == K_INT ? " (integer)" : "");
+             (k->flags & OPEN_MIN) ? "<" : "<=", k->key,
+             (k->flags & OPEN_MAX) ? "<" : "<=", isinf(k->max) ? "inf" : hi,
+             k->type == K_INT ? " (integer)" : "");
 }
 
 /* ---- values ------------------------------------------------------------------------- */
@@ -188,9 +198,11 @@ static int in_range(const key_spec *k, double v) {
 }
 
 static char *trim(char *s) {
-    while (*s == ' ' || *s == '\t') ++s;
+    while (*s == ' ' || *s == '\t')
+        ++s;
     char *e = s + strlen(s);
-    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' || e[-1] == '\n')) --e;
+    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' || e[-1] == '\n'))
+        --e;
     *e = '\0';
     return s;
 }
@@ -219,23 +231,28 @@ static int parse_value(hsbd_config *cfg, const key_spec *k, const char *text, co
     case K_DOUBLE: {
         const double d = strtod(v, &end);
         if (end == v || *end != '\0' || !isfinite(d))
-            return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a %s number; allowed: %s",
-                                  where, k->section, k->key, v, k->type == K_INT ? "whole" : "finite", range);
+            return hsbd_error_set(
+                err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a %s number; allowed: %s", where,
+                k->section, k->key, v, k->type == K_INT ? "whole" : "finite", range);
         if (k->type == K_INT && d != floor(d))
-            return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a whole number; allowed: %s",
-                                  where, k->section, k->key, v, range);
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: %s.%s = '%s' is not a whole number; allowed: %s", where,
+                                  k->section, k->key, v, range);
         if (!in_range(k, d))
             return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = %s is out of range; allowed: %s",
                                   where, k->section, k->key, v, range);
-        if (k->type == K_INT) *(int64_t *)slot(cfg, k) = (int64_t)d;
-        else *(double *)slot(cfg, k) = d;
+        if (k->type == K_INT)
+            *(int64_t *)slot(cfg, k) = (int64_t)d;
+        else
+            *(double *)slot(cfg, k) = d;
         return HSBD_OK;
     }
     case K_UINT64: {
         const unsigned long long u = strtoull(v, &end, 10);
         if (end == v || *end != '\0' || v[0] == '-' || errno == ERANGE)
-            return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a valid integer; allowed: %s",
-                                  where, k->section, k->key, v, range);
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: %s.%s = '%s' is not a valid integer; allowed: %s", where,
+                                  k->section, k->key, v, range);
         *(uint64_t *)slot(cfg, k) = (uint64_t)u;
         return HSBD_OK;
     }
@@ -259,8 +276,8 @@ static int parse_value(hsbd_config *cfg, const key_spec *k, const char *text, co
             if (strlen(v) == len && !strncmp(v, c, len)) return *(int *)slot(cfg, k) = idx, HSBD_OK;
             c += len + (bar ? 1 : 0);
         }
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not known; allowed: %s",
-                              where, k->section, k->key, v, range);
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not known; allowed: %s", where,
+                              k->section, k->key, v, range);
     }
     }
     return HSBD_OK;
@@ -275,9 +292,14 @@ static void format_value(const hsbd_config *cfg, const key_spec *k, char *buf, s
     case K_UINT64:
         snprintf(buf, len, "%llu", (unsigned long long)*(const uint64_t *)p);
         break;
-    case K_DOUBLE:
-        snprintf(buf, len, "%.17g", *(const double *)p);
+    case K_DOUBLE: { /* shortest text that reads back as the same double */
+        const double d = *(const double *)p;
+        for (int prec = 6; prec <= 17; ++prec) {
+            snprintf(buf, len, "%.*g", prec, d);
+            if (strtod(buf, NULL) == d) break;
+        }
         break;
+    }
     case K_STRING:
         snprintf(buf, len, "%s", (const char *)p);
         break;
@@ -386,7 +408,8 @@ static int authors_handler(ini_state *st, const char *name, const char *value) {
     return 0;
 }
 
-static int config_ini_handler(void *user, const char *section, const char *name, const char *value) {
+static int config_ini_handler(void *user, const char *section, const char *name,
+                              const char *value) {
     ini_state *st = user;
     if (st->err->status != HSBD_OK) return 0;
     if (section[0] == '\0') {
@@ -440,8 +463,7 @@ int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err) {
     return HSBD_OK;
 }
 
-int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin,
-                    hsbd_error *err) {
+int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin, hsbd_error *err) {
     hsbd_error_clear(err);
     char buf[HSBD_PATH_MAX + 128];
     snprintf(buf, sizeof buf, "%s", assignment);
@@ -534,9 +556,9 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               (unsigned long long)samples, (unsigned long long)samples);
     if (cfg->sample.msd_max_lag == 0) cfg->sample.msd_max_lag = cfg->run.t_total / 10;
     if (cfg->sample.msd_max_lag > cfg->run.t_total)
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: sample.msd_max_lag = %g exceeds run.t_total = %g",
-                              origin_of(cfg, "sample", "msd_max_lag"), cfg->sample.msd_max_lag,
-                              cfg->run.t_total);
+        return hsbd_error_set(
+            err, HSBD_EINPUT, "%s: sample.msd_max_lag = %g exceeds run.t_total = %g",
+            origin_of(cfg, "sample", "msd_max_lag"), cfg->sample.msd_max_lag, cfg->run.t_total);
     if (cfg->output.trajectory_every == 0) cfg->output.trajectory_every = cfg->run.t_total / 100;
     if (cfg->output.trajectory_every < cfg->run.dt)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -544,10 +566,9 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               origin_of(cfg, "output", "trajectory_every"),
                               cfg->output.trajectory_every, cfg->run.dt);
     if (cfg->sample.current_every > 0 && cfg->sample.current_every < cfg->run.dt)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: sample.current_every = %g is shorter than run.dt = %g",
-                              origin_of(cfg, "sample", "current_every"), cfg->sample.current_every,
-                              cfg->run.dt);
+        return hsbd_error_set(
+            err, HSBD_EINPUT, "%s: sample.current_every = %g is shorter than run.dt = %g",
+            origin_of(cfg, "sample", "current_every"), cfg->sample.current_every, cfg->run.dt);
     return HSBD_OK;
 }
 
@@ -566,9 +587,12 @@ void hsbd_config_write_header(const hsbd_config *cfg, FILE *out, const char *pre
 static void json_string(FILE *out, const char *s) {
     fputc('"', out);
     for (; *s; ++s) {
-        if (*s == '"' || *s == '\\') fprintf(out, "\\%c", *s);
-        else if ((unsigned char)*s < 0x20) fprintf(out, "\\u%04x", *s);
-        else fputc(*s, out);
+        if (*s == '"' || *s == '\\')
+            fprintf(out, "\\%c", *s);
+        else if ((unsigned char)*s < 0x20)
+            fprintf(out, "\\u%04x", *s);
+        else
+            fputc(*s, out);
     }
     fputc('"', out);
 }
@@ -583,10 +607,14 @@ void hsbd_config_write_json(const hsbd_config *cfg, FILE *out, int indent) {
         if (first_in_section) fprintf(out, "\n%*s\"%s\": {", indent + 2, "", k->section);
         format_value(cfg, k, v, sizeof v);
         fprintf(out, "\n%*s\"%s\": ", indent + 4, "", k->key);
-        if (k->type == K_STRING || k->type == K_ENUM || k->type == K_BOOL) json_string(out, v);
-        else fputs(v, out);
-        if (!last_in_section) fputc(',', out);
-        else fprintf(out, "\n%*s}%s", indent + 2, "", i + 1 == NKEYS ? "" : ",");
+        if (k->type == K_STRING || k->type == K_ENUM || k->type == K_BOOL)
+            json_string(out, v);
+        else
+            fputs(v, out);
+        if (!last_in_section)
+            fputc(',', out);
+        else
+            fprintf(out, "\n%*s}%s", indent + 2, "", i + 1 == NKEYS ? "" : ",");
     }
     fprintf(out, "\n%*s}", indent, "");
 }
@@ -594,11 +622,12 @@ void hsbd_config_write_json(const hsbd_config *cfg, FILE *out, int indent) {
 void hsbd_config_write_reference(FILE *out, int markdown) {
     char range[160];
     if (markdown) {
-        fprintf(out, "# Configuration reference\n\n"
-                     "Generated from the schema table in `src/io/config.c` by `hsbd config-doc`;\n"
-                     "`hsbd run --help` prints the same. Any key can be overridden on the command\n"
-                     "line with `--set section.key=value`. Inline comments: `; ...` or ` # ...`.\n"
-                     "Errors name the file, line, key and the allowed range, and exit with status 2.\n");
+        fprintf(out,
+                "# Configuration reference\n\n"
+                "Generated from the schema table in `src/io/config.c` by `hsbd config-doc`;\n"
+                "`hsbd run --help` prints the same. Any key can be overridden on the command\n"
+                "line with `--set section.key=value`. Inline comments: `; ...` or ` # ...`.\n"
+                "Errors name the file, line, key and the allowed range, and exit with status 2.\n");
     }
     const char *open = NULL;
     for (size_t i = 0; i < NKEYS; ++i) {
@@ -608,7 +637,8 @@ void hsbd_config_write_reference(FILE *out, int markdown) {
         if (!open || strcmp(open, k->section)) {
             open = k->section;
             if (markdown)
-                fprintf(out, "\n## [%s]\n\n| key | default | allowed | meaning |\n|---|---|---|---|\n",
+                fprintf(out,
+                        "\n## [%s]\n\n| key | default | allowed | meaning |\n|---|---|---|---|\n",
                         open);
             else
                 fprintf(out, "\n[%s]\n", open);
@@ -620,18 +650,21 @@ void hsbd_config_write_reference(FILE *out, int markdown) {
                     range);
     }
     if (markdown) {
-        fprintf(out, "\n## The authors' configuration files\n\n"
-                     "Files without sections are read in the dialect of the authors' BCD program\n"
-                     "(Antonov et al. 2022). Their keys map as follows; `gamma` must be 0 in this\n"
-                     "version (sticky contacts are not available yet), `order` and `epsilon` are then\n"
-                     "inert. The field is their `U = (AmpU/2) cos(2 pi x) - force x` with wavelength 1,\n"
-                     "and kT = D (their mobility is 1).\n\n| authors' key | hsbd key |\n|---|---|\n");
+        fprintf(
+            out,
+            "\n## The authors' configuration files\n\n"
+            "Files without sections are read in the dialect of the authors' BCD program\n"
+            "(Antonov et al. 2022). Their keys map as follows; `gamma` must be 0 in this\n"
+            "version (sticky contacts are not available yet), `order` and `epsilon` are then\n"
+            "inert. The field is their `U = (AmpU/2) cos(2 pi x) - force x` with wavelength 1,\n"
+            "and kT = D (their mobility is 1).\n\n| authors' key | hsbd key |\n|---|---|\n");
         for (size_t i = 0; i < NAUTHORS; ++i) {
             if (authors_keys[i].section)
                 fprintf(out, "| `%s` | `%s.%s` |\n", authors_keys[i].name, authors_keys[i].section,
                         authors_keys[i].key);
             else
-                fprintf(out, "| `%s` | sticky contacts: must be 0 / inert |\n", authors_keys[i].name);
+                fprintf(out, "| `%s` | sticky contacts: must be 0 / inert |\n",
+                        authors_keys[i].name);
         }
     }
 }

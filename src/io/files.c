@@ -52,12 +52,13 @@ static int mkdir_parents(char *path) {
 }
 
 int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err) {
-    if (!dir[0]) return hsbd_error_set(err, HSBD_EINPUT, "no output directory given (use --out DIR)");
+    if (!dir[0])
+        return hsbd_error_set(err, HSBD_EINPUT, "no output directory given (use --out DIR)");
     struct stat st;
     if (stat(dir, &st) == 0) {
         if (!S_ISDIR(st.st_mode))
-            return hsbd_error_set(err, HSBD_EINPUT, "output path '%s' exists and is not a directory",
-                                  dir);
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "output path '%s' exists and is not a directory", dir);
         DIR *d = opendir(dir);
         int empty = 1;
         if (d) {
@@ -91,26 +92,29 @@ int hsbd_read_positions(const char *path, size_t n, double *x, hsbd_error *err) 
     while (fgets(line, sizeof line, f)) {
         ++lineno;
         char *s = line;
-        while (*s == ' ' || *s == '\t') ++s;
+        while (*s == ' ' || *s == '\t')
+            ++s;
         if (*s == '#' || *s == '\n' || *s == '\r' || *s == '\0') continue;
         char *end;
         const double v = strtod(s, &end);
-        while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n') ++end;
+        while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n')
+            ++end;
         if (end == s || *end != '\0' || !isfinite(v)) {
             rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%d: expected one finite number per line",
                                 path, lineno);
             break;
         }
         if (count == n) {
-            rc = hsbd_error_set(err, HSBD_EINPUT,
-                                "%s:%d: more positions than system.N = %zu", path, lineno, n);
+            rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%d: more positions than system.N = %zu", path,
+                                lineno, n);
             break;
         }
         x[count++] = v;
     }
     fclose(f);
     if (rc == HSBD_OK && count != n)
-        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: %zu positions for system.N = %zu", path, count, n);
+        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: %zu positions for system.N = %zu", path, count,
+                            n);
     return rc;
 }
 

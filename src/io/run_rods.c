@@ -50,7 +50,8 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
 static double sum_unwrapped(const hsbd_rods *rods) {
     const hsbd_rods_view v = hsbd_rods_get_view(rods);
     double s = 0;
-    for (size_t i = 0; i < v.n; ++i) s += v.z[i] + v.offset[i] + v.unwrap;
+    for (size_t i = 0; i < v.n; ++i)
+        s += v.z[i] + v.offset[i] + v.unwrap;
     return s;
 }
 
@@ -65,7 +66,8 @@ static void write_table_header(FILE *f, const hsbd_config *cfg, const char *what
 
 static int write_profiles(run_state *s, hsbd_error *err) {
     const size_t nb = hsbd_profile_bins(s->profile);
-    double *x = malloc(nb * sizeof *x), *val = malloc(nb * sizeof *val), *e = malloc(nb * sizeof *e);
+    double *x = malloc(nb * sizeof *x), *val = malloc(nb * sizeof *val),
+           *e = malloc(nb * sizeof *e);
     if (!x || !val || !e) {
         free(x), free(val), free(e);
         return hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing profiles");
@@ -78,7 +80,8 @@ static int write_profiles(run_state *s, hsbd_error *err) {
                            "to mean N/L; errors from block averages",
                            "x\trho\trho_err");
         hsbd_profile_density(s->profile, x, val, e);
-        for (size_t k = 0; k < nb; ++k) fprintf(o.f, "%.10g\t%.10g\t%.4g\n", x[k], val[k], e[k]);
+        for (size_t k = 0; k < nb; ++k)
+            fprintf(o.f, "%.10g\t%.10g\t%.4g\n", x[k], val[k], e[k]);
         rc = hsbd_outfile_commit(&o, err);
     }
     if (rc == HSBD_OK && s->cfg->system.hard_core) {
@@ -128,8 +131,10 @@ static int write_clusters(run_state *s, hsbd_error *err) {
 }
 
 static void json_number(FILE *f, const char *key, double v, int comma) {
-    if (isfinite(v)) fprintf(f, "  \"%s\": %.10g%s\n", key, v, comma ? "," : "");
-    else fprintf(f, "  \"%s\": null%s\n", key, comma ? "," : "");
+    if (isfinite(v))
+        fprintf(f, "  \"%s\": %.10g%s\n", key, v, comma ? "," : "");
+    else
+        fprintf(f, "  \"%s\": null%s\n", key, comma ? "," : "");
 }
 
 static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err) {
@@ -144,13 +149,12 @@ static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err)
     if (cfg->system.hard_core)
         hsbd_clusters_means(s->clusters, &mean_size, &mean_size_err, &merges, &merges_err);
     const double t_prod = (double)s->steps_done * cfg->run.dt;
-    const double current = t_prod > 0 ? (sum_unwrapped(s->rods) - s->sum_x_start) /
-                                            (cfg->system.length * t_prod)
-                                      : NAN;
+    const double current =
+        t_prod > 0 ? (sum_unwrapped(s->rods) - s->sum_x_start) / (cfg->system.length * t_prod)
+                   : NAN;
     fprintf(f, "{\n  \"program\": \"hsbd\",\n  \"version\": \"%s\",\n  \"git\": \"%s\",\n",
             HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
-    fprintf(f, "  \"model\": \"rods\",\n  \"seed\": %llu,\n",
-            (unsigned long long)cfg->system.seed);
+    fprintf(f, "  \"model\": \"rods\",\n  \"seed\": %llu,\n", (unsigned long long)cfg->system.seed);
     fprintf(f, "  \"completed\": %s,\n", s->completed ? "true" : "false");
     fprintf(f, "  \"stop_reason\": \"%s\",\n", stop_reason);
     fprintf(f, "  \"steps\": %llu,\n  \"steps_planned\": %llu,\n  \"equilibration_steps\": %llu,\n",
@@ -254,7 +258,9 @@ static int produce(run_state *s, hsbd_error *err) {
             ? (uint64_t)fmax(1.0, round(cfg->output.trajectory_every / cfg->run.dt))
             : 0;
     const uint64_t cur_every =
-        cfg->sample.current_every > 0 ? (uint64_t)fmax(1.0, round(cfg->sample.current_every / cfg->run.dt)) : 0;
+        cfg->sample.current_every > 0
+            ? (uint64_t)fmax(1.0, round(cfg->sample.current_every / cfg->run.dt))
+            : 0;
     const int hard = cfg->system.hard_core;
     hsbd_progress pr;
     hsbd_progress_start(&pr, s->opt->progress, "running", (double)cfg->system.n);
@@ -317,8 +323,7 @@ static int open_streams(run_state *s, hsbd_error *err) {
 }
 
 static int finish(run_state *s, int run_rc, hsbd_error *err) {
-    const char *reason = run_rc == HSBD_OK ? (s->completed ? "completed" : "interrupted")
-                                           : "error";
+    const char *reason = run_rc == HSBD_OK ? (s->completed ? "completed" : "interrupted") : "error";
     hsbd_error werr;
     hsbd_error_clear(&werr);
     int rc = write_profiles(s, &werr);

@@ -54,7 +54,8 @@ void hsbd_blocks_end_sample(hsbd_blocks *b) {
     b->nsamples += 1;
     if (b->nsamples == b->nsamples_total || block_of(b, b->nsamples) != k) {
         double *dst = b->block_sum + k * b->nvalues;
-        for (size_t j = 0; j < b->nvalues; ++j) dst[j] += b->acc[j];
+        for (size_t j = 0; j < b->nvalues; ++j)
+            dst[j] += b->acc[j];
         memset(b->acc, 0, b->nvalues * sizeof *b->acc);
     }
 }
@@ -68,7 +69,8 @@ size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err) {
     const size_t cur = block_of(b, b->nsamples);
     size_t used = 0;
     uint64_t total = 0;
-    for (size_t k = 0; k < b->nblocks; ++k) used += b->block_n[k] > 0, total += b->block_n[k];
+    for (size_t k = 0; k < b->nblocks; ++k)
+        used += b->block_n[k] > 0, total += b->block_n[k];
     for (size_t j = 0; j < b->nvalues; ++j) {
         double sum = 0;
         for (size_t k = 0; k < b->nblocks; ++k)

@@ -31,10 +31,10 @@ void hsbd_clusters_free(hsbd_clusters *c) {
     free(c);
 }
 
-void hsbd_clusters_sample(hsbd_clusters *c, const hsbd_rods *rods,
-                          const hsbd_rods_step_stats *st) {
+void hsbd_clusters_sample(hsbd_clusters *c, const hsbd_rods *rods, const hsbd_rods_step_stats *st) {
     const size_t nc = hsbd_rods_cluster_count(rods);
-    for (size_t k = 0; k < nc; ++k) c->hist[hsbd_rods_cluster_size(rods, k)] += 1.0;
+    for (size_t k = 0; k < nc; ++k)
+        c->hist[hsbd_rods_cluster_size(rods, k)] += 1.0;
     c->total += (double)nc;
     double *acc = hsbd_blocks_acc(c->means);
     acc[0] += nc ? (double)c->n / (double)nc : 0.0;

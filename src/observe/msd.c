@@ -12,13 +12,13 @@ struct hsbd_msd {
     size_t n, nlags, slots, nblocks;
     double sample_dt;
     uint64_t origin_every, max_origins, sample;
-    uint64_t *lag;      /* lag k in samples */
-    long *lag_index;    /* samples -> k, or -1 (size max lag + 1) */
-    uint64_t max_lag;   /* in samples */
-    double *snap;       /* slots x n unwrapped positions */
-    uint64_t *snap_at;  /* sample index of each slot's origin */
-    double *value;      /* nlags x max_origins */
-    size_t *count;      /* values per lag */
+    uint64_t *lag;     /* lag k in samples */
+    long *lag_index;   /* samples -> k, or -1 (size max lag + 1) */
+    uint64_t max_lag;  /* in samples */
+    double *snap;      /* slots x n unwrapped positions */
+    uint64_t *snap_at; /* sample index of each slot's origin */
+    double *value;     /* nlags x max_origins */
+    size_t *count;     /* values per lag */
 };
 
 void hsbd_msd_free(hsbd_msd *m) {
@@ -48,7 +48,8 @@ hsbd_msd *hsbd_msd_alloc(size_t n, double sample_dt, uint64_t nsamples_total, do
     m->lag = malloc(cap * sizeof *m->lag);
     m->lag_index = malloc((lmax + 1) * sizeof *m->lag_index);
     if (!m->lag || !m->lag_index) goto oom;
-    for (uint64_t l = 0; l <= lmax; ++l) m->lag_index[l] = -1;
+    for (uint64_t l = 0; l <= lmax; ++l)
+        m->lag_index[l] = -1;
     for (int j = 0;; ++j) {
         uint64_t l = (uint64_t)llround(pow(10.0, (double)j / points_per_decade));
         if (l > lmax) l = lmax;
@@ -72,7 +73,8 @@ hsbd_msd *hsbd_msd_alloc(size_t n, double sample_dt, uint64_t nsamples_total, do
     m->value = malloc(m->nlags * m->max_origins * sizeof *m->value);
     m->count = calloc(m->nlags, sizeof *m->count);
     if (!m->snap || !m->snap_at || !m->value || !m->count) goto oom;
-    for (size_t s = 0; s < m->slots; ++s) m->snap_at[s] = UINT64_MAX;
+    for (size_t s = 0; s < m->slots; ++s)
+        m->snap_at[s] = UINT64_MAX;
     return m;
 oom:
     hsbd_msd_free(m);
@@ -96,12 +98,14 @@ void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
             sum += d * d;
         }
         const size_t c = m->count[j];
-        if (c < m->max_origins) m->value[(size_t)j * m->max_origins + c] = sum / (double)n, m->count[j] = c + 1;
+        if (c < m->max_origins)
+            m->value[(size_t)j * m->max_origins + c] = sum / (double)n, m->count[j] = c + 1;
     }
     if (k % m->origin_every == 0) {
         const size_t s = (size_t)((k / m->origin_every) % m->slots);
         double *x0 = m->snap + s * n;
-        for (size_t i = 0; i < n; ++i) x0[i] = v->z[i] + v->offset[i] + v->unwrap;
+        for (size_t i = 0; i < n; ++i)
+            x0[i] = v->z[i] + v->offset[i] + v->unwrap;
         m->snap_at[s] = k;
     }
 }
@@ -117,7 +121,8 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
     *t = (double)m->lag[k] * m->sample_dt;
     *origins = c;
     double sum = 0;
-    for (size_t i = 0; i < c; ++i) sum += val[i];
+    for (size_t i = 0; i < c; ++i)
+        sum += val[i];
     *msd = c ? sum / (double)c : NAN;
     /* block average over origins in time order */
     const size_t nb = c < m->nblocks ? c : m->nblocks;
@@ -129,7 +134,8 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
     for (size_t b = 0; b < nb; ++b) {
         const size_t lo = b * c / nb, hi = (b + 1) * c / nb;
         double s = 0;
-        for (size_t i = lo; i < hi; ++i) s += val[i];
+        for (size_t i = lo; i < hi; ++i)
+            s += val[i];
         const double d = s / (double)(hi - lo) - *msd;
         var += d * d;
     }

@@ -54,7 +54,8 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
     }
-    for (size_t i = 0; i < n; ++i) r->offset[i] = (double)i * par->sigma;
+    for (size_t i = 0; i < n; ++i)
+        r->offset[i] = (double)i * par->sigma;
     return r;
 }
 
@@ -85,7 +86,8 @@ void hsbd_rods_init_equilibrium(hsbd_rods *r) {
     }
     sum += -log(last);
     const double scale = r->free_length / sum, shift = rotation * r->par.length;
-    for (size_t i = 0; i < n; ++i) r->z[i] = u[i] * scale + shift;
+    for (size_t i = 0; i < n; ++i)
+        r->z[i] = u[i] * scale + shift;
     r->wraps = 0;
     r->nclusters = 0;
 }
@@ -114,7 +116,8 @@ int hsbd_rods_set_positions(hsbd_rods *r, const double *x, hsbd_error *err) {
                                   "closer than sigma = %g",
                                   w[i], next - (i + 1 < n ? 0.0 : L), sigma);
     }
-    for (size_t i = 0; i < n; ++i) r->z[i] = w[i] - r->offset[i];
+    for (size_t i = 0; i < n; ++i)
+        r->z[i] = w[i] - r->offset[i];
     /* clamp rounding-level overlaps to exact contact, keeping ring order */
     for (size_t i = 1; i < n; ++i)
         if (r->z[i] < r->z[i - 1]) r->z[i] = r->z[i - 1];
@@ -136,11 +139,14 @@ static void compute_endpoints(hsbd_rods *r) {
         double *restrict y = r->y + i0;
         hsbd_rng_normals(r->par.seed, HSBD_STREAM_NOISE, r->step, i0, m, g);
         if (has_field) {
-            for (size_t j = 0; j < m; ++j) x[j] = z[j] + r->offset[i0 + j];
+            for (size_t j = 0; j < m; ++j)
+                x[j] = z[j] + r->offset[i0 + j];
             hsbd_field_force(&r->par.field, m, x, f);
-            for (size_t j = 0; j < m; ++j) y[j] = z[j] + mu_dt * f[j] + noise * g[j];
+            for (size_t j = 0; j < m; ++j)
+                y[j] = z[j] + mu_dt * f[j] + noise * g[j];
         } else {
-            for (size_t j = 0; j < m; ++j) y[j] = z[j] + noise * g[j];
+            for (size_t j = 0; j < m; ++j)
+                y[j] = z[j] + noise * g[j];
         }
     }
 }
@@ -171,7 +177,8 @@ static void count_fragments(hsbd_rods *r, hsbd_rods_step_stats *st) {
         r->frag_v[len++] = (r->y[i] - r->z[i]) * inv_dt; /* mu F_i, Eq. (12) */
         if (k + 1 == n || ring_gap(r, i) > r->contact_tol) {
             st->clusters_start += 1;
-            st->fragments += len == 1 ? 1 : hsbd_pava_line(r->frag, len, r->frag_v, NULL, r->frag_v);
+            st->fragments +=
+                len == 1 ? 1 : hsbd_pava_line(r->frag, len, r->frag_v, NULL, r->frag_v);
             len = 0;
         }
     }
@@ -183,7 +190,8 @@ static void recenter(hsbd_rods *r) {
     const double z0 = r->z[0];
     if (z0 >= -L && z0 < 2 * L) return;
     const int64_t k = (int64_t)floor(z0 / L);
-    for (size_t i = 0; i < r->par.n; ++i) r->z[i] -= (double)k * L;
+    for (size_t i = 0; i < r->par.n; ++i)
+        r->z[i] -= (double)k * L;
     r->wraps += k;
 }
 

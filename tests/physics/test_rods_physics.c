@@ -34,8 +34,14 @@ static void test_tonks_ring(void) {
     const size_t n = 20, nblocks = 20;
     const double L = 40, sigma = 0.5, dt = 1e-4, window = 1.0;
     const uint64_t every = 10, steps = (uint64_t)(2.0e6 * run_scale());
-    hsbd_rods_params par = {.n = n, .length = L, .sigma = sigma, .diffusion = 1, .kT = 1,
-                            .dt = dt, .seed = 31, .hard_core = 1};
+    hsbd_rods_params par = {.n = n,
+                            .length = L,
+                            .sigma = sigma,
+                            .diffusion = 1,
+                            .kT = 1,
+                            .dt = dt,
+                            .seed = 31,
+                            .hard_core = 1};
     hsbd_error err;
     hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
     hsbd_rods_init_equilibrium(rods);
@@ -52,7 +58,8 @@ static void test_tonks_ring(void) {
     double x[NBINS], rho[NBINS], rho_err[NBINS];
     hsbd_profile_density(prof, x, rho, rho_err);
     double chi2 = 0;
-    for (size_t k = 0; k < NBINS; ++k) chi2 += pow((rho[k] - (double)n / L) / rho_err[k], 2);
+    for (size_t k = 0; k < NBINS; ++k)
+        chi2 += pow((rho[k] - (double)n / L) / rho_err[k], 2);
     /* chi^2/dof of NBINS block-error-normalised deviations: mean 1, sd ~ sqrt(2/NBINS)
      * (somewhat more with 20 blocks: the errors are themselves estimated) */
     printf("  density chi^2/dof = %.3f over %d bins\n", chi2 / NBINS, NBINS);
@@ -79,8 +86,14 @@ static void test_short_time_msd(void) {
     const size_t n = 200, nblocks = 20;
     const double L = 20000, sigma = 1.0, dt = 1e-4;
     const uint64_t steps = (uint64_t)(4.0e5 * run_scale());
-    hsbd_rods_params par = {.n = n, .length = L, .sigma = sigma, .diffusion = 1.7, .kT = 1,
-                            .dt = dt, .seed = 5, .hard_core = 1};
+    hsbd_rods_params par = {.n = n,
+                            .length = L,
+                            .sigma = sigma,
+                            .diffusion = 1.7,
+                            .kT = 1,
+                            .dt = dt,
+                            .seed = 5,
+                            .hard_core = 1};
     hsbd_error err;
     hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
     hsbd_rods_init_equilibrium(rods);
@@ -113,8 +126,14 @@ static void test_drift(int hard_core) {
     const size_t n = 100, nblocks = 20;
     const double L = 200, dt = 1e-3, f = 1.5, D = 0.8, kT = 2.0;
     const uint64_t steps = (uint64_t)(2.0e4 * run_scale());
-    hsbd_rods_params par = {.n = n, .length = L, .sigma = 1.0, .diffusion = D, .kT = kT,
-                            .dt = dt, .seed = 77, .hard_core = hard_core};
+    hsbd_rods_params par = {.n = n,
+                            .length = L,
+                            .sigma = 1.0,
+                            .diffusion = D,
+                            .kT = kT,
+                            .dt = dt,
+                            .seed = 77,
+                            .hard_core = hard_core};
     hsbd_field_add(&par.field, hsbd_field_tilt(f));
     hsbd_error err;
     hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
@@ -129,7 +148,8 @@ static void test_drift(int hard_core) {
         hsbd_rods_step(rods, NULL);
         const hsbd_rods_view v = hsbd_rods_get_view(rods);
         double sum = 0;
-        for (size_t i = 0; i < n; ++i) sum += v.z[i] + v.offset[i] + v.unwrap;
+        for (size_t i = 0; i < n; ++i)
+            sum += v.z[i] + v.offset[i] + v.unwrap;
         hsbd_blocks_acc(vel)[0] += (sum - prev) / ((double)n * dt);
         hsbd_blocks_end_sample(vel);
         prev = sum;

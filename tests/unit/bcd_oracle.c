@@ -5,7 +5,8 @@
 /* velocity of rods a..b-1 moving together: sum F / sum (1/mu) */
 static double group_velocity(const double *force, const double *mob, size_t a, size_t b) {
     double f = 0, friction = 0;
-    for (size_t k = a; k < b; ++k) f += force[k], friction += 1.0 / mob[k];
+    for (size_t k = a; k < b; ++k)
+        f += force[k], friction += 1.0 / mob[k];
     return f / friction;
 }
 
@@ -66,7 +67,8 @@ size_t oracle_step(size_t n, double *x, const double *force, const double *mob, 
         size_t pos = 0;
         for (size_t p = 0; p < parts; ++p) {
             const double vel = group_velocity(f, m, pos, pos + sizes[p]); /* Eq. (12) */
-            for (size_t q = pos; q < pos + sizes[p]; ++q) label[idx[q]] = next_label, v[idx[q]] = vel;
+            for (size_t q = pos; q < pos + sizes[p]; ++q)
+                label[idx[q]] = next_label, v[idx[q]] = vel;
             pos += sizes[p];
             ++next_label;
         }
@@ -81,16 +83,19 @@ size_t oracle_step(size_t n, double *x, const double *force, const double *mob, 
         for (size_t i = 0; i < n; ++i) {
             const size_t j = (i + 1) % n;
             if (n == 1 || label[i] == label[j] || !(v[i] > v[j])) continue; /* Eq. (13) */
-            double t = gap(n, x, i, sigma, L) / (v[i] - v[j]);             /* Eq. (14) */
+            double t = gap(n, x, i, sigma, L) / (v[i] - v[j]);              /* Eq. (14) */
             if (t < 0) t = 0;
             if (t < t_first) t_first = t, i_c = i; /* Eqs. (15)-(16) */
         }
-        for (size_t i = 0; i < n; ++i) x[i] += v[i] * t_first; /* Eq. (18) / (19) */
+        for (size_t i = 0; i < n; ++i)
+            x[i] += v[i] * t_first; /* Eq. (18) / (19) */
         remaining -= t_first;
         if (i_c == n) break;
         const size_t j_c = (i_c + 1) % n;
-        if (j_c == 0) x[0] = x[n - 1] + sigma - L; /* exact contact */
-        else x[j_c] = x[i_c] + sigma;
+        if (j_c == 0)
+            x[0] = x[n - 1] + sigma - L; /* exact contact */
+        else
+            x[j_c] = x[i_c] + sigma;
         const int a = label[i_c], b = label[j_c];
         double fa = 0, fb = 0, wa = 0, wb = 0; /* friction-weighted merge, Eq. (17) */
         for (size_t i = 0; i < n; ++i) {

@@ -36,13 +36,16 @@ static int composition_is_valid(size_t n, const double *v, const double *fric, u
         if (c + 1 < n && !(cuts >> c & 1u)) continue;
         const size_t b = c + 1; /* subcluster [a, b) */
         double num = 0, den = 0;
-        for (size_t k = a; k < b; ++k) num += fric[k] * v[k], den += fric[k];
+        for (size_t k = a; k < b; ++k)
+            num += fric[k] * v[k], den += fric[k];
         const double mean = num / den;
-        if (!(prev_mean < mean)) return 0; /* Eq. (4) */
+        if (!(prev_mean < mean)) return 0;   /* Eq. (4) */
         for (size_t i = a + 1; i < b; ++i) { /* Eq. (5): prefix mean >= rest mean */
             double n1 = 0, d1 = 0, n2 = 0, d2 = 0;
-            for (size_t k = a; k < i; ++k) n1 += fric[k] * v[k], d1 += fric[k];
-            for (size_t k = i; k < b; ++k) n2 += fric[k] * v[k], d2 += fric[k];
+            for (size_t k = a; k < i; ++k)
+                n1 += fric[k] * v[k], d1 += fric[k];
+            for (size_t k = i; k < b; ++k)
+                n2 += fric[k] * v[k], d2 += fric[k];
             if (!(n1 / d1 >= n2 / d2)) return 0;
         }
         prev_mean = mean;
@@ -73,13 +76,15 @@ static void test_fragmentation_brute_force(void) {
         const size_t nb = hsbd_pava_line(p, n, v, fric, fit);
         unsigned pava_cuts = 0;
         size_t pos = 0;
-        for (size_t b = 0; b + 1 < nb; ++b) pos += hsbd_pava_block_size(p, b), pava_cuts |= 1u << (pos - 1);
+        for (size_t b = 0; b + 1 < nb; ++b)
+            pos += hsbd_pava_block_size(p, b), pava_cuts |= 1u << (pos - 1);
         /* recursive largest-jump rule of the paper */
         size_t sizes[NMAX];
         const size_t parts = oracle_fragment(n, force, mob, sizes);
         unsigned oracle_cuts = 0;
         pos = 0;
-        for (size_t b = 0; b + 1 < parts; ++b) pos += sizes[b], oracle_cuts |= 1u << (pos - 1);
+        for (size_t b = 0; b + 1 < parts; ++b)
+            pos += sizes[b], oracle_cuts |= 1u << (pos - 1);
         mismatches += pava_cuts != found || oracle_cuts != found;
     }
     CHECK(not_unique == 0, "%d force sets had no or several valid compositions", not_unique);
@@ -98,7 +103,8 @@ static void random_ring(test_rng *rng, size_t n, double sigma, double L, double 
     if (sum == 0) gaps[n - 1] = sum = 1.0;
     const double free_len = L - (double)n * sigma;
     x[0] = L * uniform(rng);
-    for (size_t i = 1; i < n; ++i) x[i] = x[i - 1] + sigma + gaps[i - 1] * free_len / sum;
+    for (size_t i = 1; i < n; ++i)
+        x[i] = x[i - 1] + sigma + gaps[i - 1] * free_len / sum;
 }
 
 static void test_ring_step_vs_oracle(void) {
@@ -122,8 +128,8 @@ static void test_ring_step_vs_oracle(void) {
             fric[i] = 1.0 / mob[i];
             force[i] = bias + scale * normal(&rng);
             xo[i] = x[i];
-            z[i] = x[i] - (double)i * sigma;                /* contact-offset coordinate */
-            y[i] = z[i] + mob[i] * force[i] * dt;            /* free end point */
+            z[i] = x[i] - (double)i * sigma;      /* contact-offset coordinate */
+            y[i] = z[i] + mob[i] * force[i] * dt; /* free end point */
         }
         total_merges += oracle_step(n, xo, force, mob, sigma, L, dt, 1e-12);
         const size_t nb = hsbd_pava_ring(p, n, y, fric, free_len, z);
@@ -148,8 +154,14 @@ static void test_ring_step_vs_oracle(void) {
  * with the same total forces, Eq. (11), over many consecutive steps. */
 static void test_library_step_vs_oracle(void) {
     const size_t n = 10;
-    hsbd_rods_params par = {.n = n, .length = 6.0, .sigma = 0.5, .diffusion = 1.3, .kT = 0.7,
-                            .dt = 1e-2, .seed = 2024, .hard_core = 1};
+    hsbd_rods_params par = {.n = n,
+                            .length = 6.0,
+                            .sigma = 0.5,
+                            .diffusion = 1.3,
+                            .kT = 0.7,
+                            .dt = 1e-2,
+                            .seed = 2024,
+                            .hard_core = 1};
     hsbd_field_add(&par.field, hsbd_field_cosine(6.0, 1.0));
     hsbd_field_add(&par.field, hsbd_field_tilt(0.8));
     hsbd_error err;
@@ -166,7 +178,8 @@ static void test_library_step_vs_oracle(void) {
             mob[i] = mu;
         }
         hsbd_field_force(&par.field, n, x, force);
-        for (size_t i = 0; i < n; ++i) force[i] += sqrt(2 * par.diffusion / par.dt) / mu * g[i];
+        for (size_t i = 0; i < n; ++i)
+            force[i] += sqrt(2 * par.diffusion / par.dt) / mu * g[i];
         const double shift = v.unwrap;
         oracle_step(n, x, force, mob, par.sigma, par.length, par.dt, 1e-12);
         hsbd_rods_step(rods, NULL);
@@ -182,8 +195,14 @@ static void test_library_step_vs_oracle(void) {
 
 /* The fragmentation diagnostic counts what the oracle does. */
 static void test_step_stats(void) {
-    hsbd_rods_params par = {.n = 40, .length = 25.0, .sigma = 0.5, .diffusion = 1,
-                            .kT = 1, .dt = 1e-2, .seed = 5, .hard_core = 1};
+    hsbd_rods_params par = {.n = 40,
+                            .length = 25.0,
+                            .sigma = 0.5,
+                            .diffusion = 1,
+                            .kT = 1,
+                            .dt = 1e-2,
+                            .seed = 5,
+                            .hard_core = 1};
     hsbd_error err;
     hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
     hsbd_rods_init_equilibrium(rods);
@@ -195,7 +214,8 @@ static void test_step_stats(void) {
               "step %d: %zu clusters, %zu fragments, %zu at end", s, st.clusters_start,
               st.fragments, st.clusters_end);
         size_t total = 0;
-        for (size_t k = 0; k < hsbd_rods_cluster_count(rods); ++k) total += hsbd_rods_cluster_size(rods, k);
+        for (size_t k = 0; k < hsbd_rods_cluster_count(rods); ++k)
+            total += hsbd_rods_cluster_size(rods, k);
         CHECK(total == par.n, "cluster sizes add to %zu", total);
         merges += st.fragments - st.clusters_end, frag += st.fragments, start += st.clusters_start;
     }

@@ -20,7 +20,8 @@ static void test_batching_invariance(void) {
     for (size_t first = 0; first < 300; first += 37) {
         const size_t n = 1 + first % 401;
         hsbd_rng_normals(42, HSBD_STREAM_NOISE, 7, first, n, part);
-        for (size_t i = 0; i < n; ++i) bad += memcmp(&part[i], &all[first + i], sizeof(double)) != 0;
+        for (size_t i = 0; i < n; ++i)
+            bad += memcmp(&part[i], &all[first + i], sizeof(double)) != 0;
     }
     CHECK(bad == 0, "%d normals depend on how the range was requested", bad);
     double a, b, c, d;
@@ -49,7 +50,8 @@ static void test_normal_moments(void) {
     CHECK(fabs(m4 - 3) < 5 * sqrt(96 / n), "fourth moment %.5f", m4);
     /* neighbours (the two halves of one Box-Muller pair) uncorrelated */
     double c = 0;
-    for (size_t i = 0; i + 1 < NDRAW; i += 2) c += g[i] * g[i + 1];
+    for (size_t i = 0; i + 1 < NDRAW; i += 2)
+        c += g[i] * g[i + 1];
     c /= n / 2;
     CHECK(fabs(c) < 5 * sqrt(2 / n), "pair correlation %.3g", c);
 }

@@ -1,0 +1,15 @@
+/* hsbd: Brownian dynamics of hard bodies with exact hard cores. Umbrella header. */
+#ifndef HSBD_H
+#define HSBD_H
+
+#include "hsbd/config.h"
+#include "hsbd/error.h"
+#include "hsbd/field.h"
+#include "hsbd/io.h"
+#include "hsbd/isotonic.h"
+#include "hsbd/observe.h"
+#include "hsbd/rng.h"
+#include "hsbd/rods.h"
+#include "hsbd/run.h"
+
+#endif
