@@ -106,6 +106,13 @@ for ini in "$SRC"/examples/*.ini; do
     if "$HSBD" run "$ini" "${QUICK[@]}" --out "ex-$name" && [ -s "ex-$name/summary.json" ]; then ok; else bad "example $name"; fi
 done
 
+# the authors' example file runs (shortened); so does their dialect written here
+if "$HSBD" run "$SRC/examples/authors-basep.cfg" "${QUICK[@]}" --out ex-authors && [ -s ex-authors/current.tsv ]; then ok; else bad "examples/authors-basep.cfg"; fi
+
+# --check verifies the hard core after every step, here on a dense ring (rho sigma = 0.9)
+if "$HSBD" run good.ini --check --set system.N=72 --set system.L=40 --out dense --quiet &&
+    grep -q '"min_gap": ' dense/summary.json; then ok; else bad "--check on a dense ring"; fi
+
 # the authors' dialect (their key names, no sections) runs unchanged
 cat >authors.cfg <<'CFG'
 particles = 20
