@@ -64,40 +64,38 @@ static void write_table_header(FILE *f, const hsbd_config *cfg, const char *what
 
 /* ---- result tables ------------------------------------------------------------------ */
 
-static int write_profiles(run_state *s, hsbd_error *err) {
+typedef void (*profile_getter)(const hsbd_profile *p, double *x, double *val, double *err);
+
+/* One binned profile as a three-column table. */
+static int write_profile_table(run_state *s, const char *name, const char *what,
+                               const char *columns, profile_getter get, hsbd_error *err) {
     const size_t nb = hsbd_profile_bins(s->profile);
     double *x = malloc(nb * sizeof *x), *val = malloc(nb * sizeof *val),
            *e = malloc(nb * sizeof *e);
-    if (!x || !val || !e) {
-        free(x), free(val), free(e);
-        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing profiles");
-    }
     hsbd_outfile o;
-    int rc = hsbd_outfile_open(&o, s->cfg->output.dir, "density.tsv", err);
+    int rc = x && val && e ? hsbd_outfile_open(&o, s->cfg->output.dir, name, err)
+                           : hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing %s", name);
     if (rc == HSBD_OK) {
-        write_table_header(o.f, s->cfg,
-                           "density profile folded into one period, Antonov Eq. 25, normalised "
-                           "to mean N/L; errors from block averages",
-                           "x\trho\trho_err");
-        hsbd_profile_density(s->profile, x, val, e);
+        write_table_header(o.f, s->cfg, what, columns);
+        get(s->profile, x, val, e);
         for (size_t k = 0; k < nb; ++k)
             fprintf(o.f, "%.10g\t%.10g\t%.4g\n", x[k], val[k], e[k]);
         rc = hsbd_outfile_commit(&o, err);
     }
-    if (rc == HSBD_OK && s->cfg->system.hard_core) {
-        rc = hsbd_outfile_open(&o, s->cfg->output.dir, "contact.tsv", err);
-        if (rc == HSBD_OK) {
-            write_table_header(o.f, s->cfg,
-                               "two-particle density at contact rho2(x, x+sigma), x = left rod, "
-                               "Antonov Eq. 26 with gaps in [0, contact_width]",
-                               "x\trho2\trho2_err");
-            hsbd_profile_contact(s->profile, x, val, e);
-            for (size_t k = 0; k < nb; ++k)
-                fprintf(o.f, "%.10g\t%.10g\t%.4g\n", x[k], val[k], e[k]);
-            rc = hsbd_outfile_commit(&o, err);
-        }
-    }
     free(x), free(val), free(e);
+    return rc;
+}
+
+static int write_profiles(run_state *s, hsbd_error *err) {
+    int rc = write_profile_table(s, "density.tsv",
+                                 "density profile folded into one period, Antonov Eq. 25, "
+                                 "normalised to mean N/L; errors from block averages",
+                                 "x\trho\trho_err", hsbd_profile_density, err);
+    if (rc == HSBD_OK && s->cfg->system.hard_core)
+        rc = write_profile_table(s, "contact.tsv",
+                                 "two-particle density at contact rho2(x, x+sigma), x = left rod, "
+                                 "Antonov Eq. 26 with gaps in [0, contact_width]",
+                                 "x\trho2\trho2_err", hsbd_profile_contact, err);
     return rc;
 }
 
