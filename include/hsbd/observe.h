@@ -33,6 +33,8 @@ size_t hsbd_profile_bins(const hsbd_profile *p);
 void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double *err);
 /* rho2(x, x+sigma) with x the left rod of the pair, gaps in [0, contact_width]. */
 void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err);
+/* Positions that were not finite in the samples (a run should stop at the first). */
+uint64_t hsbd_profile_nonfinite(const hsbd_profile *p);
 /* Smallest neighbour gap seen in the samples. */
 double hsbd_profile_min_gap(const hsbd_profile *p);
 

@@ -241,6 +241,7 @@ static int equilibrate(run_state *s, hsbd_error *err) {
         if ((k & 255) == 0) {
             hsbd_progress_update(&pr, k, n);
             if (stop_requested(s)) break;
+            if ((rc = check_hard_core(s, err)) != HSBD_OK) break; /* O(N): NaN, overlap */
         }
     }
     s->wall_equil = hsbd_wall_seconds() - t0;
@@ -276,9 +277,12 @@ static int produce(run_state *s, hsbd_error *err) {
             hsbd_profile_sample(s->profile, &v);
             hsbd_msd_sample(s->msd, &v);
             if (hard) hsbd_clusters_sample(s->clusters, s->rods, &st);
-            if (!isfinite(v.z[0]) || !isfinite(v.z[v.n - 1])) {
-                rc = check_hard_core(s, err);
-                if (rc != HSBD_OK) break;
+            if (hsbd_profile_nonfinite(s->profile)) {
+                rc = hsbd_error_set(err, HSBD_ENUMERIC,
+                                    "non-finite position after step %llu (time %g); check the "
+                                    "field parameters and dt. Results up to here are written.",
+                                    (unsigned long long)v.step, v.time);
+                break;
             }
         }
         if (traj_every && (k + 1) % traj_every == 0) {

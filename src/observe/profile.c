@@ -11,6 +11,7 @@ struct hsbd_profile {
     size_t nbins;
     double periods; /* L / period, set from the samples */
     double min_gap;
+    uint64_t nonfinite;   /* positions that were NaN or infinite (never binned) */
     hsbd_blocks *density; /* counts per bin per sample */
     hsbd_blocks *contact; /* contact pairs per bin (left rod) per sample */
 };
@@ -49,8 +50,7 @@ void hsbd_profile_free(hsbd_profile *p) {
 
 static size_t bin_of(const hsbd_profile *p, double x) {
     const double b = floor((x - p->period * floor(x / p->period)) / p->bin_width);
-    if (b >= 0 && b < (double)p->nbins) return (size_t)b;
-    return b >= (double)p->nbins ? p->nbins - 1 : 0; /* rounding at the edge, or NaN */
+    return b < (double)p->nbins ? (size_t)b : p->nbins - 1; /* x finite: b >= 0 */
 }
 
 void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
@@ -60,7 +60,12 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
     p->periods = v->length / p->period;
     double min_gap = p->min_gap;
     for (size_t i = 0; i < n; ++i) {
-        const size_t b = bin_of(p, v->z[i] + v->offset[i]);
+        const double x = v->z[i] + v->offset[i];
+        if (!isfinite(x)) {
+            p->nonfinite += 1;
+            continue;
+        }
+        const size_t b = bin_of(p, x);
         rho[b] += 1.0;
         if (!v->hard_core || n < 2) continue;
         const double gap = i + 1 < n ? v->z[i + 1] - v->z[i] : v->z[0] + v->free_length - v->z[i];
@@ -94,6 +99,10 @@ void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double 
 
 void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err) {
     finish(p, p->contact, p->bin_width * p->contact_width, x, rho2, err);
+}
+
+uint64_t hsbd_profile_nonfinite(const hsbd_profile *p) {
+    return p->nonfinite;
 }
 
 double hsbd_profile_min_gap(const hsbd_profile *p) {

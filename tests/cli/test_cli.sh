@@ -163,6 +163,12 @@ rc=$?
 if [ $rc -eq 130 ] && grep -q '"completed": false' intr/summary.json && [ -s intr/density.tsv ] &&
     ! ls intr/*.part >/dev/null 2>&1; then ok; else bad "interrupt: rc=$rc"; fi
 
+# a run that produces non-finite positions stops with a message; what was sampled stays valid
+"$HSBD" run good.ini --set field.amplitude=1e308 --out nan --quiet 2>"$T/stderr"
+rc=$?
+if [ $rc -eq 1 ] && grep -q "non-finite position" "$T/stderr" && grep -q '"completed": false' nan/summary.json &&
+    ! ls nan/*.part >/dev/null 2>&1; then ok; else bad "non-finite run: rc=$rc $(cat "$T/stderr")"; fi
+
 # the configuration reference in docs/ is the one the schema generates
 if "$HSBD" config-doc | diff -q - "$SRC/docs/config.md" >/dev/null; then ok; else bad "docs/config.md is stale: run 'build/hsbd config-doc > docs/config.md'"; fi
 
