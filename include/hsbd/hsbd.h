@@ -11,5 +11,6 @@
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
+#include "hsbd/theory.h"
 
 #endif

@@ -1,0 +1,59 @@
+/* Exact references for hard rods: Percus' density functional (hard and Baxter-sticky)
+ * in a periodic external potential, and closed forms for the homogeneous fluid. */
+#ifndef HSBD_THEORY_H
+#define HSBD_THEORY_H
+
+#include <stddef.h>
+
+#include "hsbd/error.h"
+
+/* ---- Percus functional on one period (Antonov Eqs. 20-23, sticky: Eqs. 34a-c) ---- */
+typedef struct hsbd_percus_params {
+    double sigma;      /* rod length */
+    double rho_mean;   /* mean density over a period (canonical normalisation, Eq. 22) */
+    double amplitude;  /* U0 of U(x) = (U0/2) cos(2 pi x / wavelength), in kT */
+    double wavelength; /* period */
+    double gamma;      /* Baxter stickiness (0: hard rods) */
+    size_t points;     /* grid points per period */
+    double tol;        /* convergence: max |G(rho) - rho| (default 1e-10 if 0) */
+    int max_iter;      /* default 20000 if 0 */
+} hsbd_percus_params;
+
+typedef struct hsbd_percus_result {
+    size_t m;
+    double *x;       /* grid x_j = j h */
+    double *rho;     /* equilibrium density */
+    double *rho2;    /* two-particle density at contact rho2(x, x+sigma) (hard rods, Eq. 23);
+                        for gamma > 0 the continuous part at contact, see docs/theory.md */
+    double beta_mu;  /* chemical potential (kT units, thermal wavelength 1) */
+    double residual; /* max |G(rho) - rho| at the end */
+    int iterations;
+} hsbd_percus_result;
+
+/* Solve; HSBD_EINPUT for parameters out of range, HSBD_ENUMERIC when it does not converge
+ * (nothing is returned then). */
+int hsbd_percus_solve(const hsbd_percus_params *p, hsbd_percus_result *out, hsbd_error *err);
+void hsbd_percus_result_free(hsbd_percus_result *r);
+
+/* Linear interpolation of a periodic grid function (period m h) at any x. */
+double hsbd_periodic_interp(const double *f, size_t m, double h, double x);
+
+/* ---- homogeneous hard rods (Tonks gas) ---- */
+double hsbd_tonks_pressure(double rho, double sigma); /* beta P = rho / (1 - rho sigma) */
+double hsbd_tonks_beta_mu(double rho, double sigma);  /* ln(rho/(1-rho s)) + rho s/(1-rho s) */
+double hsbd_tonks_contact(double rho, double sigma);  /* rho2(x, x+sigma) = rho^2/(1-rho s) */
+/* pair correlation g(r) of the infinite Tonks gas (sum over neighbour orders) */
+double hsbd_tonks_g(double r, double rho, double sigma);
+/* exact ring of N rods: contact density (N/L)(N-1)/(L - N sigma) */
+double hsbd_tonks_ring_contact(double n, double length, double sigma);
+
+/* ---- homogeneous sticky (Baxter) rods ---- */
+double hsbd_sticky_pressure(double rho, double sigma, double gamma);
+double hsbd_sticky_beta_mu(double rho, double sigma, double gamma);
+
+/* ---- single-file diffusion: long-time tagged MSD -> ((1 - rho s)/rho) sqrt(4 D t / pi) ---- */
+double hsbd_single_file_msd(double t, double rho, double sigma, double diffusion);
+/* short-time MSD with the first collision correction (docs/validation.md section 3) */
+double hsbd_short_time_msd(double t, double rho_gap, double diffusion);
+
+#endif
