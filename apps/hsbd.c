@@ -9,8 +9,10 @@
 #include <unistd.h>
 
 #include "hsbd/config.h"
+#include "hsbd/io.h"
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
+#include "hsbd/theory.h"
 #include "hsbd_version.h"
 
 enum { EXIT_INPUT = 2, EXIT_INTERRUPTED = 130 };
@@ -48,6 +50,11 @@ static void usage(FILE *out) {
             "usage: hsbd run CONFIG.ini [options]   simulate (see 'hsbd run --help')\n"
             "       hsbd bench [--seconds S] [--case NAME]\n"
             "                                       throughput, with the free-particle bound\n"
+            "       hsbd theory percus --sigma S --rho R --amplitude U0 [--gamma G]\n"
+            "                      [--wavelength W] [--points M] --out FILE|-\n"
+            "                                       exact equilibrium profile (x rho rho2)\n"
+            "       hsbd theory tonks --sigma S --rho R [--gamma G] [--D D]\n"
+            "                                       closed forms of the homogeneous fluid\n"
             "       hsbd config-doc                 print the configuration reference (Markdown)\n"
             "       hsbd version\n");
 }
@@ -248,6 +255,163 @@ static int cmd_bench(int argc, char **argv) {
     return 0;
 }
 
+/* ---- theory ------------------------------------------------------------------------ */
+
+typedef struct num_flag {
+    const char *name;
+    double *value;
+    double min, max;
+    int open_min, open_max;
+    int required, seen;
+} num_flag;
+
+/* Parse "--name value" pairs into the table; 0 or an exit status. */
+static int parse_num_flags(const char *cmd, int argc, char **argv, int first, num_flag *flags,
+                           size_t nflags, const char **out_path) {
+    for (int i = first; i < argc; ++i) {
+        if (out_path && !strcmp(argv[i], "--out") && i + 1 < argc) {
+            *out_path = argv[++i];
+            continue;
+        }
+        num_flag *f = NULL;
+        for (size_t k = 0; k < nflags; ++k)
+            if (!strcmp(argv[i], flags[k].name)) f = &flags[k];
+        if (!f || i + 1 >= argc) {
+            fprintf(stderr, "hsbd %s: %s '%s'\n", cmd, f ? "missing value for" : "unknown option",
+                    argv[i]);
+            return EXIT_INPUT;
+        }
+        char *end;
+        const char *text = argv[++i];
+        const double v = strtod(text, &end);
+        const int low_ok = f->open_min ? v > f->min : v >= f->min;
+        const int high_ok = f->open_max ? v < f->max : v <= f->max;
+        if (end == text || *end || !isfinite(v) || !low_ok || !high_ok) {
+            fprintf(stderr, "hsbd %s: %s = '%s'; allowed: %g %s %s %s %g\n", cmd, f->name, text,
+                    f->min, f->open_min ? "<" : "<=", f->name + 2,
+                    f->open_max ? "<" : "<=", f->max);
+            return EXIT_INPUT;
+        }
+        *f->value = v;
+        f->seen = 1;
+    }
+    for (size_t k = 0; k < nflags; ++k)
+        if (flags[k].required && !flags[k].seen) {
+            fprintf(stderr, "hsbd %s: %s is required\n", cmd, flags[k].name);
+            return EXIT_INPUT;
+        }
+    return 0;
+}
+
+static int cmd_theory_percus(int argc, char **argv) {
+    double sigma = 0, rho = 0, u0 = 0, gamma = 0, wavelength = 1, points = 2000;
+    const char *out = NULL;
+    num_flag flags[] = {
+        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, 0},
+        {"--rho", &rho, 0, 1e300, 1, 1, 1, 0},
+        {"--amplitude", &u0, 0, 1e6, 0, 0, 1, 0},
+        {"--gamma", &gamma, 0, 1e12, 0, 0, 0, 0},
+        {"--wavelength", &wavelength, 0, 1e300, 1, 1, 0, 0},
+        {"--points", &points, 16, 1e8, 0, 0, 0, 0},
+    };
+    const int rc = parse_num_flags("theory percus", argc, argv, 3, flags,
+                                   sizeof flags / sizeof flags[0], &out);
+    if (rc) return rc;
+    if (!out) {
+        fprintf(stderr, "hsbd theory percus: --out FILE (or - for standard output) is required\n");
+        return EXIT_INPUT;
+    }
+    if (!(rho * sigma < 1)) {
+        fprintf(stderr,
+                "hsbd theory percus: --rho %g with --sigma %g: need rho*sigma < 1 (no "
+                "room); allowed: rho < %g\n",
+                rho, sigma, 1 / sigma);
+        return EXIT_INPUT;
+    }
+    if (points != floor(points)) {
+        fprintf(stderr, "hsbd theory percus: --points must be a whole number\n");
+        return EXIT_INPUT;
+    }
+    hsbd_percus_params p = {.sigma = sigma,
+                            .rho_mean = rho,
+                            .amplitude = u0,
+                            .wavelength = wavelength,
+                            .gamma = gamma,
+                            .points = (size_t)points};
+    hsbd_percus_result r;
+    hsbd_error err;
+    const int st = hsbd_percus_solve(&p, &r, &err);
+    if (st != HSBD_OK) return fail(st, err.message);
+    FILE *f = stdout;
+    hsbd_outfile o = {0};
+    if (strcmp(out, "-")) {
+        char dir[HSBD_PATH_MAX], name[HSBD_PATH_MAX];
+        const char *slash = strrchr(out, '/');
+        snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - out) : 1, slash ? out : ".");
+        snprintf(name, sizeof name, "%s", slash ? slash + 1 : out);
+        if (hsbd_outfile_open(&o, dir, name, &err) != HSBD_OK) {
+            hsbd_percus_result_free(&r);
+            return fail(err.status, err.message);
+        }
+        f = o.f;
+    }
+    fprintf(f, "# hsbd %s (git %s): Percus exact equilibrium profile%s\n", HSBD_VERSION_STRING,
+            HSBD_GIT_COMMIT, gamma > 0 ? " (sticky, Antonov Eqs. 34)" : " (Antonov Eqs. 20-23)");
+    fprintf(f,
+            "# sigma = %.17g\n# rho_mean = %.17g\n# amplitude = %.17g\n# wavelength = %.17g\n"
+            "# gamma = %.17g\n# points = %zu\n# beta_mu = %.15g\n# iterations = %d\n"
+            "# residual = %.3g\n",
+            sigma, rho, u0, wavelength, gamma, p.points, r.beta_mu, r.iterations, r.residual);
+    if (gamma > 0) fprintf(f, "# rho2 is not available for gamma > 0 (nan)\n");
+    fprintf(f, "x\trho\trho2\n");
+    for (size_t j = 0; j < r.m; ++j)
+        fprintf(f, "%.10g\t%.12g\t%.12g\n", r.x[j], r.rho[j], r.rho2[j]);
+    hsbd_percus_result_free(&r);
+    if (f != stdout && hsbd_outfile_commit(&o, &err) != HSBD_OK)
+        return fail(err.status, err.message);
+    return 0;
+}
+
+static int cmd_theory_tonks(int argc, char **argv) {
+    double sigma = 0, rho = 0, gamma = 0, d = 1;
+    num_flag flags[] = {
+        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, 0},
+        {"--rho", &rho, 0, 1e300, 1, 1, 1, 0},
+        {"--gamma", &gamma, 0, 1e12, 0, 0, 0, 0},
+        {"--D", &d, 0, 1e300, 1, 1, 0, 0},
+    };
+    const int rc =
+        parse_num_flags("theory tonks", argc, argv, 3, flags, sizeof flags / sizeof flags[0], NULL);
+    if (rc) return rc;
+    if (!(rho * sigma < 1)) {
+        fprintf(stderr, "hsbd theory tonks: need rho*sigma < 1; allowed: rho < %g\n", 1 / sigma);
+        return EXIT_INPUT;
+    }
+    const double pi = 3.141592653589793;
+    printf("# homogeneous hard rods, sigma = %g, rho = %g (packing %g), kT = 1\n", sigma, rho,
+           rho * sigma);
+    printf("beta_P = %.15g\n", hsbd_tonks_pressure(rho, sigma));
+    printf("beta_mu = %.15g\n", hsbd_tonks_beta_mu(rho, sigma));
+    printf("contact_density = %.15g\n", hsbd_tonks_contact(rho, sigma));
+    printf("g_contact = %.15g\n", 1.0 / (1.0 - rho * sigma));
+    printf("single_file_msd_prefactor = %.15g   # MSD -> prefactor * sqrt(t), D = %g\n",
+           (1 - rho * sigma) / rho * sqrt(4 * d / pi), d);
+    if (gamma > 0) {
+        printf("sticky_gamma = %g\n", gamma);
+        printf("sticky_beta_P = %.15g\n", hsbd_sticky_pressure(rho, sigma, gamma));
+        printf("sticky_beta_mu = %.15g\n", hsbd_sticky_beta_mu(rho, sigma, gamma));
+    }
+    return 0;
+}
+
+static int cmd_theory(int argc, char **argv) {
+    if (argc >= 3 && !strcmp(argv[2], "percus")) return cmd_theory_percus(argc, argv);
+    if (argc >= 3 && !strcmp(argv[2], "tonks")) return cmd_theory_tonks(argc, argv);
+    fprintf(stderr, "hsbd theory: expected 'percus' or 'tonks'\n");
+    usage(stderr);
+    return EXIT_INPUT;
+}
+
 int main(int argc, char **argv) {
     if (argc < 2) {
         usage(stderr);
@@ -256,6 +420,7 @@ int main(int argc, char **argv) {
     const char *cmd = argv[1];
     if (!strcmp(cmd, "run")) return cmd_run(argc, argv);
     if (!strcmp(cmd, "bench")) return cmd_bench(argc, argv);
+    if (!strcmp(cmd, "theory")) return cmd_theory(argc, argv);
     if (!strcmp(cmd, "config-doc")) {
         hsbd_config_write_reference(stdout, 1);
         return 0;
