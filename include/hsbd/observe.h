@@ -31,8 +31,11 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v);
 size_t hsbd_profile_bins(const hsbd_profile *p);
 /* rho(x) normalised so that its mean over a period is N/L; x = bin centre. */
 void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double *err);
-/* rho2(x, x+sigma) with x the left rod of the pair, gaps in [0, contact_width]. */
+/* rho2(x, x+sigma), x the left rod of the pair, from the contact theorem: the mean
+ * contact impulse per time over kT (docs/observables.md). The default estimator. */
 void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err);
+/* rho2(x, x+sigma) from pairs with gaps in [0, contact_width] (Antonov Eq. 26). */
+void hsbd_profile_contact_window(const hsbd_profile *p, double *x, double *rho2, double *err);
 /* Positions that were not finite in the samples (a run should stop at the first). */
 uint64_t hsbd_profile_nonfinite(const hsbd_profile *p);
 /* Smallest neighbour gap seen in the samples. */

@@ -40,7 +40,11 @@ typedef struct hsbd_rods_view {
     size_t n;
     double length, sigma, free_length;
     const double *z, *offset;
+    /* free end points of the last step in the frame of z (hard core only; else NULL):
+     * y_i - z_i = mu (J_{i-1,i} - J_{i,i+1}) with J the contact impulses of the step */
+    const double *y;
     double unwrap;
+    double mobility, kT, dt;
     uint64_t step;
     double time;
     int hard_core;

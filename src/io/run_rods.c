@@ -66,36 +66,46 @@ static void write_table_header(FILE *f, const hsbd_config *cfg, const char *what
 
 typedef void (*profile_getter)(const hsbd_profile *p, double *x, double *val, double *err);
 
-/* One binned profile as a three-column table. */
+/* Binned profiles as one table: x, then value and error of each getter. */
 static int write_profile_table(run_state *s, const char *name, const char *what,
-                               const char *columns, profile_getter get, hsbd_error *err) {
+                               const char *columns, const profile_getter *get, size_t nget,
+                               hsbd_error *err) {
     const size_t nb = hsbd_profile_bins(s->profile);
-    double *x = malloc(nb * sizeof *x), *val = malloc(nb * sizeof *val),
-           *e = malloc(nb * sizeof *e);
+    double *x = malloc(nb * sizeof *x), *val = malloc(2 * nget * nb * sizeof *val);
     hsbd_outfile o;
-    int rc = x && val && e ? hsbd_outfile_open(&o, s->cfg->output.dir, name, err)
-                           : hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing %s", name);
+    int rc = x && val ? hsbd_outfile_open(&o, s->cfg->output.dir, name, err)
+                      : hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing %s", name);
     if (rc == HSBD_OK) {
         write_table_header(o.f, s->cfg, what, columns);
-        get(s->profile, x, val, e);
-        for (size_t k = 0; k < nb; ++k)
-            fprintf(o.f, "%.10g\t%.10g\t%.4g\n", x[k], val[k], e[k]);
+        for (size_t g = 0; g < nget; ++g)
+            get[g](s->profile, x, val + 2 * g * nb, val + (2 * g + 1) * nb);
+        for (size_t k = 0; k < nb; ++k) {
+            fprintf(o.f, "%.10g", x[k]);
+            for (size_t g = 0; g < nget; ++g)
+                fprintf(o.f, "\t%.10g\t%.4g", val[2 * g * nb + k], val[(2 * g + 1) * nb + k]);
+            fputc('\n', o.f);
+        }
         rc = hsbd_outfile_commit(&o, err);
     }
-    free(x), free(val), free(e);
+    free(x), free(val);
     return rc;
 }
 
 static int write_profiles(run_state *s, hsbd_error *err) {
+    const profile_getter density[] = {hsbd_profile_density};
+    const profile_getter contact[] = {hsbd_profile_contact, hsbd_profile_contact_window};
     int rc = write_profile_table(s, "density.tsv",
                                  "density profile folded into one period, Antonov Eq. 25, "
                                  "normalised to mean N/L; errors from block averages",
-                                 "x\trho\trho_err", hsbd_profile_density, err);
+                                 "x\trho\trho_err", density, 1, err);
     if (rc == HSBD_OK && s->cfg->system.hard_core)
-        rc = write_profile_table(s, "contact.tsv",
-                                 "two-particle density at contact rho2(x, x+sigma), x = left rod, "
-                                 "Antonov Eq. 26 with gaps in [0, contact_width]",
-                                 "x\trho2\trho2_err", hsbd_profile_contact, err);
+        rc = write_profile_table(
+            s, "contact.tsv",
+            "two-particle density at contact rho2(x, x+sigma), x = left rod. rho2: contact "
+            "theorem (mean contact impulse per time / kT, the default); rho2_window: pairs with "
+            "gaps in [0, contact_width], Antonov Eq. 26 (biased by O(sqrt(4 D dt)/contact_width), "
+            "docs/observables.md)",
+            "x\trho2\trho2_err\trho2_window\trho2_window_err", contact, 2, err);
     return rc;
 }
 

@@ -14,6 +14,7 @@ struct hsbd_profile {
     uint64_t nonfinite;   /* positions that were NaN or infinite (never binned) */
     hsbd_blocks *density; /* counts per bin per sample */
     hsbd_blocks *contact; /* contact pairs per bin (left rod) per sample */
+    hsbd_blocks *impulse; /* contact impulses / (kT dt) per bin (left rod) per sample */
 };
 
 hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact_width,
@@ -33,7 +34,8 @@ hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact
     p->min_gap = DBL_MAX;
     p->density = hsbd_blocks_alloc(p->nbins, nblocks, nsamples_total);
     p->contact = hsbd_blocks_alloc(p->nbins, nblocks, nsamples_total);
-    if (!p->density || !p->contact) {
+    p->impulse = hsbd_blocks_alloc(p->nbins, nblocks, nsamples_total);
+    if (!p->density || !p->contact || !p->impulse) {
         hsbd_profile_free(p);
         hsbd_error_set(err, HSBD_ENOMEM, "profile: out of memory");
         return NULL;
@@ -45,12 +47,45 @@ void hsbd_profile_free(hsbd_profile *p) {
     if (!p) return;
     hsbd_blocks_free(p->density);
     hsbd_blocks_free(p->contact);
+    hsbd_blocks_free(p->impulse);
     free(p);
 }
 
 static size_t bin_of(const hsbd_profile *p, double x) {
     const double b = floor((x - p->period * floor(x / p->period)) / p->bin_width);
     return b < (double)p->nbins ? (size_t)b : p->nbins - 1; /* x finite: b >= 0 */
+}
+
+static double ring_gap(const hsbd_rods_view *v, size_t i) {
+    return i + 1 < v->n ? v->z[i + 1] - v->z[i] : v->z[0] + v->free_length - v->z[i];
+}
+
+/* Contact theorem estimator: the impulse the step passed across contact (i, i+1) is
+ * J_i = sum over the cluster's rods k <= i of (y_k - z_k) / mu (Antonov Eq. 8 integrated
+ * over the step); kT rho2(x, x+sigma) is the mean contact force, so each contact adds
+ * J_i / (kT dt) to the bin of its left rod. */
+static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v) {
+    const size_t n = v->n;
+    const double tol = 1e-12 * v->length;
+    size_t start = 0; /* a rod whose left neighbour does not touch it */
+    double widest = -1.0;
+    for (size_t i = 0; i < n; ++i) {
+        const double g = ring_gap(v, (i + n - 1) % n);
+        if (g > widest) widest = g, start = i;
+        if (g > tol) break;
+    }
+    double *acc = hsbd_blocks_acc(p->impulse);
+    const double scale = 1.0 / (v->mobility * v->kT * v->dt);
+    double j = 0.0; /* impulse across the contact to the right of rod i (times mu) */
+    for (size_t k = 0; k < n; ++k) {
+        const size_t i = (start + k) % n;
+        j += v->y[i] - v->z[i];
+        if (ring_gap(v, i) > tol) {
+            j = 0.0; /* cluster ends: its impulses sum to zero */
+            continue;
+        }
+        acc[bin_of(p, v->z[i] + v->offset[i])] += j * scale;
+    }
 }
 
 void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
@@ -73,8 +108,10 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
         if (gap <= p->contact_width) rho2[b] += 1.0; /* left rod of the pair in bin b */
     }
     p->min_gap = min_gap;
+    if (v->hard_core && v->y && n > 1) sample_impulses(p, v);
     hsbd_blocks_end_sample(p->density);
     hsbd_blocks_end_sample(p->contact);
+    hsbd_blocks_end_sample(p->impulse);
 }
 
 size_t hsbd_profile_bins(const hsbd_profile *p) {
@@ -97,8 +134,12 @@ void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double 
     finish(p, p->density, p->bin_width, x, rho, err);
 }
 
-void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err) {
+void hsbd_profile_contact_window(const hsbd_profile *p, double *x, double *rho2, double *err) {
     finish(p, p->contact, p->bin_width * p->contact_width, x, rho2, err);
+}
+
+void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err) {
+    finish(p, p->impulse, p->bin_width, x, rho2, err);
 }
 
 uint64_t hsbd_profile_nonfinite(const hsbd_profile *p) {

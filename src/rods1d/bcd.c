@@ -190,8 +190,10 @@ static void recenter(hsbd_rods *r) {
     const double z0 = r->z[0];
     if (z0 >= -L && z0 < 2 * L) return;
     const int64_t k = (int64_t)floor(z0 / L);
-    for (size_t i = 0; i < r->par.n; ++i)
+    for (size_t i = 0; i < r->par.n; ++i) {
         r->z[i] -= (double)k * L;
+        r->y[i] -= (double)k * L; /* the step's end points stay in the frame of z */
+    }
     r->wraps += k;
 }
 
@@ -227,7 +229,11 @@ hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *r) {
         .free_length = r->free_length,
         .z = r->z,
         .offset = r->offset,
+        .y = r->par.hard_core && r->step > 0 ? r->y : NULL,
         .unwrap = (double)r->wraps * r->par.length,
+        .mobility = r->mobility,
+        .kT = r->par.kT,
+        .dt = r->par.dt,
         .step = r->step,
         .time = (double)r->step * r->par.dt,
         .hard_core = r->par.hard_core,

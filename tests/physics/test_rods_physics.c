@@ -11,6 +11,7 @@
 #include "../test_util.h"
 #include "hsbd/observe.h"
 #include "hsbd/rods.h"
+#include "hsbd/theory.h"
 
 static double run_scale(void) {
     const char *v = getenv("HSBD_VALIDATE");
@@ -68,10 +69,16 @@ static void test_tonks_ring(void) {
     double x1, c1, e1, d1, de1;
     hsbd_profile_density(whole, &x1, &d1, &de1);
     CHECK(fabs(d1 - (double)n / L) < 1e-12, "density normalisation: mean %.15g != N/L", d1);
-    hsbd_profile_contact(whole, &x1, &c1, &e1);
+    hsbd_profile_contact_window(whole, &x1, &c1, &e1);
     const double lf = L - (double)n * sigma;
     const double exact = (double)n / L * (1 - pow(1 - window / lf, (double)n - 1)) / window;
     CHECK(within("Tonks ring contact density (window 1.0)", c1, e1, exact), "contact density");
+    /* contact theorem: mean contact impulse per time / kT = rho2 at contact, exactly
+     * (N/L)(N-1)/(L - N sigma) on the ring */
+    hsbd_profile_contact(whole, &x1, &c1, &e1);
+    CHECK(within("Tonks ring contact density (contact theorem)", c1, e1,
+                 hsbd_tonks_ring_contact((double)n, L, sigma)),
+          "contact theorem estimator");
     CHECK(hsbd_profile_min_gap(whole) >= 0, "negative gap %.3g", hsbd_profile_min_gap(whole));
     hsbd_profile_free(prof);
     hsbd_profile_free(whole);
