@@ -13,6 +13,7 @@
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
 #include "hsbd/theory.h"
+#include "hsbd/validate.h"
 #include "hsbd_version.h"
 
 enum { EXIT_INPUT = 2, EXIT_INTERRUPTED = 130 };
@@ -55,6 +56,8 @@ static void usage(FILE *out) {
             "                                       exact equilibrium profile (x rho rho2)\n"
             "       hsbd theory tonks --sigma S --rho R [--gamma G] [--D D]\n"
             "                                       closed forms of the homogeneous fluid\n"
+            "       hsbd validate [--quick] [--dt-scan] [--out DIR] [--case TEXT] [--jobs N]\n"
+            "                                       simulations against exact theory\n"
             "       hsbd config-doc                 print the configuration reference (Markdown)\n"
             "       hsbd version\n");
 }
@@ -404,6 +407,41 @@ static int cmd_theory_tonks(int argc, char **argv) {
     return 0;
 }
 
+static int cmd_validate(int argc, char **argv) {
+    hsbd_validate_options opt = {.out_dir = "runs/validate", .jobs = 2};
+    for (int i = 2; i < argc; ++i) {
+        if (!strcmp(argv[i], "--quick"))
+            opt.quick = 1;
+        else if (!strcmp(argv[i], "--dt-scan"))
+            opt.dt_scan = 1;
+        else if (!strcmp(argv[i], "--out") && i + 1 < argc)
+            opt.out_dir = argv[++i];
+        else if (!strcmp(argv[i], "--case") && i + 1 < argc)
+            opt.only = argv[++i];
+        else if (!strcmp(argv[i], "--jobs") && i + 1 < argc) {
+            char *end;
+            const long j = strtol(argv[++i], &end, 10);
+            if (*end || j < 1 || j > 64) {
+                fprintf(stderr, "hsbd validate: --jobs = '%s'; allowed: 1 <= jobs <= 64\n",
+                        argv[i]);
+                return EXIT_INPUT;
+            }
+            opt.jobs = (int)j;
+        } else {
+            fprintf(stderr,
+                    "hsbd validate: unknown option '%s' (--quick, --dt-scan, --out DIR, "
+                    "--case TEXT, --jobs N)\n",
+                    argv[i]);
+            return EXIT_INPUT;
+        }
+    }
+    hsbd_error err;
+    const int rc = hsbd_validate(&opt, stdout, &err);
+    if (rc != HSBD_OK) return fail(rc, err.message);
+    printf("all cases pass; table in %s/validation.md\n", opt.out_dir);
+    return 0;
+}
+
 static int cmd_theory(int argc, char **argv) {
     if (argc >= 3 && !strcmp(argv[2], "percus")) return cmd_theory_percus(argc, argv);
     if (argc >= 3 && !strcmp(argv[2], "tonks")) return cmd_theory_tonks(argc, argv);
@@ -421,6 +459,7 @@ int main(int argc, char **argv) {
     if (!strcmp(cmd, "run")) return cmd_run(argc, argv);
     if (!strcmp(cmd, "bench")) return cmd_bench(argc, argv);
     if (!strcmp(cmd, "theory")) return cmd_theory(argc, argv);
+    if (!strcmp(cmd, "validate")) return cmd_validate(argc, argv);
     if (!strcmp(cmd, "config-doc")) {
         hsbd_config_write_reference(stdout, 1);
         return 0;

@@ -1,0 +1,392 @@
+/* Validation: runs the simulator and the exact theory side by side.
+ *
+ * Families: "percus" (paper Figs. 3-4: hard rods in U = (U0/2) cos(2 pi x), U0 = 6,
+ * sigma x rho grid, run on a long ring so that the O(1/N) canonical correction is
+ * negligible), "tonks" (U0 = 0 ring, exact canonical results), "single-file" (long-time
+ * tagged MSD), and with dt_scan the time-step convergence of two Percus cases. Every
+ * comparison is in units of the block-average error bars of the run. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "hsbd/config.h"
+#include "hsbd/io.h"
+#include "hsbd/run.h"
+#include "hsbd/theory.h"
+#include "hsbd/validate.h"
+
+enum family { FAMILY_PERCUS, FAMILY_TONKS, FAMILY_SINGLE_FILE };
+enum { MAX_CASES = 64, MAX_ROWS = 200000 };
+
+typedef struct vcase {
+    char name[64];
+    enum family family;
+    double sigma, rho, u0, length, dt, t_total, t_equil, bin_width;
+    int every;
+} vcase;
+
+typedef struct table {
+    size_t rows, cols;
+    double *v; /* rows x cols */
+} table;
+
+/* ---- reading our own TSV tables ------------------------------------------------------ */
+
+static int read_table(const char *path, size_t cols, table *t, hsbd_error *err) {
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return hsbd_error_set(err, HSBD_EIO, "validate: cannot read %s: %s", path, strerror(errno));
+    t->cols = cols;
+    t->rows = 0;
+    t->v = malloc(MAX_ROWS * cols * sizeof *t->v);
+    char line[4096];
+    while (t->v && fgets(line, sizeof line, f) && t->rows < MAX_ROWS) {
+        if (line[0] == '#' || (line[0] >= 'a' && line[0] <= 'z')) continue;
+        char *p = line;
+        for (size_t c = 0; c < cols; ++c)
+            t->v[t->rows * cols + c] = strtod(p, &p);
+        ++t->rows;
+    }
+    fclose(f);
+    return t->v ? HSBD_OK : hsbd_error_set(err, HSBD_ENOMEM, "validate: out of memory");
+}
+
+static double cell(const table *t, size_t r, size_t c) {
+    return t->v[r * t->cols + c];
+}
+
+/* ---- the cases ----------------------------------------------------------------------- */
+
+static size_t make_cases(const hsbd_validate_options *opt, vcase *cases) {
+    size_t n = 0;
+    const double sigmas[] = {0.1, 0.5, 0.9}, rhos[] = {0.2, 0.5, 0.8};
+    const double q = opt->quick ? 1.0 : 0.0;
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            vcase *c = &cases[n++];
+            *c = (vcase){.family = FAMILY_PERCUS,
+                         .sigma = sigmas[a],
+                         .rho = rhos[b],
+                         .u0 = 6,
+                         .length = q ? 1000 : 10000,
+                         .dt = 1e-4,
+                         .t_total = q ? 20 : 60,
+                         .t_equil = 2,
+                         .bin_width = 0.02,
+                         .every = 10};
+            snprintf(c->name, sizeof c->name, "percus-s%.1f-rho%.1f", c->sigma, c->rho);
+        }
+    cases[n++] = (vcase){"tonks-s0.5-rho0.5",
+                         FAMILY_TONKS,
+                         0.5,
+                         0.5,
+                         0,
+                         q ? 200 : 2000,
+                         1e-3,
+                         q ? 200 : 400,
+                         0,
+                         1.0,
+                         1};
+    cases[n++] = (vcase){"single-file-s0.5-rho0.5",
+                         FAMILY_SINGLE_FILE,
+                         0.5,
+                         0.5,
+                         0,
+                         q ? 2000 : 20000,
+                         1e-3,
+                         q ? 200 : 1000,
+                         10,
+                         1.0,
+                         10};
+    if (opt->dt_scan) {
+        const double dts[] = {1e-3, 3e-4, 1e-4, 3e-5};
+        const double scan[][2] = {{0.5, 0.5}, {0.9, 0.8}};
+        for (int k = 0; k < 2; ++k)
+            for (int d = 0; d < 4; ++d) {
+                vcase *c = &cases[n++];
+                *c = (vcase){.family = FAMILY_PERCUS,
+                             .sigma = scan[k][0],
+                             .rho = scan[k][1],
+                             .u0 = 6,
+                             .length = 2000,
+                             .dt = dts[d],
+                             .t_total = q ? 10 : 40,
+                             .t_equil = 2,
+                             .bin_width = 0.02,
+                             .every = dts[d] < 1e-4 ? 30 : 10};
+                snprintf(c->name, sizeof c->name, "dt%.0e-s%.1f-rho%.1f", dts[d], c->sigma, c->rho);
+            }
+    }
+    size_t kept = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (!opt->only || strstr(cases[i].name, opt->only)) cases[kept++] = cases[i];
+    return kept;
+}
+
+static int case_config(const vcase *c, const char *dir, hsbd_config *cfg, hsbd_error *err) {
+    hsbd_config_defaults(cfg);
+    const long n = lround(c->rho * c->length);
+    const char *sets[16];
+    char store[16][HSBD_PATH_MAX + 64];
+    int k = 0;
+#define SET(...) (snprintf(store[k], sizeof store[k], __VA_ARGS__), sets[k] = store[k], ++k)
+    SET("system.N=%ld", n);
+    SET("system.L=%.17g", c->length);
+    SET("system.sigma=%.17g", c->sigma);
+    SET("system.seed=%u", 1000u + (unsigned)(c->sigma * 10) * 10 + (unsigned)(c->rho * 10));
+    SET("field.type=%s", c->u0 != 0 ? "cosine" : "none");
+    SET("field.amplitude=%.17g", c->u0);
+    SET("run.dt=%.17g", c->dt);
+    SET("run.t_total=%.17g", c->t_total);
+    SET("run.t_equil=%.17g", c->t_equil);
+    SET("sample.bin_width=%.17g", c->bin_width);
+    SET("sample.period=%.17g", c->family == FAMILY_PERCUS ? 1.0 : c->bin_width);
+    SET("sample.every=%d", c->every);
+    SET("sample.msd_max_lag=%.17g", c->family == FAMILY_SINGLE_FILE ? c->t_total / 4 : 1.0);
+    SET("output.dir=%s", dir);
+#undef SET
+    for (int i = 0; i < k; ++i)
+        if (hsbd_config_set(cfg, sets[i], "validate", err) != HSBD_OK) return err->status;
+    return hsbd_config_finalize(cfg, err);
+}
+
+static void case_dir(const hsbd_validate_options *opt, const vcase *c, char *dir, size_t len) {
+    snprintf(dir, len, "%.900s/%.63s", opt->out_dir, c->name); /* lengths checked on entry */
+}
+
+/* Run one case's simulation (in a child process). */
+static int run_case(const hsbd_validate_options *opt, const vcase *c) {
+    char dir[HSBD_PATH_MAX];
+    case_dir(opt, c, dir, sizeof dir);
+    hsbd_config cfg;
+    hsbd_error err;
+    if (case_config(c, dir, &cfg, &err) != HSBD_OK) {
+        fprintf(stderr, "validate %s: %s\n", c->name, err.message);
+        return 1;
+    }
+    hsbd_run_options ro = {.force = 1};
+    if (hsbd_run_rods(&cfg, &ro, &err) != HSBD_OK) {
+        fprintf(stderr, "validate %s: %s\n", c->name, err.message);
+        return 1;
+    }
+    return 0;
+}
+
+static int run_all(const hsbd_validate_options *opt, const vcase *cases, size_t n) {
+    const int jobs = opt->jobs > 0 ? opt->jobs : 1;
+    int running = 0, failed = 0;
+    for (size_t i = 0; i <= n; ++i) {
+        while (running >= jobs || (i == n && running > 0)) {
+            int status;
+            if (wait(&status) > 0) {
+                --running;
+                failed |= !WIFEXITED(status) || WEXITSTATUS(status) != 0;
+            }
+        }
+        if (i == n) break;
+        fflush(NULL);
+        const pid_t pid = fork();
+        if (pid == 0) _exit(run_case(opt, &cases[i]));
+        if (pid < 0)
+            failed |= run_case(opt, &cases[i]);
+        else
+            ++running;
+    }
+    return failed;
+}
+
+/* ---- comparisons --------------------------------------------------------------------- */
+
+typedef struct verdict {
+    char observable[32];
+    size_t points;
+    double chi2_dof, max_dev, mean_rel;
+    int pass;
+} verdict;
+
+/* chi^2/dof within 4 sd of its mean for `points` dof, and no single point beyond the
+ * 4.5-sigma band (a family-wise false alarm rate of ~1e-4 for 50 points). */
+static void judge(verdict *v, const char *what, const double *sim, const double *err,
+                  const double *theory, size_t n) {
+    double chi2 = 0, maxd = 0, rel = 0;
+    size_t used = 0;
+    for (size_t k = 0; k < n; ++k) {
+        if (!(err[k] > 0) || !isfinite(sim[k])) continue;
+        const double d = (sim[k] - theory[k]) / err[k];
+        chi2 += d * d;
+        maxd = fmax(maxd, fabs(d));
+        rel += theory[k] != 0 ? fabs(sim[k] / theory[k] - 1) : 0;
+        ++used;
+    }
+    snprintf(v->observable, sizeof v->observable, "%s", what);
+    v->points = used;
+    v->chi2_dof = used ? chi2 / (double)used : NAN;
+    v->max_dev = maxd;
+    v->mean_rel = used ? rel / (double)used : NAN;
+    v->pass = used > 0 && fabs(v->chi2_dof - 1) < 4 * sqrt(2.0 / (double)used) && maxd < 4.5;
+}
+
+/* theory averaged over each simulation bin [x - w/2, x + w/2] (periodic grid) */
+static void bin_average(const hsbd_percus_result *r, const double *f, const double *x, size_t n,
+                        double w, double *out) {
+    const double h = r->x[1] - r->x[0];
+    const int sub = 64;
+    for (size_t k = 0; k < n; ++k) {
+        double s = 0;
+        for (int i = 0; i < sub; ++i)
+            s += hsbd_periodic_interp(f, r->m, h, x[k] - 0.5 * w + (i + 0.5) * w / sub);
+        out[k] = s / sub;
+    }
+}
+
+static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verdict *v, int *nv,
+                          hsbd_error *err) {
+    char dir[HSBD_PATH_MAX], path[HSBD_PATH_MAX + 32];
+    case_dir(opt, c, dir, sizeof dir);
+    hsbd_percus_params pp = {.sigma = c->sigma,
+                             .rho_mean = c->rho,
+                             .amplitude = c->u0,
+                             .wavelength = 1.0,
+                             .points = 4000};
+    hsbd_percus_result th;
+    if (hsbd_percus_solve(&pp, &th, err) != HSBD_OK) return err->status;
+    /* keep the theory next to the run for the plots */
+    hsbd_outfile o;
+    if (hsbd_outfile_open(&o, dir, "theory.tsv", err) == HSBD_OK) {
+        fprintf(o.f, "# Percus exact profile, sigma = %g, rho = %g, U0 = %g\nx\trho\trho2\n",
+                c->sigma, c->rho, c->u0);
+        for (size_t j = 0; j < th.m; j += 4)
+            fprintf(o.f, "%.8g\t%.10g\t%.10g\n", th.x[j], th.rho[j], th.rho2[j]);
+        hsbd_outfile_commit(&o, err);
+    }
+    table d = {0}, ct = {0};
+    snprintf(path, sizeof path, "%s/density.tsv", dir);
+    int rc = read_table(path, 3, &d, err);
+    snprintf(path, sizeof path, "%s/contact.tsv", dir);
+    if (rc == HSBD_OK) rc = read_table(path, 5, &ct, err);
+    if (rc == HSBD_OK) {
+        const size_t n = d.rows;
+        double *x = malloc(n * sizeof *x), *s = malloc(n * sizeof *s), *e = malloc(n * sizeof *e),
+               *t = malloc(n * sizeof *t);
+        for (size_t k = 0; k < n; ++k)
+            x[k] = cell(&d, k, 0), s[k] = cell(&d, k, 1), e[k] = cell(&d, k, 2);
+        bin_average(&th, th.rho, x, n, c->bin_width, t);
+        judge(&v[(*nv)++], "density", s, e, t, n);
+        bin_average(&th, th.rho2, x, n, c->bin_width, t);
+        for (size_t k = 0; k < n; ++k)
+            s[k] = cell(&ct, k, 1), e[k] = cell(&ct, k, 2);
+        judge(&v[(*nv)++], "contact (theorem)", s, e, t, n);
+        for (size_t k = 0; k < n; ++k)
+            s[k] = cell(&ct, k, 3), e[k] = cell(&ct, k, 4);
+        judge(&v[(*nv)++], "contact (window)", s, e, t, n);
+        v[*nv - 1].pass = -1; /* informative only: the windowed estimator is biased */
+        free(x), free(s), free(e), free(t);
+    }
+    free(d.v), free(ct.v);
+    hsbd_percus_result_free(&th);
+    return rc;
+}
+
+static int compare_tonks(const hsbd_validate_options *opt, const vcase *c, verdict *v, int *nv,
+                         hsbd_error *err) {
+    char dir[HSBD_PATH_MAX], path[HSBD_PATH_MAX + 32];
+    case_dir(opt, c, dir, sizeof dir);
+    table d = {0}, ct = {0};
+    snprintf(path, sizeof path, "%s/density.tsv", dir);
+    int rc = read_table(path, 3, &d, err);
+    snprintf(path, sizeof path, "%s/contact.tsv", dir);
+    if (rc == HSBD_OK) rc = read_table(path, 5, &ct, err);
+    if (rc == HSBD_OK && d.rows && ct.rows) {
+        const double n = round(c->rho * c->length);
+        double s = cell(&d, 0, 1), e = cell(&d, 0, 2), t = n / c->length;
+        /* the period is one bin: the density is N/L exactly, its error is 0 */
+        verdict *vd = &v[(*nv)++];
+        snprintf(vd->observable, sizeof vd->observable, "density (= N/L)");
+        vd->points = 1, vd->chi2_dof = NAN, vd->max_dev = NAN;
+        vd->mean_rel = fabs(s / t - 1), vd->pass = vd->mean_rel < 1e-12;
+        (void)e;
+        s = cell(&ct, 0, 1), e = cell(&ct, 0, 2);
+        t = hsbd_tonks_ring_contact(n, c->length, c->sigma);
+        judge(&v[(*nv)++], "contact (theorem)", &s, &e, &t, 1);
+    }
+    free(d.v), free(ct.v);
+    return rc;
+}
+
+static int compare_single_file(const hsbd_validate_options *opt, const vcase *c, verdict *v,
+                               int *nv, hsbd_error *err) {
+    char dir[HSBD_PATH_MAX], path[HSBD_PATH_MAX + 32];
+    case_dir(opt, c, dir, sizeof dir);
+    table m = {0};
+    snprintf(path, sizeof path, "%s/msd.tsv", dir);
+    int rc = read_table(path, 4, &m, err);
+    if (rc == HSBD_OK) {
+        double s[64], e[64], t[64];
+        size_t n = 0;
+        const double t_min = c->t_total / 40; /* long-time regime */
+        for (size_t k = 0; k < m.rows && n < 64; ++k) {
+            if (cell(&m, k, 0) < t_min) continue;
+            s[n] = cell(&m, k, 1), e[n] = cell(&m, k, 2);
+            t[n] = hsbd_single_file_msd(cell(&m, k, 0), c->rho, c->sigma, 1.0);
+            ++n;
+        }
+        judge(&v[(*nv)++], "tagged MSD (t >> 1)", s, e, t, n);
+    }
+    free(m.v);
+    return rc;
+}
+
+int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *err) {
+    static vcase cases[MAX_CASES];
+    if (strlen(opt->out_dir) > 900)
+        return hsbd_error_set(err, HSBD_EINPUT, "validate: --out path longer than 900 characters");
+    const size_t n = make_cases(opt, cases);
+    if (n == 0)
+        return hsbd_error_set(err, HSBD_EINPUT, "validate: no case matches '%s'", opt->only);
+    if (hsbd_run_dir_prepare(opt->out_dir, 1, err) != HSBD_OK) return err->status;
+    if (run_all(opt, cases, n))
+        return hsbd_error_set(err, HSBD_ENUMERIC, "validate: a simulation failed (see above)");
+    hsbd_outfile tsv, md;
+    if (hsbd_outfile_open(&tsv, opt->out_dir, "validation.tsv", err) != HSBD_OK) return err->status;
+    if (hsbd_outfile_open(&md, opt->out_dir, "validation.md", err) != HSBD_OK) {
+        hsbd_outfile_discard(&tsv);
+        return err->status;
+    }
+    fprintf(tsv.f, "case\tobservable\tpoints\tchi2_dof\tmax_dev_sigma\tmean_rel_dev\tpass\n");
+    fprintf(md.f, "| case | dt | t | observable | points | chi^2/dof | max dev / error | mean rel. "
+                  "dev | result |\n"
+                  "|---|---|---|---|---|---|---|---|---|\n");
+    fprintf(report, "%-26s %-20s %6s %9s %9s %9s %s\n", "case", "observable", "points", "chi2/dof",
+            "max|d|/e", "rel.dev", "result");
+    int all_pass = 1;
+    for (size_t i = 0; i < n; ++i) {
+        verdict v[4];
+        int nv = 0;
+        const vcase *c = &cases[i];
+        int rc = c->family == FAMILY_PERCUS  ? compare_percus(opt, c, v, &nv, err)
+                 : c->family == FAMILY_TONKS ? compare_tonks(opt, c, v, &nv, err)
+                                             : compare_single_file(opt, c, v, &nv, err);
+        if (rc != HSBD_OK) {
+            hsbd_outfile_discard(&tsv);
+            hsbd_outfile_discard(&md);
+            return rc;
+        }
+        for (int k = 0; k < nv; ++k) {
+            const char *res = v[k].pass < 0 ? "info" : v[k].pass ? "pass" : "FAIL";
+            if (v[k].pass == 0) all_pass = 0;
+            fprintf(report, "%-26s %-20s %6zu %9.3f %9.2f %8.2f%% %s\n", c->name, v[k].observable,
+                    v[k].points, v[k].chi2_dof, v[k].max_dev, 100 * v[k].mean_rel, res);
+            fprintf(tsv.f, "%s\t%s\t%zu\t%.4g\t%.4g\t%.4g\t%s\n", c->name, v[k].observable,
+                    v[k].points, v[k].chi2_dof, v[k].max_dev, v[k].mean_rel, res);
+            fprintf(md.f, "| %s | %g | %g | %s | %zu | %.3f | %.2f | %.2f %% | %s |\n", c->name,
+                    c->dt, c->t_total, v[k].observable, v[k].points, v[k].chi2_dof, v[k].max_dev,
+                    100 * v[k].mean_rel, res);
+        }
+    }
+    if (hsbd_outfile_commit(&tsv, err) != HSBD_OK || hsbd_outfile_commit(&md, err) != HSBD_OK)
+        return err->status;
+    return all_pass ? HSBD_OK : hsbd_error_set(err, HSBD_ENUMERIC, "validate: some cases FAIL");
+}
