@@ -17,6 +17,7 @@ enum hsbd_field_type {
     HSBD_FIELD_COSINE_TILT
 };
 enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ };
+enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE };
 enum { HSBD_PATH_MAX = 1024, HSBD_ORIGIN_MAX = 1100, HSBD_CONFIG_MAX_KEYS = 64 };
 
 typedef struct hsbd_config {
@@ -32,12 +33,13 @@ typedef struct hsbd_config {
         double amplitude, wavelength, force;
     } field;
     struct {
-        double dt, t_equil, t_total;
+        double dt, t_equil, t_total, dt_equil;
     } run;
     struct {
         double bin_width, contact_width, period;
         int64_t every, blocks, msd_points_per_decade;
         double msd_max_lag, current_every;
+        int blocking;
     } sample;
     struct {
         char dir[HSBD_PATH_MAX];
@@ -65,6 +67,8 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
 /* Number of production / equilibration steps. */
 uint64_t hsbd_config_steps(const hsbd_config *cfg);
 uint64_t hsbd_config_equil_steps(const hsbd_config *cfg);
+/* Time step of the equilibration (run.dt_equil, or run.dt when that is 0). */
+double hsbd_config_dt_equil(const hsbd_config *cfg);
 
 /* Every key as "prefix section.key = value" lines (TSV headers). */
 void hsbd_config_write_header(const hsbd_config *cfg, FILE *out, const char *prefix);

@@ -13,6 +13,10 @@
 typedef struct hsbd_blocks hsbd_blocks;
 hsbd_blocks *hsbd_blocks_alloc(size_t nvalues, size_t nblocks, uint64_t nsamples_total);
 void hsbd_blocks_free(hsbd_blocks *b);
+/* Spatial blocks: each block is a part of the system (e.g. a segment of the ring) and
+ * sees every sample; add values with hsbd_blocks_acc_block, close samples as usual. */
+hsbd_blocks *hsbd_blocks_alloc_spatial(size_t nvalues, size_t nblocks);
+double *hsbd_blocks_acc_block(hsbd_blocks *b, size_t k);
 /* The accumulator of the current sample: add this sample's values into it. */
 double *hsbd_blocks_acc(hsbd_blocks *b);
 /* Close the current sample. */
@@ -24,8 +28,12 @@ uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
 
 /* ---- density profile (Eqs. 24-25) and two-particle density at contact (Eq. 26) ---- */
 typedef struct hsbd_profile hsbd_profile;
+/* spatial_blocks = 0: error bars from time blocks; else from that many equal segments
+ * of the ring (each a whole number of periods; set up by the caller). */
 hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact_width,
                                  size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
+hsbd_profile *hsbd_profile_alloc_spatial(double period, double bin_width, double contact_width,
+                                         size_t nsegments, hsbd_error *err);
 void hsbd_profile_free(hsbd_profile *p);
 void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v);
 size_t hsbd_profile_bins(const hsbd_profile *p);

@@ -65,6 +65,9 @@ void hsbd_rods_init_equilibrium(hsbd_rods *rods);
  * (gap < -1e-12 sigma) and non-finite values with HSBD_EINPUT. */
 int hsbd_rods_set_positions(hsbd_rods *rods, const double *x, hsbd_error *err);
 
+/* Change the time step (e.g. after a coarse equilibration); dt > 0. */
+void hsbd_rods_set_dt(hsbd_rods *rods, double dt);
+
 /* One BCD step of length dt; stats may be NULL. */
 void hsbd_rods_step(hsbd_rods *rods, hsbd_rods_step_stats *stats);
 

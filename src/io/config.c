@@ -55,12 +55,18 @@ static const key_spec schema[] = {
      "unsampled dynamics after the initial state"},
     {"run", "t_total", K_DOUBLE, OFF(run.t_total), 0, INF, OPEN_MIN | OPEN_MAX, "100", 0,
      "sampled (production) time"},
+    {"run", "dt_equil", K_DOUBLE, OFF(run.dt_equil), 0, INF, OPEN_MAX, "0", 0,
+     "time step during equilibration (0: run.dt); a coarser step relaxes slow modes (barrier "
+     "hopping) cheaply, the Euler distortion of dt then relaxes within a short time"},
     {"sample", "bin_width", K_DOUBLE, OFF(sample.bin_width), 0, INF, OPEN_MIN | OPEN_MAX, "1e-2", 0,
      "density bin width Delta_x (Eq. 24); must divide sample.period"},
     {"sample", "contact_width", K_DOUBLE, OFF(sample.contact_width), 0, INF, OPEN_MIN | OPEN_MAX,
      "1e-2", 0, "contact window Delta' (Eq. 26): gaps in [0, Delta'] count as contact"},
     {"sample", "period", K_DOUBLE, OFF(sample.period), 0, INF, OPEN_MIN | OPEN_MAX, "", 0,
      "profiles are folded into one period (default: field.wavelength); must divide L"},
+    {"sample", "blocking", K_ENUM, OFF(sample.blocking), 0, 0, 0, "time", "time|space",
+     "error bars of profiles from blocks of time, or of space (segments of the ring, for long "
+     "rings whose slow modes outlast time blocks; blocks must divide L/period)"},
     {"sample", "every", K_INT, OFF(sample.every), 1, 1e15, 0, "1", 0,
      "sample every this many steps"},
     {"sample", "blocks", K_INT, OFF(sample.blocks), 2, 10000, 0, "20", 0,
@@ -505,8 +511,12 @@ uint64_t hsbd_config_steps(const hsbd_config *cfg) {
     return (uint64_t)llround(cfg->run.t_total / cfg->run.dt);
 }
 
+double hsbd_config_dt_equil(const hsbd_config *cfg) {
+    return cfg->run.dt_equil > 0 ? cfg->run.dt_equil : cfg->run.dt;
+}
+
 uint64_t hsbd_config_equil_steps(const hsbd_config *cfg) {
-    return (uint64_t)llround(cfg->run.t_equil / cfg->run.dt);
+    return (uint64_t)llround(cfg->run.t_equil / hsbd_config_dt_equil(cfg));
 }
 
 int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
@@ -554,6 +564,13 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               "t_total/(dt*every) = %llu; allowed: 2 <= blocks <= %llu",
                               origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
                               (unsigned long long)samples, (unsigned long long)samples);
+    if (cfg->sample.blocking == HSBD_BLOCKS_SPACE &&
+        !divides((double)cfg->sample.blocks * cfg->sample.period, L))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.blocks = %lld must divide the number of periods "
+                              "L/period = %g when sample.blocking = space",
+                              origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
+                              L / cfg->sample.period);
     if (cfg->sample.msd_max_lag == 0) cfg->sample.msd_max_lag = cfg->run.t_total / 10;
     if (cfg->sample.msd_max_lag > cfg->run.t_total)
         return hsbd_error_set(

@@ -208,8 +208,11 @@ static int setup(run_state *s, hsbd_error *err) {
     }
     const uint64_t samples = hsbd_config_steps(cfg) / (uint64_t)cfg->sample.every;
     const size_t blocks = (size_t)cfg->sample.blocks;
-    s->profile = hsbd_profile_alloc(cfg->sample.period, cfg->sample.bin_width,
-                                    cfg->sample.contact_width, blocks, samples, err);
+    s->profile = cfg->sample.blocking == HSBD_BLOCKS_SPACE
+                     ? hsbd_profile_alloc_spatial(cfg->sample.period, cfg->sample.bin_width,
+                                                  cfg->sample.contact_width, blocks, err)
+                     : hsbd_profile_alloc(cfg->sample.period, cfg->sample.bin_width,
+                                          cfg->sample.contact_width, blocks, samples, err);
     if (!s->profile) return err->status;
     s->msd = hsbd_msd_alloc(par.n, cfg->run.dt * (double)cfg->sample.every, samples,
                             cfg->sample.msd_max_lag, (int)cfg->sample.msd_points_per_decade, blocks,
@@ -240,6 +243,7 @@ static int stop_requested(const run_state *s) {
 
 static int equilibrate(run_state *s, hsbd_error *err) {
     const uint64_t n = hsbd_config_equil_steps(s->cfg);
+    hsbd_rods_set_dt(s->rods, hsbd_config_dt_equil(s->cfg));
     hsbd_progress pr;
     hsbd_progress_start(&pr, s->opt->progress, "equilibrating", (double)s->cfg->system.n);
     const double t0 = hsbd_wall_seconds();
@@ -255,6 +259,7 @@ static int equilibrate(run_state *s, hsbd_error *err) {
         }
     }
     s->wall_equil = hsbd_wall_seconds() - t0;
+    hsbd_rods_set_dt(s->rods, s->cfg->run.dt);
     hsbd_progress_end(&pr);
     return rc;
 }

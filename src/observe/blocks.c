@@ -9,6 +9,7 @@
 
 struct hsbd_blocks {
     size_t nvalues, nblocks;
+    int spatial; /* blocks are parts of the system, each seen in every sample */
     uint64_t nsamples_total, nsamples;
     double *acc;       /* current block's running sums */
     double *block_sum; /* nblocks x nvalues */
@@ -48,7 +49,23 @@ static size_t block_of(const hsbd_blocks *b, uint64_t sample) {
     return k < b->nblocks ? k : b->nblocks - 1;
 }
 
+hsbd_blocks *hsbd_blocks_alloc_spatial(size_t nvalues, size_t nblocks) {
+    hsbd_blocks *b = hsbd_blocks_alloc(nvalues, nblocks, 1);
+    if (b) b->spatial = 1;
+    return b;
+}
+
+double *hsbd_blocks_acc_block(hsbd_blocks *b, size_t k) {
+    return b->block_sum + k * b->nvalues;
+}
+
 void hsbd_blocks_end_sample(hsbd_blocks *b) {
+    if (b->spatial) {
+        for (size_t k = 0; k < b->nblocks; ++k)
+            b->block_n[k] += 1;
+        b->nsamples += 1;
+        return;
+    }
     const size_t k = block_of(b, b->nsamples);
     b->block_n[k] += 1;
     b->nsamples += 1;
@@ -66,7 +83,7 @@ uint64_t hsbd_blocks_samples(const hsbd_blocks *b) {
 
 size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err) {
     /* a partially filled block (interrupted run) is included with its own weight */
-    const size_t cur = block_of(b, b->nsamples);
+    const size_t cur = b->spatial ? b->nblocks : block_of(b, b->nsamples);
     size_t used = 0;
     uint64_t total = 0;
     for (size_t k = 0; k < b->nblocks; ++k)

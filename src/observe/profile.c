@@ -9,7 +9,8 @@
 struct hsbd_profile {
     double period, bin_width, contact_width;
     size_t nbins;
-    double periods; /* L / period, set from the samples */
+    double periods;   /* L / period, set from the samples */
+    size_t nsegments; /* > 0: spatial error blocks (segments of the ring) */
     double min_gap;
     uint64_t nonfinite;   /* positions that were NaN or infinite (never binned) */
     hsbd_blocks *density; /* counts per bin per sample */
@@ -17,8 +18,9 @@ struct hsbd_profile {
     hsbd_blocks *impulse; /* contact impulses / (kT dt) per bin (left rod) per sample */
 };
 
-hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact_width,
-                                 size_t nblocks, uint64_t nsamples_total, hsbd_error *err) {
+static hsbd_profile *profile_alloc(double period, double bin_width, double contact_width,
+                                   size_t nblocks, uint64_t nsamples_total, int spatial,
+                                   hsbd_error *err) {
     const double bins = round(period / bin_width);
     if (!(bins >= 1) || bins > 1e8) {
         hsbd_error_set(err, HSBD_EINPUT, "profile: period/bin_width = %g bins is out of range",
@@ -32,15 +34,27 @@ hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact
     p->bin_width = period / bins;
     p->contact_width = contact_width;
     p->min_gap = DBL_MAX;
-    p->density = hsbd_blocks_alloc(p->nbins, nblocks, nsamples_total);
-    p->contact = hsbd_blocks_alloc(p->nbins, nblocks, nsamples_total);
-    p->impulse = hsbd_blocks_alloc(p->nbins, nblocks, nsamples_total);
+    p->nsegments = spatial ? nblocks : 0;
+    hsbd_blocks **acc[] = {&p->density, &p->contact, &p->impulse};
+    for (int k = 0; k < 3; ++k)
+        *acc[k] = spatial ? hsbd_blocks_alloc_spatial(p->nbins, nblocks)
+                          : hsbd_blocks_alloc(p->nbins, nblocks, nsamples_total);
     if (!p->density || !p->contact || !p->impulse) {
         hsbd_profile_free(p);
         hsbd_error_set(err, HSBD_ENOMEM, "profile: out of memory");
         return NULL;
     }
     return p;
+}
+
+hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact_width,
+                                 size_t nblocks, uint64_t nsamples_total, hsbd_error *err) {
+    return profile_alloc(period, bin_width, contact_width, nblocks, nsamples_total, 0, err);
+}
+
+hsbd_profile *hsbd_profile_alloc_spatial(double period, double bin_width, double contact_width,
+                                         size_t nsegments, hsbd_error *err) {
+    return profile_alloc(period, bin_width, contact_width, nsegments, 1, 1, err);
 }
 
 void hsbd_profile_free(hsbd_profile *p) {
@@ -54,6 +68,16 @@ void hsbd_profile_free(hsbd_profile *p) {
 static size_t bin_of(const hsbd_profile *p, double x) {
     const double b = floor((x - p->period * floor(x / p->period)) / p->bin_width);
     return b < (double)p->nbins ? (size_t)b : p->nbins - 1; /* x finite: b >= 0 */
+}
+
+/* where a rod at x (ring frame) accumulates: this sample's accumulator, or that of its
+ * segment of the ring */
+static double *acc_for(hsbd_profile *p, hsbd_blocks *b, const hsbd_rods_view *v, double x) {
+    if (!p->nsegments) return hsbd_blocks_acc(b);
+    const double L = v->length;
+    const double r = x - L * floor(x / L);
+    size_t k = (size_t)(r / L * (double)p->nsegments);
+    return hsbd_blocks_acc_block(b, k < p->nsegments ? k : p->nsegments - 1);
 }
 
 static double ring_gap(const hsbd_rods_view *v, size_t i) {
@@ -74,7 +98,6 @@ static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v) {
         if (g > widest) widest = g, start = i;
         if (g > tol) break;
     }
-    double *acc = hsbd_blocks_acc(p->impulse);
     const double scale = 1.0 / (v->mobility * v->kT * v->dt);
     double j = 0.0; /* impulse across the contact to the right of rod i (times mu) */
     for (size_t k = 0; k < n; ++k) {
@@ -84,13 +107,12 @@ static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v) {
             j = 0.0; /* cluster ends: its impulses sum to zero */
             continue;
         }
-        acc[bin_of(p, v->z[i] + v->offset[i])] += j * scale;
+        const double x = v->z[i] + v->offset[i];
+        acc_for(p, p->impulse, v, x)[bin_of(p, x)] += j * scale;
     }
 }
 
 void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
-    double *rho = hsbd_blocks_acc(p->density);
-    double *rho2 = hsbd_blocks_acc(p->contact);
     const size_t n = v->n;
     p->periods = v->length / p->period;
     double min_gap = p->min_gap;
@@ -101,11 +123,11 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
             continue;
         }
         const size_t b = bin_of(p, x);
-        rho[b] += 1.0;
+        acc_for(p, p->density, v, x)[b] += 1.0;
         if (!v->hard_core || n < 2) continue;
         const double gap = i + 1 < n ? v->z[i + 1] - v->z[i] : v->z[0] + v->free_length - v->z[i];
         if (gap < min_gap) min_gap = gap;
-        if (gap <= p->contact_width) rho2[b] += 1.0; /* left rod of the pair in bin b */
+        if (gap <= p->contact_width) acc_for(p, p->contact, v, x)[b] += 1.0; /* left rod */
     }
     p->min_gap = min_gap;
     if (v->hard_core && v->y && n > 1) sample_impulses(p, v);
@@ -122,7 +144,9 @@ size_t hsbd_profile_bins(const hsbd_profile *p) {
 static void finish(const hsbd_profile *p, hsbd_blocks *b, double width, double *x, double *val,
                    double *err) {
     hsbd_blocks_result(b, val, err);
-    const double norm = 1.0 / (width * p->periods);
+    /* spatial blocks average over segments of periods/nsegments periods each */
+    const double periods = p->nsegments ? p->periods / (double)p->nsegments : p->periods;
+    const double norm = 1.0 / (width * periods);
     for (size_t k = 0; k < p->nbins; ++k) {
         x[k] = ((double)k + 0.5) * p->bin_width;
         val[k] *= norm;

@@ -20,6 +20,7 @@ struct hsbd_rods {
     double *y;          /* free end points of the current step */
     int64_t wraps;      /* unwrapped = z + offset + wraps * L */
     uint64_t step;
+    double time;      /* sum of the steps' dt */
     size_t nclusters; /* blocks of the last step */
     hsbd_pava *pava;  /* the step's regression */
     hsbd_pava *frag;  /* per-cluster regressions for the fragmentation diagnostic */
@@ -210,7 +211,12 @@ void hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
         if (stats) stats->clusters_start = stats->fragments = stats->clusters_end = r->par.n;
     }
     r->step += 1;
+    r->time += r->par.dt;
     recenter(r);
+}
+
+void hsbd_rods_set_dt(hsbd_rods *r, double dt) {
+    if (dt > 0 && isfinite(dt)) r->par.dt = dt;
 }
 
 size_t hsbd_rods_cluster_count(const hsbd_rods *r) {
@@ -235,7 +241,7 @@ hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *r) {
         .kT = r->par.kT,
         .dt = r->par.dt,
         .step = r->step,
-        .time = (double)r->step * r->par.dt,
+        .time = r->time,
         .hard_core = r->par.hard_core,
     };
     return v;

@@ -64,6 +64,9 @@ static size_t make_cases(const hsbd_validate_options *opt, vcase *cases) {
     size_t n = 0;
     const double sigmas[] = {0.1, 0.5, 0.9}, rhos[] = {0.2, 0.5, 0.8};
     const double q = opt->quick ? 1.0 : 0.0;
+    /* Percus grid: 2000 periods (space-blocked errors over 20 segments of 100), equilibrated
+     * for ~5 barrier-hopping times at the production step (coarser equilibration leaves
+     * slow distortions, docs/validation.md); quick: 400 periods, dt 1e-4, shorter. */
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) {
             vcase *c = &cases[n++];
@@ -71,12 +74,12 @@ static size_t make_cases(const hsbd_validate_options *opt, vcase *cases) {
                          .sigma = sigmas[a],
                          .rho = rhos[b],
                          .u0 = 6,
-                         .length = q ? 1000 : 10000,
-                         .dt = 1e-4,
-                         .t_total = q ? 20 : 60,
-                         .t_equil = 2,
+                         .length = q ? 400 : 2000,
+                         .dt = q ? 1e-4 : 1e-5,
+                         .t_total = q ? 10 : 20,
+                         .t_equil = q ? 40 : 100,
                          .bin_width = 0.02,
-                         .every = 10};
+                         .every = q ? 10 : 100};
             snprintf(c->name, sizeof c->name, "percus-s%.1f-rho%.1f", c->sigma, c->rho);
         }
     cases[n++] = (vcase){"tonks-s0.5-rho0.5",
@@ -129,8 +132,8 @@ static size_t make_cases(const hsbd_validate_options *opt, vcase *cases) {
 static int case_config(const vcase *c, const char *dir, hsbd_config *cfg, hsbd_error *err) {
     hsbd_config_defaults(cfg);
     const long n = lround(c->rho * c->length);
-    const char *sets[16];
-    char store[16][HSBD_PATH_MAX + 64];
+    const char *sets[20];
+    char store[20][HSBD_PATH_MAX + 64];
     int k = 0;
 #define SET(...) (snprintf(store[k], sizeof store[k], __VA_ARGS__), sets[k] = store[k], ++k)
     SET("system.N=%ld", n);
@@ -145,6 +148,10 @@ static int case_config(const vcase *c, const char *dir, hsbd_config *cfg, hsbd_e
     SET("sample.bin_width=%.17g", c->bin_width);
     SET("sample.period=%.17g", c->family == FAMILY_PERCUS ? 1.0 : c->bin_width);
     SET("sample.every=%d", c->every);
+    if (c->family == FAMILY_PERCUS) {
+        SET("sample.blocking=space");
+        SET("sample.contact_width=%.17g", 5 * sqrt(4 * c->dt)); /* window: 5 rms steps */
+    }
     SET("sample.msd_max_lag=%.17g", c->family == FAMILY_SINGLE_FILE ? c->t_total / 4 : 1.0);
     SET("output.dir=%s", dir);
 #undef SET
@@ -207,8 +214,10 @@ typedef struct verdict {
     int pass;
 } verdict;
 
-/* chi^2/dof within 4 sd of its mean for `points` dof, and no single point beyond the
- * 4.5-sigma band (a family-wise false alarm rate of ~1e-4 for 50 points). */
+/* chi^2/dof below 1 + 4 sd for `points` dof, and no single point beyond the 4.5-sigma
+ * band (a family-wise false alarm rate of ~1e-4 for 50 points). chi^2/dof well below 1
+ * means conservative error bars (spatial blocks of a fixed-N ring: the segments'
+ * numbers fluctuate, the total does not); it is reported, not failed. */
 static void judge(verdict *v, const char *what, const double *sim, const double *err,
                   const double *theory, size_t n) {
     double chi2 = 0, maxd = 0, rel = 0;
@@ -226,7 +235,7 @@ static void judge(verdict *v, const char *what, const double *sim, const double 
     v->chi2_dof = used ? chi2 / (double)used : NAN;
     v->max_dev = maxd;
     v->mean_rel = used ? rel / (double)used : NAN;
-    v->pass = used > 0 && fabs(v->chi2_dof - 1) < 4 * sqrt(2.0 / (double)used) && maxd < 4.5;
+    v->pass = used > 0 && v->chi2_dof - 1 < 4 * sqrt(2.0 / (double)used) && maxd < 4.5;
 }
 
 /* theory averaged over each simulation bin [x - w/2, x + w/2] (periodic grid) */

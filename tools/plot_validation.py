@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""Figures of a validation run (hsbd validate): paper Figs. 3 and 4 style grids.
+
+usage: tools/plot_validation.py VALIDATE_DIR [--out FIG_DIR]
+
+For every percus-s<sigma>-rho<rho> case: simulated density (Fig. 3) and contact density
+(Fig. 4; contact-theorem estimator, and the windowed estimator in grey) as symbols over
+the exact Percus theory (line). Debian's python3-matplotlib only.
+"""
+import argparse
+import os
+import re
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_rows(path):
+    rows = []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#") or line[0].isalpha():
+                continue
+            rows.append([float(v) for v in line.split()])
+    return rows
+
+
+def column(rows, k):
+    return [r[k] for r in rows]
+
+
+def grid_figure(cases, base, kind, out):
+    sigmas = sorted({s for s, _ in cases})
+    rhos = sorted({r for _, r in cases})
+    fig, axes = plt.subplots(len(sigmas), len(rhos), figsize=(3.4 * len(rhos), 2.6 * len(sigmas)),
+                             squeeze=False)
+    for i, s in enumerate(sigmas):
+        for j, r in enumerate(rhos):
+            ax = axes[i][j]
+            d = os.path.join(base, cases[(s, r)])
+            th = read_rows(os.path.join(d, "theory.tsv"))
+            if kind == "density":
+                sim = read_rows(os.path.join(d, "density.tsv"))
+                ax.errorbar(column(sim, 0), column(sim, 1), yerr=column(sim, 2), fmt="o", ms=2.5,
+                            lw=0.7, label="hsbd")
+                ax.plot(column(th, 0), column(th, 1), "k-", lw=0.9, label="Percus (exact)")
+                ax.set_ylabel(r"$\rho(x)$")
+            else:
+                sim = read_rows(os.path.join(d, "contact.tsv"))
+                ax.errorbar(column(sim, 0), column(sim, 3), yerr=column(sim, 4), fmt="s", ms=2,
+                            lw=0.5, color="0.65", label="window estimator")
+                ax.errorbar(column(sim, 0), column(sim, 1), yerr=column(sim, 2), fmt="o", ms=2.5,
+                            lw=0.7, label="contact theorem")
+                ax.plot(column(th, 0), column(th, 2), "k-", lw=0.9, label="Percus (exact)")
+                ax.set_ylabel(r"$\rho_2(x, x+\sigma)$")
+            ax.set_title(rf"$\sigma$ = {s:g}, $\bar\rho$ = {r:g}", fontsize=9)
+            ax.set_xlabel("x")
+    axes[0][0].legend(fontsize=7)
+    fig.tight_layout()
+    tmp = out + ".part.png"
+    fig.savefig(tmp, dpi=110)
+    os.replace(tmp, out)
+    print(f"plot: {out}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("dir")
+    ap.add_argument("--out", help="folder for the PNG files (default: DIR)")
+    a = ap.parse_args()
+    out = a.out or a.dir
+    os.makedirs(out, exist_ok=True)
+    cases = {}
+    for name in sorted(os.listdir(a.dir)):
+        m = re.fullmatch(r"percus-s([0-9.]+)-rho([0-9.]+)", name)
+        if m and os.path.exists(os.path.join(a.dir, name, "theory.tsv")):
+            cases[(float(m.group(1)), float(m.group(2)))] = name
+    if not cases:
+        sys.exit(f"plot_validation: no percus-* cases with theory.tsv in {a.dir}")
+    grid_figure(cases, a.dir, "density", os.path.join(out, "validation-density.png"))
+    grid_figure(cases, a.dir, "contact", os.path.join(out, "validation-contact.png"))
+
+
+if __name__ == "__main__":
+    main()
