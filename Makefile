@@ -33,9 +33,12 @@ check: build asan
 bench: build
 	@bench/run $(BUILD)/hsbd
 
-# Long statistical validation runs (tighter error bars); see README.
+# Long statistical validation runs (tighter error bars), then simulations against the
+# exact theory with their figures; see README and docs/validation.md.
 validate: build
 	@HSBD_VALIDATE=long ctest --test-dir $(BUILD) -L physics --output-on-failure -j $(JOBS)
+	@$(BUILD)/hsbd validate --out runs/validate --jobs $(JOBS); rc=$$?; \
+	 /usr/bin/python3 tools/plot_validation.py runs/validate; exit $$rc
 
 format:
 	@clang-format -i $$(git ls-files '*.c' '*.h')
