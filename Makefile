@@ -23,7 +23,8 @@ asan: deps
 demo: build
 	@rm -rf runs/demo
 	@$(BUILD)/hsbd run examples/rods-cosine.ini --out runs/demo
-	@/usr/bin/python3 tools/plot_rods.py runs/demo
+	@$(BUILD)/hsbd theory percus --sigma 0.5 --rho 0.5 --amplitude 6 --out runs/demo/percus.tsv
+	@/usr/bin/python3 tools/plot_rods.py runs/demo --theory runs/demo/percus.tsv
 
 # Whole test suite: optimised build (all tests) and AddressSanitizer+UBSan build (all tests).
 check: build asan

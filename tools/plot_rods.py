@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Plot a hard-rod run: density profile, contact density and MSD (PNG).
 
-usage: tools/plot_rods.py RUN_DIR [--out FILE.png]
+usage: tools/plot_rods.py RUN_DIR [--theory PERCUS.tsv] [--out FILE.png]
 
 Uses only Debian's python3-numpy and python3-matplotlib. The ideal-gas (Boltzmann)
 profile of the same field is drawn as a reference for what the hard core changes.
@@ -46,6 +46,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("run_dir")
     ap.add_argument("--out", help="PNG file (default RUN_DIR/plot.png)")
+    ap.add_argument("--theory", help="exact profile from 'hsbd theory percus' (x rho rho2)")
     a = ap.parse_args()
     dens_path = os.path.join(a.run_dir, "density.tsv")
     if not os.path.exists(dens_path):
@@ -61,7 +62,10 @@ def main():
     fine = np.linspace(0, float(p["sample.period"]), 500)
     boltz = np.exp(-cosine_potential(p, fine))
     boltz *= (n / length) / boltz.mean()
-    ax[0].plot(fine, boltz, "k--", lw=1, label="ideal gas (no hard core)")
+    ax[0].plot(fine, boltz, "--", color="0.6", lw=1, label="ideal gas (no hard core)")
+    theory = read_table(a.theory)[1] if a.theory else None
+    if theory is not None:
+        ax[0].plot(theory[:, 0], theory[:, 1], "k-", lw=1, label="Percus (exact)")
     ax[0].set_xlabel("x")
     ax[0].set_ylabel(r"$\rho(x)$")
     ax[0].set_title(rf"$\sigma$ = {p['system.sigma']}, $\bar\rho$ = {n / length:g}, "
@@ -70,7 +74,14 @@ def main():
 
     if panels == 3:
         _, con = read_table(contact_path)
-        ax[1].errorbar(con[:, 0], con[:, 1], yerr=con[:, 2], fmt="o", ms=2.5, lw=0.8)
+        ax[1].errorbar(con[:, 0], con[:, 1], yerr=con[:, 2], fmt="o", ms=2.5, lw=0.8,
+                       label="contact theorem")
+        if con.shape[1] >= 5:
+            ax[1].errorbar(con[:, 0], con[:, 3], yerr=con[:, 4], fmt="s", ms=2, lw=0.5,
+                           color="0.65", label="window")
+        if theory is not None:
+            ax[1].plot(theory[:, 0], theory[:, 2], "k-", lw=1, label="Percus (exact)")
+        ax[1].legend(fontsize=8)
         ax[1].set_xlabel("x (left rod)")
         ax[1].set_ylabel(r"$\rho_2(x, x+\sigma)$")
         ax[1].set_title(rf"contact density, $\Delta'$ = {p['sample.contact_width']}")
