@@ -25,6 +25,10 @@ void hsbd_blocks_end_sample(hsbd_blocks *b);
  * means over sqrt(blocks), using the blocks that received samples. Returns blocks used. */
 size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err);
 uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
+/* As hsbd_blocks_result, but the error is that of the shape: each block's values are
+ * rescaled to the common total first (for quantities whose total is fixed, like the
+ * density of a fixed number of rods observed in segments of the ring). */
+size_t hsbd_blocks_result_shape(const hsbd_blocks *b, double *mean, double *err);
 
 /* ---- density profile (Eqs. 24-25) and two-particle density at contact (Eq. 26) ---- */
 typedef struct hsbd_profile hsbd_profile;

@@ -105,3 +105,30 @@ size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err) {
     }
     return used;
 }
+
+size_t hsbd_blocks_result_shape(const hsbd_blocks *b, double *mean, double *err) {
+    const size_t used = hsbd_blocks_result(b, mean, err);
+    if (used < 2) return used;
+    double total = 0;
+    for (size_t j = 0; j < b->nvalues; ++j)
+        total += mean[j];
+    if (!(total > 0)) return used;
+    for (size_t j = 0; j < b->nvalues; ++j)
+        err[j] = 0;
+    /* each block's values rescaled to the common total: the scatter of the shape */
+    for (size_t k = 0; k < b->nblocks; ++k) {
+        if (!b->block_n[k]) continue;
+        const double *v = b->block_sum + k * b->nvalues;
+        double sk = 0;
+        for (size_t j = 0; j < b->nvalues; ++j)
+            sk += v[j];
+        if (!(sk > 0)) continue;
+        for (size_t j = 0; j < b->nvalues; ++j) {
+            const double d = v[j] * total / sk - mean[j];
+            err[j] += d * d;
+        }
+    }
+    for (size_t j = 0; j < b->nvalues; ++j)
+        err[j] = sqrt(err[j] / ((double)used * (double)(used - 1)));
+    return used;
+}

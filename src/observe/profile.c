@@ -142,8 +142,11 @@ size_t hsbd_profile_bins(const hsbd_profile *p) {
 
 /* counts per sample -> density: the L/period periods are folded onto one, Eq. (25) */
 static void finish(const hsbd_profile *p, hsbd_blocks *b, double width, double *x, double *val,
-                   double *err) {
-    hsbd_blocks_result(b, val, err);
+                   double *err, int fixed_total) {
+    if (fixed_total && p->nsegments)
+        hsbd_blocks_result_shape(b, val, err);
+    else
+        hsbd_blocks_result(b, val, err);
     /* spatial blocks average over segments of periods/nsegments periods each */
     const double periods = p->nsegments ? p->periods / (double)p->nsegments : p->periods;
     const double norm = 1.0 / (width * periods);
@@ -155,15 +158,16 @@ static void finish(const hsbd_profile *p, hsbd_blocks *b, double width, double *
 }
 
 void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double *err) {
-    finish(p, p->density, p->bin_width, x, rho, err);
+    /* N is fixed: in spatial blocks only the shape scatters (segments trade rods) */
+    finish(p, p->density, p->bin_width, x, rho, err, 1);
 }
 
 void hsbd_profile_contact_window(const hsbd_profile *p, double *x, double *rho2, double *err) {
-    finish(p, p->contact, p->bin_width * p->contact_width, x, rho2, err);
+    finish(p, p->contact, p->bin_width * p->contact_width, x, rho2, err, 0);
 }
 
 void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err) {
-    finish(p, p->impulse, p->bin_width, x, rho2, err);
+    finish(p, p->impulse, p->bin_width, x, rho2, err, 0);
 }
 
 uint64_t hsbd_profile_nonfinite(const hsbd_profile *p) {
