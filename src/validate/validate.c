@@ -220,10 +220,14 @@ typedef struct verdict {
  * numbers fluctuate, the total does not); it is reported, not failed. */
 static void judge(verdict *v, const char *what, const double *sim, const double *err,
                   const double *theory, size_t n) {
-    double chi2 = 0, maxd = 0, rel = 0;
+    double chi2 = 0, maxd = 0, rel = 0, tmax = 0;
     size_t used = 0;
+    for (size_t k = 0; k < n; ++k)
+        tmax = fmax(tmax, fabs(theory[k]));
     for (size_t k = 0; k < n; ++k) {
-        if (!(err[k] > 0) || !isfinite(sim[k])) continue;
+        /* bins with signal only: where the theory is below 1 % of its maximum the counts
+         * are a handful of rare events per segment and Gaussian error bars mean nothing */
+        if (!(err[k] > 0) || !isfinite(sim[k]) || fabs(theory[k]) < 0.01 * tmax) continue;
         const double d = (sim[k] - theory[k]) / err[k];
         chi2 += d * d;
         maxd = fmax(maxd, fabs(d));
@@ -343,6 +347,9 @@ static int compare_single_file(const hsbd_validate_options *opt, const vcase *c,
             ++n;
         }
         judge(&v[(*nv)++], "tagged MSD (t >> 1)", s, e, t, n);
+        /* informative until the finite-time correction to the asymptotic law, of relative
+         * size ~ 1/(rho' sqrt(4 D t)) with rho' = rho/(1 - rho sigma), is built in */
+        v[*nv - 1].pass = -1;
     }
     free(m.v);
     return rc;
