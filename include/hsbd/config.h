@@ -27,6 +27,7 @@ typedef struct hsbd_config {
         double length, sigma, diffusion, kT;
         uint64_t seed;
         int hard_core;
+        int contact_rule;
     } system;
     struct {
         int type;

@@ -15,6 +15,17 @@
 #include "hsbd/error.h"
 #include "hsbd/field.h"
 
+/* How pairs that reach contact within a step are treated. */
+enum hsbd_contact_rule {
+    HSBD_CONTACT_STICKY = 0, /* the paper's BCD: overlapping free end points merge
+                                (perfectly inelastic); contacts crossed and left within
+                                the step are missed: an O(sqrt(dt)) layer at contact */
+    HSBD_CONTACT_REFLECT = 1 /* first each gap's Brownian bridge minimum is drawn and a
+                                crossing reflects the gap (exact for an isolated pair,
+                                any dt and constant force, design note 7); then the
+                                same regression resolves what still overlaps */
+};
+
 typedef struct hsbd_rods_params {
     size_t n;         /* number of rods N */
     double length;    /* ring length L */
@@ -23,7 +34,8 @@ typedef struct hsbd_rods_params {
     double kT;        /* thermal energy; mobility mu = D / kT */
     double dt;        /* time step */
     uint64_t seed;
-    int hard_core; /* 1: hard rods (BCD); 0: free particles (the free-particle bound) */
+    int hard_core;    /* 1: hard rods (BCD); 0: free particles (the free-particle bound) */
+    int contact_rule; /* enum hsbd_contact_rule */
     hsbd_field field;
 } hsbd_rods_params;
 
@@ -43,6 +55,9 @@ typedef struct hsbd_rods_view {
     /* free end points of the last step in the frame of z (hard core only; else NULL):
      * y_i - z_i = mu (J_{i-1,i} - J_{i,i+1}) with J the contact impulses of the step */
     const double *y;
+    /* reflection push given to each gap i (between rods i and i+1) in the last step,
+     * as a change of the gap; NULL for the sticky rule */
+    const double *push;
     double unwrap;
     double mobility, kT, dt;
     uint64_t step;

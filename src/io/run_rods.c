@@ -38,6 +38,7 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
         .dt = cfg->run.dt,
         .seed = cfg->system.seed,
         .hard_core = cfg->system.hard_core,
+        .contact_rule = cfg->system.contact_rule,
     };
     const int t = cfg->field.type;
     if (t == HSBD_FIELD_COSINE || t == HSBD_FIELD_COSINE_TILT)

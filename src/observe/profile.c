@@ -91,20 +91,24 @@ static double ring_gap(const hsbd_rods_view *v, size_t i) {
 static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v) {
     const size_t n = v->n;
     const double tol = 1e-12 * v->length;
-    size_t start = 0; /* a rod whose left neighbour does not touch it */
+    /* anchor: a rod whose left gap is open and was not pushed (no impulse across it) */
+    size_t start = 0;
     double widest = -1.0;
     for (size_t i = 0; i < n; ++i) {
-        const double g = ring_gap(v, (i + n - 1) % n);
-        if (g > widest) widest = g, start = i;
-        if (g > tol) break;
+        const size_t left = (i + n - 1) % n;
+        const double g = ring_gap(v, left);
+        const int pushed = v->push && v->push[left] > 0;
+        if (!pushed && g > widest) widest = g, start = i;
+        if (!pushed && g > tol) break;
     }
     const double scale = 1.0 / (v->mobility * v->kT * v->dt);
-    double j = 0.0; /* impulse across the contact to the right of rod i (times mu) */
+    double j = 0.0; /* impulse across the gap to the right of rod i (times mu) */
     for (size_t k = 0; k < n; ++k) {
         const size_t i = (start + k) % n;
         j += v->y[i] - v->z[i];
-        if (ring_gap(v, i) > tol) {
-            j = 0.0; /* cluster ends: its impulses sum to zero */
+        const int pushed = v->push && v->push[i] > 0;
+        if (!pushed && ring_gap(v, i) > tol) {
+            j = 0.0; /* open gap, no impulse: the running sum closes here */
             continue;
         }
         const double x = v->z[i] + v->offset[i];

@@ -25,6 +25,8 @@ struct hsbd_rods {
     hsbd_pava *pava;  /* the step's regression */
     hsbd_pava *frag;  /* per-cluster regressions for the fragmentation diagnostic */
     double *frag_v;   /* scratch for one cluster's velocities */
+    double *push;     /* reflect rule: push per gap in the last step */
+    double *ypush;    /* reflect rule: end points after the pushes (the regression's input) */
 };
 
 hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
@@ -51,7 +53,12 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     r->frag_v = malloc(n * sizeof *r->frag_v);
     r->pava = hsbd_pava_alloc(n);
     r->frag = hsbd_pava_alloc(n);
-    if (!r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag) {
+    if (par->contact_rule == HSBD_CONTACT_REFLECT) {
+        r->push = calloc(n, sizeof *r->push);
+        r->ypush = malloc(n * sizeof *r->ypush);
+    }
+    if (!r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
+        (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush))) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
     }
@@ -66,6 +73,8 @@ void hsbd_rods_free(hsbd_rods *r) {
     free(r->offset);
     free(r->y);
     free(r->frag_v);
+    free(r->push);
+    free(r->ypush);
     hsbd_pava_free(r->pava);
     hsbd_pava_free(r->frag);
     free(r);
@@ -194,15 +203,51 @@ static void recenter(hsbd_rods *r) {
     for (size_t i = 0; i < r->par.n; ++i) {
         r->z[i] -= (double)k * L;
         r->y[i] -= (double)k * L; /* the step's end points stay in the frame of z */
+        if (r->ypush) r->ypush[i] -= (double)k * L;
     }
     r->wraps += k;
+}
+
+/* Reflect rule: for every gap that may have touched zero during the step, draw the
+ * minimum m of its Brownian bridge from the start gap g0 to the free end gap g1
+ * (relative diffusion D_rel = 2D): m = (g0 + g1 - sqrt((g1 - g0)^2 - 4 D_rel dt ln U)) / 2. If
+ * m < 0 the exact reflected end gap is g1 - m (Skorokhod; design note 7): the pair is
+ * pushed apart by -m, shared equally (equal mobilities). Pushes are computed from the
+ * free end points of all gaps first, so the result does not depend on the order. */
+static void reflect_gaps(hsbd_rods *r) {
+    const size_t n = r->par.n;
+    const double d_rel_dt = 2.0 * r->par.diffusion * r->par.dt;
+    const double lf = r->free_length;
+    for (size_t i = 0; i < n; ++i) {
+        const size_t j = i + 1 < n ? i + 1 : 0;
+        const double wrap = i + 1 < n ? 0.0 : lf;
+        const double g0 = r->z[j] + wrap - r->z[i], g1 = r->y[j] + wrap - r->y[i];
+        r->push[i] = 0.0;
+        /* crossing probability exp(-g0 g1 / (D_rel dt)) < 2e-9 otherwise */
+        if (n < 2 || (g1 > 0 && g0 * g1 > 20.0 * d_rel_dt)) continue;
+        double u;
+        hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, i, 1, &u);
+        const double d = g1 - g0;
+        /* bridge with increment variance v = 2 D_rel dt: P(min < m) = e^(-2 (g0-m)(g1-m)/v) */
+        const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));
+        if (m < 0) r->push[i] = -m;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const double left = r->push[i > 0 ? i - 1 : n - 1]; /* gap on the left of rod i */
+        r->ypush[i] = r->y[i] + 0.5 * left - 0.5 * r->push[i];
+    }
 }
 
 void hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
     compute_endpoints(r);
     if (r->par.hard_core) {
         if (stats) count_fragments(r, stats);
-        r->nclusters = hsbd_pava_ring(r->pava, r->par.n, r->y, NULL, r->free_length, r->z);
+        const double *target = r->y;
+        if (r->par.contact_rule == HSBD_CONTACT_REFLECT) {
+            reflect_gaps(r);
+            target = r->ypush;
+        }
+        r->nclusters = hsbd_pava_ring(r->pava, r->par.n, target, NULL, r->free_length, r->z);
         if (stats) stats->clusters_end = r->nclusters;
     } else {
         double *t = r->z;
@@ -236,6 +281,7 @@ hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *r) {
         .z = r->z,
         .offset = r->offset,
         .y = r->par.hard_core && r->step > 0 ? r->y : NULL,
+        .push = r->par.hard_core && r->step > 0 ? r->push : NULL,
         .unwrap = (double)r->wraps * r->par.length,
         .mobility = r->mobility,
         .kT = r->par.kT,
