@@ -46,6 +46,11 @@ void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double 
 /* rho2(x, x+sigma), x the left rod of the pair, from the contact theorem: the mean
  * contact impulse per time over kT (docs/observables.md). The default estimator. */
 void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err);
+/* rho2(x, x+sigma) as the gap density extrapolated linearly to zero gap from four
+ * sub-windows of [0, contact_width]: removes the first-order bias of a pair density
+ * that varies across the window (fields); meant for contact_rule = reflect, whose gap
+ * density has no layer at contact. */
+void hsbd_profile_contact_extrapolated(const hsbd_profile *p, double *x, double *rho2, double *err);
 /* rho2(x, x+sigma) from pairs with gaps in [0, contact_width] (Antonov Eq. 26). */
 void hsbd_profile_contact_window(const hsbd_profile *p, double *x, double *rho2, double *err);
 /* Positions that were not finite in the samples (a run should stop at the first). */

@@ -94,7 +94,8 @@ static int write_profile_table(run_state *s, const char *name, const char *what,
 
 static int write_profiles(run_state *s, hsbd_error *err) {
     const profile_getter density[] = {hsbd_profile_density};
-    const profile_getter contact[] = {hsbd_profile_contact, hsbd_profile_contact_window};
+    const profile_getter contact[] = {hsbd_profile_contact, hsbd_profile_contact_window,
+                                      hsbd_profile_contact_extrapolated};
     int rc = write_profile_table(s, "density.tsv",
                                  "density profile folded into one period, Antonov Eq. 25, "
                                  "normalised to mean N/L; errors from block averages",
@@ -105,8 +106,10 @@ static int write_profiles(run_state *s, hsbd_error *err) {
             "two-particle density at contact rho2(x, x+sigma), x = left rod. rho2: contact "
             "theorem (mean contact impulse per time / kT, the default); rho2_window: pairs with "
             "gaps in [0, contact_width], Antonov Eq. 26 (biased by O(sqrt(4 D dt)/contact_width), "
-            "docs/observables.md)",
-            "x\trho2\trho2_err\trho2_window\trho2_window_err", contact, 2, err);
+            "docs/observables.md); rho2_extrap: the windowed gap density extrapolated to zero "
+            "gap from four sub-windows (for contact_rule = reflect)",
+            "x\trho2\trho2_err\trho2_window\trho2_window_err\trho2_extrap\trho2_extrap_err",
+            contact, 3, err);
     return rc;
 }
 

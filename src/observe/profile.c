@@ -16,6 +16,7 @@ struct hsbd_profile {
     hsbd_blocks *density; /* counts per bin per sample */
     hsbd_blocks *contact; /* contact pairs per bin (left rod) per sample */
     hsbd_blocks *impulse; /* contact impulses / (kT dt) per bin (left rod) per sample */
+    hsbd_blocks *extrap;  /* gap density extrapolated to zero gap, per bin per sample */
 };
 
 static hsbd_profile *profile_alloc(double period, double bin_width, double contact_width,
@@ -35,11 +36,11 @@ static hsbd_profile *profile_alloc(double period, double bin_width, double conta
     p->contact_width = contact_width;
     p->min_gap = DBL_MAX;
     p->nsegments = spatial ? nblocks : 0;
-    hsbd_blocks **acc[] = {&p->density, &p->contact, &p->impulse};
-    for (int k = 0; k < 3; ++k)
+    hsbd_blocks **acc[] = {&p->density, &p->contact, &p->impulse, &p->extrap};
+    for (int k = 0; k < 4; ++k)
         *acc[k] = spatial ? hsbd_blocks_alloc_spatial(p->nbins, nblocks)
                           : hsbd_blocks_alloc(p->nbins, nblocks, nsamples_total);
-    if (!p->density || !p->contact || !p->impulse) {
+    if (!p->density || !p->contact || !p->impulse || !p->extrap) {
         hsbd_profile_free(p);
         hsbd_error_set(err, HSBD_ENOMEM, "profile: out of memory");
         return NULL;
@@ -62,6 +63,7 @@ void hsbd_profile_free(hsbd_profile *p) {
     hsbd_blocks_free(p->density);
     hsbd_blocks_free(p->contact);
     hsbd_blocks_free(p->impulse);
+    hsbd_blocks_free(p->extrap);
     free(p);
 }
 
@@ -131,13 +133,23 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
         if (!v->hard_core || n < 2) continue;
         const double gap = i + 1 < n ? v->z[i + 1] - v->z[i] : v->z[0] + v->free_length - v->z[i];
         if (gap < min_gap) min_gap = gap;
-        if (gap <= p->contact_width) acc_for(p, p->contact, v, x)[b] += 1.0; /* left rod */
+        if (gap <= p->contact_width) {
+            acc_for(p, p->contact, v, x)[b] += 1.0; /* left rod */
+            /* straight line through the gap densities of 4 sub-windows, value at gap 0:
+             * fixed least-squares weights for sub-window centres (k + 1/2) h */
+            static const double w[4] = {0.85, 0.45, 0.05, -0.35};
+            const double h = 0.25 * p->contact_width;
+            int k = (int)(gap / h);
+            k = k < 0 ? 0 : k > 3 ? 3 : k;
+            acc_for(p, p->extrap, v, x)[b] += w[k] / h;
+        }
     }
     p->min_gap = min_gap;
     if (v->hard_core && v->y && n > 1) sample_impulses(p, v);
     hsbd_blocks_end_sample(p->density);
     hsbd_blocks_end_sample(p->contact);
     hsbd_blocks_end_sample(p->impulse);
+    hsbd_blocks_end_sample(p->extrap);
 }
 
 size_t hsbd_profile_bins(const hsbd_profile *p) {
@@ -168,6 +180,11 @@ void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double 
 
 void hsbd_profile_contact_window(const hsbd_profile *p, double *x, double *rho2, double *err) {
     finish(p, p->contact, p->bin_width * p->contact_width, x, rho2, err, 0);
+}
+
+void hsbd_profile_contact_extrapolated(const hsbd_profile *p, double *x, double *rho2,
+                                       double *err) {
+    finish(p, p->extrap, p->bin_width, x, rho2, err, 0);
 }
 
 void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err) {
