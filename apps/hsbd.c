@@ -56,7 +56,8 @@ static void usage(FILE *out) {
             "                                       exact equilibrium profile (x rho rho2)\n"
             "       hsbd theory tonks --sigma S --rho R [--gamma G] [--D D]\n"
             "                                       closed forms of the homogeneous fluid\n"
-            "       hsbd validate [--quick] [--dt-scan] [--out DIR] [--case TEXT] [--jobs N]\n"
+            "       hsbd validate [--quick] [--dt-scan] [--reflect] [--out DIR] [--case TEXT]\n"
+            "                     [--jobs N]\n"
             "                                       simulations against exact theory\n"
             "       hsbd config-doc                 print the configuration reference (Markdown)\n"
             "       hsbd version\n");
@@ -429,7 +430,7 @@ static int cmd_validate(int argc, char **argv) {
             opt.jobs = (int)j;
         } else {
             fprintf(stderr,
-                    "hsbd validate: unknown option '%s' (--quick, --dt-scan, --out DIR, "
+                    "hsbd validate: unknown option '%s' (--quick, --dt-scan, --reflect, --out DIR, "
                     "--case TEXT, --jobs N)\n",
                     argv[i]);
             return EXIT_INPUT;

@@ -143,7 +143,8 @@ static size_t make_cases(const hsbd_validate_options *opt, vcase *cases) {
     return kept;
 }
 
-static int case_config(const vcase *c, const char *dir, hsbd_config *cfg, hsbd_error *err) {
+static int case_config(const vcase *c, int reflect, const char *dir, hsbd_config *cfg,
+                       hsbd_error *err) {
     hsbd_config_defaults(cfg);
     const long n = lround(c->rho * c->length);
     const char *sets[20];
@@ -164,10 +165,13 @@ static int case_config(const vcase *c, const char *dir, hsbd_config *cfg, hsbd_e
     SET("sample.every=%d", c->every);
     if (c->family == FAMILY_PERCUS) {
         SET("sample.blocking=space");
-        SET("sample.contact_width=%.17g", 5 * sqrt(4 * c->dt)); /* window: 5 rms steps */
+        /* window: 5 rms steps (sticky); with reflect there is no contact layer and a
+         * narrow window serves the extrapolation */
+        SET("sample.contact_width=%.17g", reflect ? 0.02 : 5 * sqrt(4 * c->dt));
     }
     SET("sample.msd_max_lag=%.17g", c->family == FAMILY_SINGLE_FILE ? c->t_total / 4 : 1.0);
     SET("output.dir=%s", dir);
+    SET("system.contact_rule=%s", reflect ? "reflect" : "sticky");
 #undef SET
     for (int i = 0; i < k; ++i)
         if (hsbd_config_set(cfg, sets[i], "validate", err) != HSBD_OK) return err->status;
@@ -184,7 +188,7 @@ static int run_case(const hsbd_validate_options *opt, const vcase *c) {
     case_dir(opt, c, dir, sizeof dir);
     hsbd_config cfg;
     hsbd_error err;
-    if (case_config(c, dir, &cfg, &err) != HSBD_OK) {
+    if (case_config(c, opt->reflect, dir, &cfg, &err) != HSBD_OK) {
         fprintf(stderr, "validate %s: %s\n", c->name, err.message);
         return 1;
     }
@@ -293,7 +297,7 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
     snprintf(path, sizeof path, "%s/density.tsv", dir);
     int rc = read_table(path, 3, &d, err);
     snprintf(path, sizeof path, "%s/contact.tsv", dir);
-    if (rc == HSBD_OK) rc = read_table(path, 5, &ct, err);
+    if (rc == HSBD_OK) rc = read_table(path, 7, &ct, err);
     if (rc == HSBD_OK) {
         const size_t n = d.rows;
         double *x = malloc(n * sizeof *x), *s = malloc(n * sizeof *s), *e = malloc(n * sizeof *e),
@@ -310,6 +314,10 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
             s[k] = cell(&ct, k, 3), e[k] = cell(&ct, k, 4);
         judge(&v[(*nv)++], "contact (window)", s, e, t, n);
         v[*nv - 1].pass = -1; /* informative only: the windowed estimator is biased */
+        for (size_t k = 0; k < n; ++k)
+            s[k] = cell(&ct, k, 5), e[k] = cell(&ct, k, 6);
+        judge(&v[(*nv)++], "contact (extrapolated)", s, e, t, n);
+        if (!opt->reflect) v[*nv - 1].pass = -1; /* sticky: the contact layer spoils it */
         free(x), free(s), free(e), free(t);
     }
     free(d.v), free(ct.v);
@@ -325,7 +333,7 @@ static int compare_tonks(const hsbd_validate_options *opt, const vcase *c, verdi
     snprintf(path, sizeof path, "%s/density.tsv", dir);
     int rc = read_table(path, 3, &d, err);
     snprintf(path, sizeof path, "%s/contact.tsv", dir);
-    if (rc == HSBD_OK) rc = read_table(path, 5, &ct, err);
+    if (rc == HSBD_OK) rc = read_table(path, 7, &ct, err);
     if (rc == HSBD_OK && d.rows && ct.rows) {
         const double n = round(c->rho * c->length);
         double s = cell(&d, 0, 1), e = cell(&d, 0, 2), t = n / c->length;
@@ -393,7 +401,7 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
             "max|d|/e", "rel.dev", "result");
     int all_pass = 1;
     for (size_t i = 0; i < n; ++i) {
-        verdict v[4];
+        verdict v[6];
         int nv = 0;
         const vcase *c = &cases[i];
         int rc = c->family == FAMILY_PERCUS  ? compare_percus(opt, c, v, &nv, err)
