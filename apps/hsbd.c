@@ -415,6 +415,8 @@ static int cmd_validate(int argc, char **argv) {
             opt.quick = 1;
         else if (!strcmp(argv[i], "--dt-scan"))
             opt.dt_scan = 1;
+        else if (!strcmp(argv[i], "--reflect"))
+            opt.reflect = 1;
         else if (!strcmp(argv[i], "--out") && i + 1 < argc)
             opt.out_dir = argv[++i];
         else if (!strcmp(argv[i], "--case") && i + 1 < argc)
