@@ -113,6 +113,10 @@ if "$HSBD" run "$SRC/examples/authors-basep.cfg" "${QUICK[@]}" --out ex-authors 
 if "$HSBD" run good.ini --check --set system.N=72 --set system.L=40 --out dense --quiet &&
     grep -q '"min_gap": ' dense/summary.json; then ok; else bad "--check on a dense ring"; fi
 
+# the reflect contact rule runs with the hard core verified after every step
+if "$HSBD" run good.ini --check --set system.contact_rule=reflect --set system.N=72 --set system.L=40 \
+    --out reflect --quiet && grep -q '"contact_rule": "reflect"' reflect/summary.json; then ok; else bad "contact_rule = reflect"; fi
+
 # the authors' dialect (their key names, no sections) runs unchanged
 cat >authors.cfg <<'CFG'
 particles = 20
