@@ -72,14 +72,28 @@ static size_t bin_of(const hsbd_profile *p, double x) {
     return b < (double)p->nbins ? (size_t)b : p->nbins - 1; /* x finite: b >= 0 */
 }
 
-/* where a rod at x (ring frame) accumulates: this sample's accumulator, or that of its
- * segment of the ring */
-static double *acc_for(hsbd_profile *p, hsbd_blocks *b, const hsbd_rods_view *v, double x) {
-    if (!p->nsegments) return hsbd_blocks_acc(b);
+/* The accumulators of this sample: for time blocks the current sample's, for spatial
+ * blocks the first segment's (segment k is k * nbins further on). Fetched once per
+ * sample, so the per-rod work is an index computation. */
+typedef struct acc_set {
+    double *density, *contact, *impulse, *extrap;
+} acc_set;
+
+static acc_set accumulators(hsbd_profile *p) {
+    if (!p->nsegments)
+        return (acc_set){hsbd_blocks_acc(p->density), hsbd_blocks_acc(p->contact),
+                         hsbd_blocks_acc(p->impulse), hsbd_blocks_acc(p->extrap)};
+    return (acc_set){hsbd_blocks_acc_block(p->density, 0), hsbd_blocks_acc_block(p->contact, 0),
+                     hsbd_blocks_acc_block(p->impulse, 0), hsbd_blocks_acc_block(p->extrap, 0)};
+}
+
+/* index of the bin of a rod at x (ring frame) in the accumulators of acc_set */
+static size_t acc_index(const hsbd_profile *p, const hsbd_rods_view *v, double x) {
+    const size_t b = bin_of(p, x);
+    if (!p->nsegments) return b;
     const double L = v->length;
-    const double r = x - L * floor(x / L);
-    size_t k = (size_t)(r / L * (double)p->nsegments);
-    return hsbd_blocks_acc_block(b, k < p->nsegments ? k : p->nsegments - 1);
+    const size_t k = (size_t)((x - L * floor(x / L)) / L * (double)p->nsegments);
+    return (k < p->nsegments ? k : p->nsegments - 1) * p->nbins + b;
 }
 
 static double ring_gap(const hsbd_rods_view *v, size_t i) {
@@ -90,7 +104,7 @@ static double ring_gap(const hsbd_rods_view *v, size_t i) {
  * J_i = sum over the cluster's rods k <= i of (y_k - z_k) / mu (Antonov Eq. 8 integrated
  * over the step); kT rho2(x, x+sigma) is the mean contact force, so each contact adds
  * J_i / (kT dt) to the bin of its left rod. */
-static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v) {
+static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v, double *impulse) {
     const size_t n = v->n;
     const double tol = 1e-12 * v->length;
     /* anchor: a rod whose left gap is open and was not pushed (no impulse across it) */
@@ -114,12 +128,13 @@ static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v) {
             continue;
         }
         const double x = v->z[i] + v->offset[i];
-        acc_for(p, p->impulse, v, x)[bin_of(p, x)] += j * scale;
+        impulse[acc_index(p, v, x)] += j * scale;
     }
 }
 
 void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
     const size_t n = v->n;
+    const acc_set acc = accumulators(p);
     p->periods = v->length / p->period;
     double min_gap = p->min_gap;
     for (size_t i = 0; i < n; ++i) {
@@ -128,24 +143,24 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
             p->nonfinite += 1;
             continue;
         }
-        const size_t b = bin_of(p, x);
-        acc_for(p, p->density, v, x)[b] += 1.0;
+        const size_t b = acc_index(p, v, x);
+        acc.density[b] += 1.0;
         if (!v->hard_core || n < 2) continue;
         const double gap = i + 1 < n ? v->z[i + 1] - v->z[i] : v->z[0] + v->free_length - v->z[i];
         if (gap < min_gap) min_gap = gap;
         if (gap <= p->contact_width) {
-            acc_for(p, p->contact, v, x)[b] += 1.0; /* left rod */
+            acc.contact[b] += 1.0; /* left rod */
             /* straight line through the gap densities of 4 sub-windows, value at gap 0:
              * fixed least-squares weights for sub-window centres (k + 1/2) h */
             static const double w[4] = {0.85, 0.45, 0.05, -0.35};
             const double h = 0.25 * p->contact_width;
             int k = (int)(gap / h);
             k = k < 0 ? 0 : k > 3 ? 3 : k;
-            acc_for(p, p->extrap, v, x)[b] += w[k] / h;
+            acc.extrap[b] += w[k] / h;
         }
     }
     p->min_gap = min_gap;
-    if (v->hard_core && v->y && n > 1) sample_impulses(p, v);
+    if (v->hard_core && v->y && n > 1) sample_impulses(p, v, acc.impulse);
     hsbd_blocks_end_sample(p->density);
     hsbd_blocks_end_sample(p->contact);
     hsbd_blocks_end_sample(p->impulse);
