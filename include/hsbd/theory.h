@@ -37,6 +37,9 @@ void hsbd_percus_result_free(hsbd_percus_result *r);
 
 /* Linear interpolation of a periodic grid function (period m h) at any x. */
 double hsbd_periodic_interp(const double *f, size_t m, double h, double x);
+/* Its average over [x - width/2, x + width/2] (64-point midpoint rule): what a histogram
+ * bin centred at x with that width measures. */
+double hsbd_periodic_bin_average(const double *f, size_t m, double h, double x, double width);
 
 /* ---- homogeneous hard rods (Tonks gas) ---- */
 double hsbd_tonks_pressure(double rho, double sigma); /* beta P = rho / (1 - rho sigma) */

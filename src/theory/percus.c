@@ -30,6 +30,14 @@ double hsbd_periodic_interp(const double *f, size_t m, double h, double x) {
     return f[j] + t * (f[j1] - f[j]);
 }
 
+double hsbd_periodic_bin_average(const double *f, size_t m, double h, double x, double width) {
+    enum { SUB = 64 };
+    double s = 0;
+    for (int i = 0; i < SUB; ++i)
+        s += hsbd_periodic_interp(f, m, h, x - 0.5 * width + (i + 0.5) * width / SUB);
+    return s / SUB;
+}
+
 /* cumulative trapezoid integral at the grid points; returns the integral over a period */
 static double cumulate(const grid *g, const double *f, double *c) {
     c[0] = 0.0;

@@ -24,11 +24,7 @@ static void compare(const char *what, const double *x, const double *sim, const 
     double chi2 = 0, worst = 0;
     const double h = th->x[1] - th->x[0];
     for (size_t k = 0; k < NBINS; ++k) {
-        double t = 0; /* theory averaged over the bin */
-        for (int i = 0; i < 64; ++i)
-            t += hsbd_periodic_interp(theory_col, th->m, h,
-                                      x[k] - 0.5 * width + (i + 0.5) * width / 64) /
-                 64;
+        const double t = hsbd_periodic_bin_average(theory_col, th->m, h, x[k], width);
         const double d = (sim[k] - t) / err[k];
         if (getenv("HSBD_VERBOSE"))
             printf("    x %.3f sim %.5f err %.5f (%.3f%%) theory %.5f rel dev %+.3f%% (%+.2f)\n",
