@@ -64,9 +64,11 @@ typedef struct hsbd_msd hsbd_msd;
 hsbd_msd *hsbd_msd_alloc(size_t n, double sample_dt, uint64_t nsamples_total, double max_lag,
                          int points_per_decade, size_t nblocks, hsbd_error *err);
 void hsbd_msd_free(hsbd_msd *m);
+/* Errors from nseg contiguous groups of rods instead of time blocks (call before sampling). */
+int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err);
 void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v);
 size_t hsbd_msd_lags(const hsbd_msd *m);
-/* lag time, MSD, its error (block average over time origins) and number of origins */
+/* lag time, MSD, its error (time blocks or rod segments) and number of origins */
 void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double *err,
                      size_t *origins);
 

@@ -56,6 +56,10 @@ double hsbd_sticky_beta_mu(double rho, double sigma, double gamma);
 
 /* ---- single-file diffusion: long-time tagged MSD -> ((1 - rho s)/rho) sqrt(4 D t / pi) ---- */
 double hsbd_single_file_msd(double t, double rho, double sigma, double diffusion);
+/* the exact tagged MSD at any t for the infinite system started in equilibrium (the
+ * Harris / Roedenbeck-Kaerger-Hahn construction; derivation in src/theory/closed.c):
+ * 2 D t at short times, the law above at long times */
+double hsbd_single_file_msd_exact(double t, double rho, double sigma, double diffusion);
 /* short-time MSD with the first collision correction (docs/validation.md section 3) */
 double hsbd_short_time_msd(double t, double rho_gap, double diffusion);
 

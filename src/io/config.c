@@ -70,8 +70,8 @@ static const key_spec schema[] = {
     {"sample", "period", K_DOUBLE, OFF(sample.period), 0, INF, OPEN_MIN | OPEN_MAX, "", 0,
      "profiles are folded into one period (default: field.wavelength); must divide L"},
     {"sample", "blocking", K_ENUM, OFF(sample.blocking), 0, 0, 0, "time", "time|space",
-     "error bars of profiles from blocks of time, or of space (segments of the ring, for long "
-     "rings whose slow modes outlast time blocks; blocks must divide L/period)"},
+     "error bars of profiles and the MSD from blocks of time, or of space (segments of the "
+     "ring, for long rings whose slow modes outlast time blocks; blocks must divide L/period)"},
     {"sample", "every", K_INT, OFF(sample.every), 1, 1e15, 0, "1", 0,
      "sample every this many steps"},
     {"sample", "blocks", K_INT, OFF(sample.blocks), 2, 10000, 0, "20", 0,

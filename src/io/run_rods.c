@@ -222,6 +222,9 @@ static int setup(run_state *s, hsbd_error *err) {
                             cfg->sample.msd_max_lag, (int)cfg->sample.msd_points_per_decade, blocks,
                             err);
     if (!s->msd) return err->status;
+    if (cfg->sample.blocking == HSBD_BLOCKS_SPACE &&
+        hsbd_msd_set_segments(s->msd, blocks < par.n ? blocks : par.n, err) != HSBD_OK)
+        return err->status;
     s->clusters = hsbd_clusters_alloc(par.n, blocks, samples);
     if (!s->clusters) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     return HSBD_OK;

@@ -1,7 +1,9 @@
 /* Tagged-particle MSD from unwrapped positions at log-spaced lag times. Time origins are
  * spaced so that at most `slots` snapshots of N positions are alive (memory bounded at
  * large N); each (origin, lag) pair gives one particle-averaged value, and the error of
- * a lag is the block average over its origins in time order. */
+ * a lag is the block average over its origins in time order, or, with segments, the
+ * scatter between contiguous groups of rods (label order is space order on a line):
+ * time blocks shorter than the lag overlap and understate the error at long lags. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +21,8 @@ struct hsbd_msd {
     uint64_t *snap_at; /* sample index of each slot's origin */
     double *value;     /* nlags x max_origins */
     size_t *count;     /* values per lag */
+    size_t nseg;       /* rod segments for the error (0: time blocks) */
+    double *seg_sum;   /* nlags x nseg sums of squared displacements */
 };
 
 void hsbd_msd_free(hsbd_msd *m) {
@@ -29,6 +33,7 @@ void hsbd_msd_free(hsbd_msd *m) {
     free(m->snap_at);
     free(m->value);
     free(m->count);
+    free(m->seg_sum);
     free(m);
 }
 
@@ -82,6 +87,17 @@ oom:
     return NULL;
 }
 
+/* sum of squared displacements of rods [lo, hi) from the origin snapshot x0 */
+static double squared_displacements(const hsbd_rods_view *v, const double *x0, size_t lo,
+                                    size_t hi) {
+    double sum = 0;
+    for (size_t i = lo; i < hi; ++i) {
+        const double d = v->z[i] + v->offset[i] + v->unwrap - x0[i];
+        sum += d * d;
+    }
+    return sum;
+}
+
 void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
     const uint64_t k = m->sample++;
     const size_t n = m->n;
@@ -93,9 +109,15 @@ void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
         if (j < 0) continue;
         const double *x0 = m->snap + s * n;
         double sum = 0;
-        for (size_t i = 0; i < n; ++i) {
-            const double d = v->z[i] + v->offset[i] + v->unwrap - x0[i];
-            sum += d * d;
+        if (m->nseg) {
+            for (size_t g = 0; g < m->nseg; ++g) {
+                const double part =
+                    squared_displacements(v, x0, g * n / m->nseg, (g + 1) * n / m->nseg);
+                m->seg_sum[(size_t)j * m->nseg + g] += part;
+                sum += part;
+            }
+        } else {
+            sum = squared_displacements(v, x0, 0, n);
         }
         const size_t c = m->count[j];
         if (c < m->max_origins)
@@ -108,6 +130,17 @@ void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
             x0[i] = v->z[i] + v->offset[i] + v->unwrap;
         m->snap_at[s] = k;
     }
+}
+
+int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err) {
+    if (nseg < 2 || nseg > m->n)
+        return hsbd_error_set(err, HSBD_EINPUT, "msd: %zu segments for %zu rods (need 2..N)", nseg,
+                              m->n);
+    free(m->seg_sum);
+    m->seg_sum = calloc(m->nlags * nseg, sizeof *m->seg_sum);
+    if (!m->seg_sum) return hsbd_error_set(err, HSBD_ENOMEM, "msd: out of memory");
+    m->nseg = nseg;
+    return HSBD_OK;
 }
 
 size_t hsbd_msd_lags(const hsbd_msd *m) {
@@ -124,6 +157,16 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
     for (size_t i = 0; i < c; ++i)
         sum += val[i];
     *msd = c ? sum / (double)c : NAN;
+    if (m->nseg) { /* scatter of the segments' means (each over all origins) */
+        double var = 0;
+        for (size_t g = 0; g < m->nseg; ++g) {
+            const double rods = (double)((g + 1) * m->n / m->nseg - g * m->n / m->nseg);
+            const double d = m->seg_sum[k * m->nseg + g] / (rods * (double)c) - *msd;
+            var += d * d;
+        }
+        *err = c ? sqrt(var / ((double)m->nseg * (double)(m->nseg - 1))) : NAN;
+        return;
+    }
     /* block average over origins in time order */
     const size_t nb = c < m->nblocks ? c : m->nblocks;
     if (nb < 2) {

@@ -1,7 +1,9 @@
 /* Percus functional and closed forms: limits that are known exactly. */
 #include <math.h>
+#include <stdlib.h>
 
 #include "../test_util.h"
+#include "hsbd/rng.h"
 #include "hsbd/theory.h"
 
 static hsbd_percus_result solve(double sigma, double rho, double u0, double gamma, size_t m) {
@@ -127,6 +129,68 @@ static void test_tonks_closed_forms(void) {
     CHECK_CLOSE(hsbd_tonks_ring_contact(20, 40, 0.5), 0.5 * 19 / 30, 1e-15);
 }
 
+/* Exact single-file MSD: the limits, and a direct Monte Carlo of the construction it
+ * rests on (order-keeping walkers = relabelled free walkers). Points at density rho' in
+ * [-W, W] around a tag at 0 (s = sqrt(2 D t) = 1), free Gaussian steps, the tag ends at
+ * the final position of the same rank. Fixed seed; 4-sigma band from the sample error. */
+static int cmp_double(const void *a, const void *b) {
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double single_file_monte_carlo(double rho_free, long samples, double *err) {
+    enum { CAP = 512 };
+    const double w = 12.0;
+    double pos[CAP], u[CAP], g[CAP];
+    double sum = 0, sum2 = 0;
+    for (long k = 0; k < samples; ++k) {
+        /* Poisson number of points on each side: counts of exponential spacings within w */
+        size_t n = 0, left = 0;
+        for (int side = -1; side <= 1; side += 2) {
+            hsbd_rng_uniforms(77, 9, (uint64_t)k, side < 0 ? 0 : CAP, CAP, u);
+            double x = 0;
+            for (size_t i = 0; i < CAP && n < CAP - 1; ++i) {
+                x += -log(u[i]) / rho_free;
+                if (x > w) break;
+                pos[n++] = side * x;
+                if (side < 0) ++left;
+            }
+        }
+        pos[n++] = 0.0; /* the tag */
+        hsbd_rng_normals(77, 10, (uint64_t)k, 0, n, g);
+        for (size_t i = 0; i < n; ++i)
+            pos[i] += g[i];
+        qsort(pos, n, sizeof *pos, cmp_double);
+        const double y2 = pos[left] * pos[left];
+        sum += y2, sum2 += y2 * y2;
+    }
+    const double mean = sum / (double)samples;
+    *err = sqrt((sum2 / (double)samples - mean * mean) / (double)samples);
+    return mean;
+}
+
+static void test_single_file_exact(void) {
+    const double rho = 0.5, s = 0.5, rho_free = rho / (1 - rho * s);
+    /* short times: free diffusion with the first-collision correction (validation sec. 3) */
+    const double t0 = 1e-6;
+    CHECK_CLOSE(hsbd_single_file_msd_exact(t0, rho, s, 1.0) /
+                    hsbd_short_time_msd(t0, rho_free, 1.0),
+                1.0, 1e-5);
+    /* long times: the asymptotic law, approached like 1/(rho' sqrt(4 D t)) */
+    const double t1 = 1e6, r1 = hsbd_single_file_msd_exact(t1, rho, s, 1.0) /
+                                hsbd_single_file_msd(t1, rho, s, 1.0);
+    CHECK(r1 < 1 && r1 > 1 - 2 / (rho_free * sqrt(4 * t1)), "long-time ratio %.8f", r1);
+    /* intermediate: rho' s = 2 (t = 1/(2 D) with s = 1), Monte Carlo of the construction */
+    const double t = 0.5, rho_mc = 2.0;
+    double e;
+    const double mc = single_file_monte_carlo(rho_mc, 200000, &e);
+    const double exact = hsbd_single_file_msd_exact(t, rho_mc, 0.0, 1.0);
+    printf("  single file, rho' s = 2: Monte Carlo %.5f +- %.5f, exact %.5f\n", mc, e, exact);
+    CHECK(fabs(mc - exact) < 4 * e, "single file at rho' s = 2: MC %.5f +- %.5f vs exact %.5f", mc,
+          e, exact);
+    CHECK(exact < 0.6 && exact > 0.2, "exact %.4f outside the free/asymptotic bracket", exact);
+}
+
 static void test_bad_input(void) {
     hsbd_percus_params p = {
         .sigma = 0.5, .rho_mean = 2.0, .amplitude = 6, .wavelength = 1, .points = 100};
@@ -147,6 +211,7 @@ int main(void) {
     test_grid_convergence();
     test_sticky_limits();
     test_tonks_closed_forms();
+    test_single_file_exact();
     test_bad_input();
     return test_finish("test_theory");
 }
