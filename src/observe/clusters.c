@@ -38,7 +38,7 @@ void hsbd_clusters_sample(hsbd_clusters *c, const hsbd_rods *rods, const hsbd_ro
     c->total += (double)nc;
     double *acc = hsbd_blocks_acc(c->means);
     acc[0] += nc ? (double)c->n / (double)nc : 0.0;
-    acc[1] += (double)(st->fragments - st->clusters_end);
+    acc[1] += (double)st->fragments - (double)st->clusters_end;
     hsbd_blocks_end_sample(c->means);
 }
 

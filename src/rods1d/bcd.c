@@ -168,8 +168,9 @@ static double ring_gap(const hsbd_rods *r, size_t i) {
 
 /* Fragmentation diagnostic: clusters touching at the start and the number of moving
  * clusters they split into (the isotonic regression of the velocities inside each
- * cluster, Eqs. 4-5). Must run before z is overwritten. */
-static void count_fragments(hsbd_rods *r, hsbd_rods_step_stats *st) {
+ * cluster, Eqs. 4-5) of the end points `target` (with the reflect rule: after the pushes).
+ * Must run before z is overwritten. */
+static void count_fragments(hsbd_rods *r, const double *target, hsbd_rods_step_stats *st) {
     const size_t n = r->par.n;
     const double inv_dt = 1.0 / r->par.dt;
     size_t start = 0; /* a rod whose left gap is open; else the one after the widest gap */
@@ -184,7 +185,7 @@ static void count_fragments(hsbd_rods *r, hsbd_rods_step_stats *st) {
     size_t len = 0;
     for (size_t k = 0; k < n; ++k) {
         const size_t i = (start + k) % n;
-        r->frag_v[len++] = (r->y[i] - r->z[i]) * inv_dt; /* mu F_i, Eq. (12) */
+        r->frag_v[len++] = (target[i] - r->z[i]) * inv_dt; /* mu F_i, Eq. (12) */
         if (k + 1 == n || ring_gap(r, i) > r->contact_tol) {
             st->clusters_start += 1;
             st->fragments +=
@@ -241,12 +242,12 @@ static void reflect_gaps(hsbd_rods *r) {
 void hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
     compute_endpoints(r);
     if (r->par.hard_core) {
-        if (stats) count_fragments(r, stats);
         const double *target = r->y;
         if (r->par.contact_rule == HSBD_CONTACT_REFLECT) {
             reflect_gaps(r);
             target = r->ypush;
         }
+        if (stats) count_fragments(r, target, stats);
         r->nclusters = hsbd_pava_ring(r->pava, r->par.n, target, NULL, r->free_length, r->z);
         if (stats) stats->clusters_end = r->nclusters;
     } else {

@@ -193,8 +193,10 @@ static void test_library_step_vs_oracle(void) {
     hsbd_rods_free(rods);
 }
 
-/* The fragmentation diagnostic counts what the oracle does. */
-static void test_step_stats(void) {
+/* The fragmentation diagnostic counts what the oracle does; with the reflect rule the
+ * fragments are those of the pushed end points, so merges stay >= 0 (a regression of
+ * 2026-11: counted before the pushes, they went negative and wrapped around). */
+static void test_step_stats(int contact_rule) {
     hsbd_rods_params par = {.n = 40,
                             .length = 25.0,
                             .sigma = 0.5,
@@ -202,7 +204,8 @@ static void test_step_stats(void) {
                             .kT = 1,
                             .dt = 1e-2,
                             .seed = 5,
-                            .hard_core = 1};
+                            .hard_core = 1,
+                            .contact_rule = contact_rule};
     hsbd_error err;
     hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
     hsbd_rods_init_equilibrium(rods);
@@ -228,6 +231,7 @@ int main(void) {
     test_fragmentation_brute_force();
     test_ring_step_vs_oracle();
     test_library_step_vs_oracle();
-    test_step_stats();
+    test_step_stats(HSBD_CONTACT_STICKY);
+    test_step_stats(HSBD_CONTACT_REFLECT);
     return test_finish("test_bcd_step");
 }
