@@ -56,7 +56,7 @@ static void usage(FILE *out) {
             "                                       exact equilibrium profile (x rho rho2)\n"
             "       hsbd theory tonks --sigma S --rho R [--gamma G] [--D D]\n"
             "                                       closed forms of the homogeneous fluid\n"
-            "       hsbd validate [--quick] [--dt-scan] [--reflect] [--out DIR] [--case TEXT]\n"
+            "       hsbd validate [--quick] [--dt-scan] [--sticky] [--out DIR] [--case TEXT]\n"
             "                     [--jobs N]\n"
             "                                       simulations against exact theory\n"
             "       hsbd config-doc                 print the configuration reference (Markdown)\n"
@@ -415,8 +415,8 @@ static int cmd_validate(int argc, char **argv) {
             opt.quick = 1;
         else if (!strcmp(argv[i], "--dt-scan"))
             opt.dt_scan = 1;
-        else if (!strcmp(argv[i], "--reflect"))
-            opt.reflect = 1;
+        else if (!strcmp(argv[i], "--sticky"))
+            opt.sticky = 1;
         else if (!strcmp(argv[i], "--out") && i + 1 < argc)
             opt.out_dir = argv[++i];
         else if (!strcmp(argv[i], "--case") && i + 1 < argc)
@@ -432,7 +432,7 @@ static int cmd_validate(int argc, char **argv) {
             opt.jobs = (int)j;
         } else {
             fprintf(stderr,
-                    "hsbd validate: unknown option '%s' (--quick, --dt-scan, --reflect, --out DIR, "
+                    "hsbd validate: unknown option '%s' (--quick, --dt-scan, --sticky, --out DIR, "
                     "--case TEXT, --jobs N)\n",
                     argv[i]);
             return EXIT_INPUT;

@@ -73,12 +73,14 @@ def main():
     ax[0].legend(fontsize=8)
 
     if panels == 3:
-        _, con = read_table(contact_path)
+        cp, con = read_table(contact_path)
+        # columns: x, rho2 (default estimator), theorem, window, extrapolated (value, error)
+        default = ("extrapolated" if cp.get("system.contact_rule") == "reflect"
+                   else "contact theorem")
+        ax[1].errorbar(con[:, 0], con[:, 5], yerr=con[:, 6], fmt="s", ms=2, lw=0.5,
+                       color="0.65", label="window (biased)")
         ax[1].errorbar(con[:, 0], con[:, 1], yerr=con[:, 2], fmt="o", ms=2.5, lw=0.8,
-                       label="contact theorem")
-        if con.shape[1] >= 5:
-            ax[1].errorbar(con[:, 0], con[:, 3], yerr=con[:, 4], fmt="s", ms=2, lw=0.5,
-                           color="0.65", label="window")
+                       label=f"{default} (default)")
         if theory is not None:
             ax[1].plot(theory[:, 0], theory[:, 2], "k-", lw=1, label="Percus (exact)")
         ax[1].legend(fontsize=8)

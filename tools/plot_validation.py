@@ -4,7 +4,7 @@
 usage: tools/plot_validation.py VALIDATE_DIR [--out FIG_DIR]
 
 For every percus-s<sigma>-rho<rho> case: simulated density (Fig. 3) and contact density
-(Fig. 4; contact-theorem estimator, and the windowed estimator in grey) as symbols over
+(Fig. 4; the default estimator of the run's contact rule, and the windowed one in grey) as symbols over
 the exact Percus theory (line). Debian's python3-matplotlib only.
 """
 import argparse
@@ -50,10 +50,11 @@ def grid_figure(cases, base, kind, out):
                 ax.set_ylabel(r"$\rho(x)$")
             else:
                 sim = read_rows(os.path.join(d, "contact.tsv"))
-                ax.errorbar(column(sim, 0), column(sim, 3), yerr=column(sim, 4), fmt="s", ms=2,
+                # columns: x, rho2 (default), theorem, window, extrapolated (value, error)
+                ax.errorbar(column(sim, 0), column(sim, 5), yerr=column(sim, 6), fmt="s", ms=2,
                             lw=0.5, color="0.65", label="window estimator")
                 ax.errorbar(column(sim, 0), column(sim, 1), yerr=column(sim, 2), fmt="o", ms=2.5,
-                            lw=0.7, label="contact theorem")
+                            lw=0.7, label="default estimator")
                 ax.plot(column(th, 0), column(th, 2), "k-", lw=0.9, label="Percus (exact)")
                 ax.set_ylabel(r"$\rho_2(x, x+\sigma)$")
             ax.set_title(rf"$\sigma$ = {s:g}, $\bar\rho$ = {r:g}", fontsize=9)

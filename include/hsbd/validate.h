@@ -12,7 +12,7 @@ typedef struct hsbd_validate_options {
     int jobs;            /* simulations run in parallel (processes) */
     const char *only;    /* run only cases whose name contains this (NULL: all) */
     int dt_scan;         /* add the time-step convergence cases */
-    int reflect;         /* run with system.contact_rule = reflect (dt 2.5e-5 instead of 1e-5) */
+    int sticky;          /* run the paper's sticky contact rule instead of the default reflect */
 } hsbd_validate_options;
 
 /* Runs the cases, prints the table to `report`, writes validation.tsv and validation.md

@@ -42,11 +42,11 @@ static const key_spec schema[] = {
      "random seed (64-bit); same seed and binary give byte-identical tables"},
     {"system", "hard_core", K_BOOL, OFF(system.hard_core), 0, 1, 0, "on", 0,
      "on: hard rods; off: free particles (benchmark bound, tests)"},
-    {"system", "contact_rule", K_ENUM, OFF(system.contact_rule), 0, 0, 0, "sticky",
+    {"system", "contact_rule", K_ENUM, OFF(system.contact_rule), 0, 0, 0, "reflect",
      "sticky|reflect",
-     "sticky: the paper's BCD (inelastic mergers); reflect: each gap's Brownian-bridge "
-     "minimum is drawn first and a crossing reflects it, removing the O(sqrt(dt)) contact "
-     "layer (docs/algorithms.md)"},
+     "reflect: each gap's Brownian-bridge minimum is drawn first and a crossing reflects it "
+     "(no O(sqrt(dt)) contact layer; validated, docs/validation.md); sticky: the paper's BCD "
+     "as printed (inelastic mergers), needs ~100x smaller dt in dense systems"},
     {"field", "type", K_ENUM, OFF(field.type), 0, 0, 0, "cosine", "none|cosine|tilt|cosine+tilt",
      "external field: U = (amplitude/2) cos(2 pi x/wavelength) and/or constant force"},
     {"field", "amplitude", K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX, "6", 0,
