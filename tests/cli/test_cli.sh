@@ -113,9 +113,12 @@ if "$HSBD" run "$SRC/examples/authors-basep.cfg" "${QUICK[@]}" --out ex-authors 
 if "$HSBD" run good.ini --check --set system.N=72 --set system.L=40 --out dense --quiet &&
     grep -q '"min_gap": ' dense/summary.json; then ok; else bad "--check on a dense ring"; fi
 
-# the reflect contact rule runs with the hard core verified after every step
-if "$HSBD" run good.ini --check --set system.contact_rule=reflect --set system.N=72 --set system.L=40 \
+# both contact rules run with the hard core verified after every step; reflect is the default
+if "$HSBD" run good.ini --check --set system.N=72 --set system.L=40 \
     --out reflect --quiet && grep -q '"contact_rule": "reflect"' reflect/summary.json; then ok; else bad "contact_rule = reflect"; fi
+if "$HSBD" run good.ini --check --set system.contact_rule=sticky --set system.N=72 --set system.L=40 \
+    --out sticky --quiet && grep -q '"contact_rule": "sticky"' sticky/summary.json &&
+    awk '!/^#/ && !/^x/ { if ($2 != $4 || $3 != $5) bad = 1 } END { exit bad }' sticky/contact.tsv; then ok; else bad "contact_rule = sticky"; fi
 
 # the authors' dialect (their key names, no sections) runs unchanged
 cat >authors.cfg <<'CFG'
@@ -155,7 +158,9 @@ for f in density.tsv contact.tsv msd.tsv clusters.tsv; do cmp -s "r1/$f" "r2/$f"
 if [ $same -eq 1 ]; then ok; else bad "same seed gave different tables"; fi
 if ! cmp -s r1/density.tsv r3/density.tsv; then ok; else bad "seed has no effect"; fi
 if grep -q '^# system.seed = 7$' r1/density.tsv && grep -q '^x	rho	rho_err$' r1/density.tsv &&
-    grep -q '^x	rho2	rho2_err	rho2_window	rho2_window_err	rho2_extrap	rho2_extrap_err$' r1/contact.tsv; then ok; else bad "table header"; fi
+    grep -q '^x	rho2	rho2_err	rho2_theorem	rho2_theorem_err	rho2_window	rho2_window_err	rho2_extrap	rho2_extrap_err$' r1/contact.tsv; then ok; else bad "table header"; fi
+# the default rho2 column is the extrapolated estimator under reflect (the default rule)
+if awk '!/^#/ && !/^x/ { if ($2 != $8 || $3 != $9) bad = 1 } END { exit bad }' r1/contact.tsv; then ok; else bad "rho2 is not rho2_extrap under reflect"; fi
 if ls r1/*.part >/dev/null 2>&1; then bad "temporary files left"; else ok; fi
 
 # SIGINT: results so far are written, marked incomplete, exit 130
