@@ -85,7 +85,9 @@ static size_t make_cases(const hsbd_validate_options *opt, vcase *cases) {
                          .u0 = 6,
                          .length = q || dense ? 400 : 2000,
                          .dt = dense ? 1e-6 : 2.5e-5,
-                         .t_total = dense ? 10 : q ? 60 : 20,
+                         .t_total = dense ? 10
+                                    : q   ? 60
+                                          : 20,
                          .t_equil = dense ? 60 : 200,
                          .bin_width = q ? 0.04 : 0.02,
                          .every = dense ? 1000 : 40};
