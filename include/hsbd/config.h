@@ -16,6 +16,7 @@ enum hsbd_field_type {
     HSBD_FIELD_TILT,
     HSBD_FIELD_COSINE_TILT
 };
+enum hsbd_pair_type { HSBD_PAIR_NONE = 0, HSBD_PAIR_YUKAWA, HSBD_PAIR_LJ, HSBD_PAIR_TABLE };
 enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ };
 enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE };
 enum { HSBD_PATH_MAX = 1024, HSBD_ORIGIN_MAX = 1100, HSBD_CONFIG_MAX_KEYS = 64 };
@@ -29,6 +30,14 @@ typedef struct hsbd_config {
         int hard_core;
         int contact_rule;
     } system;
+    struct {
+        double gamma, order, epsilon;
+    } contact;
+    struct {
+        int type;
+        double strength, kappa, cutoff;
+        char table[HSBD_PATH_MAX];
+    } pair;
     struct {
         int type;
         double amplitude, wavelength, force;
@@ -64,6 +73,9 @@ int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err);
 int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin, hsbd_error *err);
 /* Derived defaults and checks that involve several keys; call once after all input. */
 int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
+
+/* Where a key got its value ("file:line", "--set ...", "default"); "" for unknown keys. */
+const char *hsbd_config_origin(const hsbd_config *cfg, const char *section, const char *key);
 
 /* Number of production / equilibration steps. */
 uint64_t hsbd_config_steps(const hsbd_config *cfg);

@@ -8,9 +8,11 @@
 #include "hsbd/io.h"
 #include "hsbd/isotonic.h"
 #include "hsbd/observe.h"
+#include "hsbd/pair.h"
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
+#include "hsbd/table.h"
 #include "hsbd/theory.h"
 
 #endif

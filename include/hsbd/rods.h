@@ -14,6 +14,7 @@
 
 #include "hsbd/error.h"
 #include "hsbd/field.h"
+#include "hsbd/pair.h"
 
 /* How pairs that reach contact within a step are treated. */
 enum hsbd_contact_rule {
@@ -37,6 +38,7 @@ typedef struct hsbd_rods_params {
     int hard_core;    /* 1: hard rods (BCD); 0: free particles (the free-particle bound) */
     int contact_rule; /* enum hsbd_contact_rule */
     hsbd_field field;
+    hsbd_pair pair; /* pair forces between rods within range (Eq. 28); needs the hard core */
 } hsbd_rods_params;
 
 /* What happened inside one step (filled only when asked for: it costs a pass). */
@@ -67,7 +69,8 @@ typedef struct hsbd_rods_view {
 
 typedef struct hsbd_rods hsbd_rods;
 
-/* Checks the parameters (N >= 1, N sigma < L, D > 0, kT > 0, dt > 0); NULL on error. */
+/* Checks the parameters (N >= 1, N sigma < L, D > 0, kT > 0, dt > 0, pair range <= L/2
+ * and pair forces only with the hard core); NULL on error. */
 hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *params, hsbd_error *err);
 void hsbd_rods_free(hsbd_rods *rods);
 

@@ -6,6 +6,7 @@
 #include <stddef.h>
 
 #include "hsbd/error.h"
+#include "hsbd/pair.h"
 
 /* ---- Percus functional on one period (Antonov Eqs. 20-23, sticky: Eqs. 34a-c) ---- */
 typedef struct hsbd_percus_params {
@@ -40,6 +41,19 @@ double hsbd_periodic_interp(const double *f, size_t m, double h, double x);
 /* Its average over [x - width/2, x + width/2] (64-point midpoint rule): what a histogram
  * bin centred at x with that width measures. */
 double hsbd_periodic_bin_average(const double *f, size_t m, double h, double x, double width);
+
+/* ---- rods with a nearest-neighbour pair potential (range <= 2 sigma), exact ---- */
+
+/* Homogeneous fluid (isobaric gap law, Takahashi): beta P and the pair density at
+ * contact rho2(sigma+) = rho p(0+), p(h) the nearest-neighbour gap density. err may be NULL. */
+int hsbd_nn_homogeneous_solve(const hsbd_pair *pair, double sigma, double rho, double *beta_p,
+                              double *contact, hsbd_error *err);
+/* In the cosine field of p (p->gamma is ignored: stickiness comes as a pair term): the
+ * exact profile from the transfer operator between successive rods, on p->points grid
+ * points per period (second order when sigma is a multiple of the spacing); rho2 is the
+ * pair density at contact rho2(x, x + sigma+); beta_mu is not computed (NaN). */
+int hsbd_nn_transfer_solve(const hsbd_percus_params *p, const hsbd_pair *pair,
+                           hsbd_percus_result *out, hsbd_error *err);
 
 /* ---- homogeneous hard rods (Tonks gas) ---- */
 double hsbd_tonks_pressure(double rho, double sigma); /* beta P = rho / (1 - rho sigma) */

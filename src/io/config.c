@@ -47,6 +47,28 @@ static const key_spec schema[] = {
      "reflect: each gap's Brownian-bridge minimum is drawn first and a crossing reflects it "
      "(no O(sqrt(dt)) contact layer; validated, docs/validation.md); sticky: the paper's BCD "
      "as printed (inelastic mergers), needs ~100x smaller dt in dense systems"},
+    {"contact", "gamma", K_DOUBLE, OFF(contact.gamma), 0, INF, OPEN_MAX, "0", 0,
+     "Baxter stickiness gamma (Antonov Eqs. 29-30); 0: pure hard core"},
+    {"contact", "order", K_DOUBLE, OFF(contact.order), 1, INF, OPEN_MIN | OPEN_MAX, "3", 0,
+     "exponent p of the power-law delta_eps (Eq. 31); p > 1 keeps the force continuous"},
+    {"contact", "epsilon", K_DOUBLE, OFF(contact.epsilon), 0, INF, OPEN_MIN | OPEN_MAX, "0.05", 0,
+     "width of delta_eps (Eq. 31): the sticky force acts for gaps in [0, epsilon); the run "
+     "checks mu max|f| dt / epsilon (Eq. 33): warns above 0.1, refuses above 1 (--force)"},
+    {"pair", "type", K_ENUM, OFF(pair.type), 0, 0, 0, "none", "none|yukawa|lj|table",
+     "continuous pair force between rods (Eq. 28): yukawa: V = strength sigma "
+     "exp(-kappa (r - sigma))/r; lj: V = strength ((sigma/r)^12 - 2 (sigma/r)^6), a well of "
+     "depth strength at contact; table: force f(r) from pair.table. Analytic forms are "
+     "force-shifted to vanish continuously at pair.cutoff"},
+    {"pair", "strength", K_DOUBLE, OFF(pair.strength), -INF, INF, OPEN_MIN | OPEN_MAX, "1", 0,
+     "yukawa: V at contact (kT, > 0 repulsive); lj: well depth (kT)"},
+    {"pair", "kappa", K_DOUBLE, OFF(pair.kappa), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
+     "yukawa inverse screening length (1/length)"},
+    {"pair", "cutoff", K_DOUBLE, OFF(pair.cutoff), 0, INF, OPEN_MAX, "0", 0,
+     "centre distance where yukawa/lj end, > sigma and <= L/2 (0: yukawa sigma + 5/kappa, "
+     "lj 2.5 sigma); a table ends at its last r"},
+    {"pair", "table", K_STRING, OFF(pair.table), 0, 0, 0, "", 0,
+     "pair.type = table: file with lines 'r f(r)' (force on the right rod, kT/length), r "
+     "strictly increasing from <= sigma, f = 0 at the last r; natural cubic spline"},
     {"field", "type", K_ENUM, OFF(field.type), 0, 0, 0, "cosine", "none|cosine|tilt|cosine+tilt",
      "external field: U = (amplitude/2) cos(2 pi x/wavelength) and/or constant force"},
     {"field", "amplitude", K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX, "6", 0,
@@ -114,9 +136,9 @@ static const authors_key authors_keys[] = {
     {"prefix", "output", "dir"},
     {"tTrajectory", "output", "trajectory_every"},
     {"tCurrent", "sample", "current_every"},
-    {"gamma", 0, 0},
-    {"order", 0, 0},
-    {"epsilon", 0, 0},
+    {"gamma", "contact", "gamma"},
+    {"order", "contact", "order"},
+    {"epsilon", "contact", "epsilon"},
 };
 enum { NAUTHORS = sizeof authors_keys / sizeof authors_keys[0] };
 
@@ -381,24 +403,6 @@ static int assign(ini_state *st, const key_spec *k, const char *value, const cha
 static int authors_handler(ini_state *st, const char *name, const char *value) {
     for (size_t i = 0; i < NAUTHORS; ++i) {
         if (strcmp(authors_keys[i].name, name)) continue;
-        if (!authors_keys[i].section) {
-            /* sticky-contact keys: inert while gamma = 0, refused otherwise */
-            char *end;
-            const double d = strtod(value, &end);
-            if (end == value || !isfinite(d)) {
-                hsbd_error_set(st->err, HSBD_EINPUT, "%s:%d: %s = '%s' is not a number", st->path,
-                               st->line, name, value);
-                return 0;
-            }
-            if (!strcmp(name, "gamma") && d != 0.0) {
-                hsbd_error_set(st->err, HSBD_EINPUT,
-                               "%s:%d: gamma = %s: sticky (Baxter) contacts are not available in "
-                               "this version of hsbd; allowed: gamma = 0",
-                               st->path, st->line, value);
-                return 0;
-            }
-            return 1;
-        }
         char as[128];
         snprintf(as, sizeof as, "%s (%s.%s)", name, authors_keys[i].section, authors_keys[i].key);
         const key_spec *k = find_key(authors_keys[i].section, authors_keys[i].key);
@@ -413,7 +417,8 @@ static int authors_handler(ini_state *st, const char *name, const char *value) {
     }
     hsbd_error_set(st->err, HSBD_EINPUT,
                    "%s:%d: unknown key '%s' outside any [section]; hsbd keys live in sections "
-                   "([system], [field], [run], [sample], [output], [init]) and the authors' "
+                   "([system], [contact], [pair], [field], [run], [sample], [output], [init]) "
+                   "and the authors' "
                    "section-less keys are: %s",
                    st->path, st->line, name, known);
     return 0;
@@ -506,6 +511,11 @@ static const char *origin_of(const hsbd_config *cfg, const char *section, const 
     return cfg->origin[key_index(find_key(section, key))];
 }
 
+const char *hsbd_config_origin(const hsbd_config *cfg, const char *section, const char *key) {
+    const key_spec *k = find_key(section, key);
+    return k ? cfg->origin[key_index(k)] : "";
+}
+
 /* a / b is a whole number (relative tolerance 1e-9) */
 static int divides(double b, double a) {
     const double q = a / b;
@@ -533,6 +543,37 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               "system.L = %g (no room); allowed: N < %g",
                               origin_of(cfg, "system", "N"), (long long)cfg->system.n, sigma,
                               n * sigma, L, sigma > 0 ? L / sigma : INF);
+    if (cfg->pair.type != HSBD_PAIR_NONE && !cfg->system.hard_core)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: pair.type needs system.hard_core = on (pair forces act between "
+                              "neighbours in ring order)",
+                              origin_of(cfg, "pair", "type"));
+    if (cfg->contact.gamma > 0 && !cfg->system.hard_core)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: contact.gamma > 0 needs system.hard_core = on",
+                              origin_of(cfg, "contact", "gamma"));
+    if (cfg->pair.type == HSBD_PAIR_YUKAWA || cfg->pair.type == HSBD_PAIR_LJ) {
+        if (cfg->pair.cutoff == 0) {
+            cfg->pair.cutoff =
+                cfg->pair.type == HSBD_PAIR_YUKAWA ? sigma + 5.0 / cfg->pair.kappa : 2.5 * sigma;
+            snprintf(cfg->origin[key_index(find_key("pair", "cutoff"))], HSBD_ORIGIN_MAX,
+                     "default (derived from pair.type)");
+        }
+        if (!(cfg->pair.cutoff > sigma) || !(cfg->pair.cutoff <= 0.5 * L))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: pair.cutoff = %g out of range; allowed: system.sigma = %g "
+                                  "< cutoff <= L/2 = %g",
+                                  origin_of(cfg, "pair", "cutoff"), cfg->pair.cutoff, sigma,
+                                  0.5 * L);
+    }
+    if (cfg->pair.type == HSBD_PAIR_TABLE && !cfg->pair.table[0])
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: pair.type = table needs pair.table = <file with 'r f(r)' lines>",
+                              origin_of(cfg, "pair", "type"));
+    if (cfg->contact.gamma > 0 && !(sigma + cfg->contact.epsilon <= 0.5 * L))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: contact.epsilon = %g out of range; allowed: sigma + epsilon <= "
+                              "L/2 = %g",
+                              origin_of(cfg, "contact", "epsilon"), cfg->contact.epsilon, 0.5 * L);
     const int has_cosine =
         cfg->field.type == HSBD_FIELD_COSINE || cfg->field.type == HSBD_FIELD_COSINE_TILT;
     if (has_cosine && !divides(cfg->field.wavelength, L))
@@ -672,21 +713,13 @@ void hsbd_config_write_reference(FILE *out, int markdown) {
                     range);
     }
     if (markdown) {
-        fprintf(
-            out,
-            "\n## The authors' configuration files\n\n"
-            "Files without sections are read in the dialect of the authors' BCD program\n"
-            "(Antonov et al. 2022). Their keys map as follows; `gamma` must be 0 in this\n"
-            "version (sticky contacts are not available yet), `order` and `epsilon` are then\n"
-            "inert. The field is their `U = (AmpU/2) cos(2 pi x) - force x` with wavelength 1,\n"
-            "and kT = D (their mobility is 1).\n\n| authors' key | hsbd key |\n|---|---|\n");
-        for (size_t i = 0; i < NAUTHORS; ++i) {
-            if (authors_keys[i].section)
-                fprintf(out, "| `%s` | `%s.%s` |\n", authors_keys[i].name, authors_keys[i].section,
-                        authors_keys[i].key);
-            else
-                fprintf(out, "| `%s` | sticky contacts: must be 0 / inert |\n",
-                        authors_keys[i].name);
-        }
+        fprintf(out, "\n## The authors' configuration files\n\n"
+                     "Files without sections are read in the dialect of the authors' BCD program\n"
+                     "(Antonov et al. 2022). Their keys map as follows. The field is their\n"
+                     "`U = (AmpU/2) cos(2 pi x) - force x` with wavelength 1, and kT = D (their\n"
+                     "mobility is 1).\n\n| authors' key | hsbd key |\n|---|---|\n");
+        for (size_t i = 0; i < NAUTHORS; ++i)
+            fprintf(out, "| `%s` | `%s.%s` |\n", authors_keys[i].name, authors_keys[i].section,
+                    authors_keys[i].key);
     }
 }

@@ -10,12 +10,15 @@
 #include "hsbd/observe.h"
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
+#include "hsbd/table.h"
 #include "hsbd_version.h"
 
 typedef struct run_state {
     const hsbd_config *cfg;
     const hsbd_run_options *opt;
     hsbd_rods *rods;
+    hsbd_table *pair_table; /* pair.type = table */
+    double sticky_ratio;    /* mu max|f| dt / epsilon, Eq. (33) (NaN without stickiness) */
     hsbd_profile *profile;
     hsbd_msd *msd;
     hsbd_clusters *clusters;
@@ -27,6 +30,49 @@ typedef struct run_state {
     int completed;
     double min_gap_checked;
 } run_state;
+
+/* Pair terms from the configuration; the table (if any) is loaded and checked here. */
+static int build_pair(const hsbd_config *cfg, hsbd_table **table, hsbd_pair *pair,
+                      hsbd_error *err) {
+    const double sigma = cfg->system.sigma;
+    if (cfg->contact.gamma > 0)
+        hsbd_pair_add(pair, hsbd_pair_sticky(sigma, cfg->contact.gamma, cfg->contact.order,
+                                             cfg->contact.epsilon));
+    switch (cfg->pair.type) {
+    case HSBD_PAIR_YUKAWA:
+        hsbd_pair_add(
+            pair, hsbd_pair_yukawa(sigma, cfg->pair.strength, cfg->pair.kappa, cfg->pair.cutoff));
+        break;
+    case HSBD_PAIR_LJ:
+        hsbd_pair_add(pair, hsbd_pair_lj(sigma, cfg->pair.strength, cfg->pair.cutoff));
+        break;
+    case HSBD_PAIR_TABLE: {
+        *table = hsbd_table_load(cfg->pair.table, err);
+        if (!*table) return err->status;
+        const hsbd_table *t = *table;
+        const double r0 = hsbd_table_x_min(t), r1 = hsbd_table_x_max(t);
+        double fbig = 0;
+        for (size_t k = 0; k <= 1000; ++k)
+            fbig = fmax(fbig, fabs(hsbd_table_value(t, r0 + (r1 - r0) * (double)k / 1000)));
+        if (r0 > sigma || r1 <= sigma || r1 > 0.5 * cfg->system.length)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s (pair.table): r runs from %g to %g; allowed: first r <= "
+                                  "system.sigma = %g < last r <= L/2 = %g",
+                                  cfg->pair.table, r0, r1, sigma, 0.5 * cfg->system.length);
+        if (fabs(hsbd_table_last_value(t)) > 1e-9 * fbig)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s (pair.table): the force at the last r = %g is %g, not 0; "
+                                  "the force must vanish at the end of the table (continuous "
+                                  "forces, Antonov Sec. IV)",
+                                  cfg->pair.table, r1, hsbd_table_last_value(t));
+        hsbd_pair_add(pair, hsbd_pair_table(t));
+        break;
+    }
+    default:
+        break;
+    }
+    return HSBD_OK;
+}
 
 static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
     hsbd_rods_params p = {
@@ -192,6 +238,7 @@ static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err)
     json_number(f, "merge_events_per_step_err", merges_err, 1);
     json_number(f, "mean_cluster_size", mean_size, 1);
     json_number(f, "mean_cluster_size_err", mean_size_err, 1);
+    json_number(f, "sticky_step_ratio", s->sticky_ratio, 1);
     json_number(f, "min_gap", cfg->system.hard_core ? hsbd_profile_min_gap(s->profile) : NAN, 1);
     json_number(f, "particle_current", current, 1);
     json_number(f, "final_time", v.time, 1);
@@ -203,9 +250,45 @@ static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err)
 
 /* ---- the run ------------------------------------------------------------------------ */
 
+/* Antonov Eq. (33): the sticky force must move a rod much less than epsilon per step. The
+ * largest step of the run (equilibration may be coarser) is the one that counts. */
+static int check_sticky_step(run_state *s, const hsbd_rods_params *par, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    s->sticky_ratio = NAN;
+    if (!(cfg->contact.gamma > 0)) return HSBD_OK;
+    hsbd_pair sticky = {0};
+    hsbd_pair_add(&sticky, par->pair.term[0]);
+    const double fbig =
+        hsbd_pair_max_force(&sticky, cfg->system.sigma, cfg->system.sigma + cfg->contact.epsilon);
+    const double mu = cfg->system.diffusion / cfg->system.kT;
+    const double dt = fmax(cfg->run.dt, hsbd_config_dt_equil(cfg));
+    s->sticky_ratio = mu * fbig * dt / cfg->contact.epsilon;
+    const double dt_limit = cfg->contact.epsilon / (mu * fbig);
+    if (s->sticky_ratio > 1.0 && !s->opt->force)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: run.dt = %g: the sticky force moves a rod by mu max|f| dt = "
+                              "%.3g epsilon per step (Antonov Eq. 33 needs << 1); allowed: dt "
+                              "(and run.dt_equil) < %.3g for contact.gamma = %g, epsilon = %g, "
+                              "order = %g, or --force",
+                              hsbd_config_origin(cfg, "run", "dt"), dt, s->sticky_ratio, dt_limit,
+                              cfg->contact.gamma, cfg->contact.epsilon, cfg->contact.order);
+    if (s->sticky_ratio > 0.1)
+        fprintf(stderr,
+                "hsbd: warning: sticky step ratio mu max|f| dt / epsilon = %.3g > 0.1 "
+                "(Antonov Eq. 33); dt < %.3g keeps it below 0.1\n",
+                s->sticky_ratio, 0.1 * dt_limit);
+    else if (s->opt->progress)
+        fprintf(stderr, "hsbd: sticky step ratio mu max|f| dt / epsilon = %.3g (Eq. 33)\n",
+                s->sticky_ratio);
+    return HSBD_OK;
+}
+
 static int setup(run_state *s, hsbd_error *err) {
     const hsbd_config *cfg = s->cfg;
-    const hsbd_rods_params par = rods_params_from(cfg);
+    hsbd_rods_params par = rods_params_from(cfg);
+    int rc0 = build_pair(cfg, &s->pair_table, &par.pair, err);
+    if (rc0 == HSBD_OK) rc0 = check_sticky_step(s, &par, err);
+    if (rc0 != HSBD_OK) return rc0;
     s->rods = hsbd_rods_alloc(&par, err);
     if (!s->rods) return err->status;
     if (cfg->init.positions[0]) {
@@ -379,6 +462,7 @@ static void release(run_state *s) {
     hsbd_outfile_discard(&s->trajectory);
     hsbd_outfile_discard(&s->current);
     hsbd_rods_free(s->rods);
+    hsbd_table_free(s->pair_table);
     hsbd_profile_free(s->profile);
     hsbd_msd_free(s->msd);
     hsbd_clusters_free(s->clusters);

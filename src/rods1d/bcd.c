@@ -27,6 +27,8 @@ struct hsbd_rods {
     double *frag_v;   /* scratch for one cluster's velocities */
     double *push;     /* reflect rule: push per gap in the last step */
     double *ypush;    /* reflect rule: end points after the pushes (the regression's input) */
+    double *fpair;    /* pair forces of the step (NULL without pair terms) */
+    double pair_range;
 };
 
 hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
@@ -39,6 +41,13 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
                NULL;
     if (!(par->diffusion > 0) || !(par->kT > 0) || !(par->dt > 0) || !isfinite(par->dt))
         return hsbd_error_set(err, HSBD_EINPUT, "rods: need D > 0, kT > 0, dt > 0"), NULL;
+    const double range = hsbd_pair_range(&par->pair);
+    if (par->pair.nterms > 0 && (!par->hard_core || !(range <= 0.5 * par->length)))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "rods: pair forces need the hard core and a range <= L/2 (range = "
+                              "%g, L = %g)",
+                              range, par->length),
+               NULL;
 
     hsbd_rods *r = calloc(1, sizeof *r);
     if (!r) return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory"), NULL;
@@ -57,8 +66,11 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
         r->push = calloc(n, sizeof *r->push);
         r->ypush = malloc(n * sizeof *r->ypush);
     }
+    r->pair_range = range;
+    if (par->pair.nterms > 0) r->fpair = malloc(n * sizeof *r->fpair);
     if (!r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
-        (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush))) {
+        (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush)) ||
+        (par->pair.nterms > 0 && !r->fpair)) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
     }
@@ -75,6 +87,7 @@ void hsbd_rods_free(hsbd_rods *r) {
     free(r->frag_v);
     free(r->push);
     free(r->ypush);
+    free(r->fpair);
     hsbd_pava_free(r->pava);
     hsbd_pava_free(r->frag);
     free(r);
@@ -135,23 +148,48 @@ int hsbd_rods_set_positions(hsbd_rods *r, const double *x, hsbd_error *err) {
     return HSBD_OK;
 }
 
-/* y_i = z_i + mu dt f(x_i) + sqrt(2 D dt) N_i: the free end point of Eq. (10), i.e.
- * z_i + mu F_i dt with the total force of Eq. (11). */
+/* Pair forces of rods closer than the range, Eq. (28): walk right from each rod in ring
+ * order (rods keep their order, so the walk stops at the first one out of range). */
+static void compute_pair_forces(hsbd_rods *r) {
+    const size_t n = r->par.n;
+    const double L = r->par.length, range = r->pair_range;
+    const double *z = r->z, *off = r->offset;
+    double *fp = r->fpair;
+    memset(fp, 0, n * sizeof *fp);
+    for (size_t i = 0; i < n; ++i) {
+        const double xi = z[i] + off[i];
+        for (size_t k = 1; k < n; ++k) {
+            const size_t j = i + k < n ? i + k : i + k - n;
+            const double d = z[j] + off[j] + (i + k < n ? 0.0 : L) - xi;
+            if (d >= range) break;
+            const double f = hsbd_pair_force(&r->par.pair, d); /* on j from i; -f on i */
+            fp[j] += f;
+            fp[i] -= f;
+        }
+    }
+}
+
+/* y_i = z_i + mu dt F_i + sqrt(2 D dt) N_i: the free end point of Eq. (10), i.e.
+ * z_i + mu F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28). */
 static void compute_endpoints(hsbd_rods *r) {
     const size_t n = r->par.n;
     const double mu_dt = r->mobility * r->par.dt;
     const double noise = sqrt(2.0 * r->par.diffusion * r->par.dt);
-    const int has_field = r->par.field.nterms > 0;
+    const int has_field = r->par.field.nterms > 0, has_pair = r->fpair != NULL;
+    if (has_pair) compute_pair_forces(r);
     double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];
     for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK) {
         const size_t m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
         const double *restrict z = r->z + i0;
         double *restrict y = r->y + i0;
         hsbd_rng_normals(r->par.seed, HSBD_STREAM_NOISE, r->step, i0, m, g);
-        if (has_field) {
+        if (has_field || has_pair) {
             for (size_t j = 0; j < m; ++j)
                 x[j] = z[j] + r->offset[i0 + j];
             hsbd_field_force(&r->par.field, m, x, f);
+            if (has_pair)
+                for (size_t j = 0; j < m; ++j)
+                    f[j] += r->fpair[i0 + j];
             for (size_t j = 0; j < m; ++j)
                 y[j] = z[j] + mu_dt * f[j] + noise * g[j];
         } else {

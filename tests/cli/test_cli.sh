@@ -55,7 +55,8 @@ expect_fail() {
 }
 
 with_line() { # with_line SECTION 'key = value' -> config with that line appended to SECTION
-    base_ini | awk -v sec="[$1]" -v line="$2" '{print} $0==sec{print line}'
+    base_ini | awk -v sec="[$1]" -v line="$2" '{print} $0==sec{print line; done=1}
+        END{if (!done) {print sec; print line}}'
 }
 
 with_line system 'N = 0' >n0.ini
@@ -87,8 +88,29 @@ base_ini >good.ini
 expect_fail set-unknown "unknown key 'run.t_totl'" "did you mean 'run.t_total'" -- run good.ini --set run.t_totl=5
 expect_fail set-range "command line (--set)" "run.dt = -3 is out of range" -- run good.ini --set run.dt=-3
 expect_fail bad-flag "unknown option '--frobnicate'" -- run good.ini --frobnicate
-printf 'particles = 10\nlength = 20\ndiameter = 0.5\ngamma = 1.0\n' >sticky.cfg
-expect_fail authors-gamma "sticky.cfg:4:" "gamma = 1.0" "allowed: gamma = 0" -- run sticky.cfg
+# sticky contacts: the step condition of Antonov Eq. (33) refuses a step that is too long
+printf 'particles = 10\nlength = 20\ndiameter = 0.5\ngamma = 1.0\ntimestep = 0.001\n' >sticky.cfg
+expect_fail authors-sticky-dt "sticky.cfg:5" "run.dt = 0.001" "Eq. 33" "allowed: dt" "--force" -- run sticky.cfg
+with_line contact 'order = 1' >ord.ini
+expect_fail sticky-order "ord.ini:" "contact.order = 1" "1 < order" -- run ord.ini
+with_line contact 'epsilon = 0' >eps.ini
+expect_fail sticky-epsilon "eps.ini:" "contact.epsilon = 0" "0 < epsilon" -- run eps.ini
+with_line contact 'gamma = -1' >gneg.ini
+expect_fail sticky-gamma "gneg.ini:" "contact.gamma = -1" "0 <= gamma" -- run gneg.ini
+# pair forces: unknown names, bad tables
+with_line pair 'type = coulomb' >ptype.ini
+expect_fail pair-type "ptype.ini:" "pair.type = 'coulomb'" "yukawa" -- run ptype.ini
+with_line pair 'type = table' >pnotab.ini
+expect_fail pair-no-table "pnotab.ini:" "pair.table" -- run pnotab.ini
+printf '# r f\n0.5 1\n0.7 nan\n0.9 0\n' >tnan.txt
+expect_fail pair-table-nan "tnan.txt:3" "two finite numbers" -- run good.ini --set pair.type=table --set pair.table=tnan.txt
+printf '0.5 1\n0.8 0.5\n0.7 0\n' >tsort.txt
+expect_fail pair-table-unsorted "tsort.txt:3" "strictly increasing" -- run good.ini --set pair.type=table --set pair.table=tsort.txt
+printf '0.5 1\n0.8 0.5\n' >tend.txt
+expect_fail pair-table-end "tend.txt" "not 0" -- run good.ini --set pair.type=table --set pair.table=tend.txt
+printf '0.6 1\n0.8 0\n' >tstart.txt
+expect_fail pair-table-start "tstart.txt" "first r <= system.sigma" -- run good.ini --set pair.type=table --set pair.table=tstart.txt
+expect_fail pair-cutoff "pair.cutoff = 0.4" "sigma = 0.5 < cutoff" -- run good.ini --set pair.type=yukawa --set pair.cutoff=0.4
 printf 'particles = 10\nlenght = 20\n' >authtypo.cfg
 expect_fail authors-unknown "authtypo.cfg:2:" "unknown key 'lenght' outside any [section]" -- run authtypo.cfg
 printf '1.0\n1.2\n5\n' >pos.txt

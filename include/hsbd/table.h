@@ -1,0 +1,33 @@
+/* Tabulated functions read from two-column text files (x, value), interpolated by a
+ * natural cubic spline: continuous value and first two derivatives, exact integrals of the
+ * interpolant. Used for tabulated external potentials/forces and pair forces. */
+#ifndef HSBD_TABLE_H
+#define HSBD_TABLE_H
+
+#include <stddef.h>
+
+#include "hsbd/error.h"
+
+typedef struct hsbd_table hsbd_table;
+
+/* From arrays: at least 2 points, finite, strictly increasing x. NULL and HSBD_EINPUT
+ * (the message names `what`, e.g. the key) otherwise. */
+hsbd_table *hsbd_table_alloc(size_t n, const double *x, const double *y, const char *what,
+                             hsbd_error *err);
+/* From a file: '#' comments and blank lines skipped, two numbers per line (further
+ * columns ignored). Errors name the file and line. */
+hsbd_table *hsbd_table_load(const char *path, hsbd_error *err);
+void hsbd_table_free(hsbd_table *t);
+
+size_t hsbd_table_size(const hsbd_table *t);
+double hsbd_table_x_min(const hsbd_table *t);
+double hsbd_table_x_max(const hsbd_table *t);
+/* value at the last point (end of the table) */
+double hsbd_table_last_value(const hsbd_table *t);
+/* Interpolant and its derivative at x (clamped to the table's range). */
+double hsbd_table_value(const hsbd_table *t, double x);
+double hsbd_table_derivative(const hsbd_table *t, double x);
+/* Integral of the interpolant from x_min to x (x clamped to the range). */
+double hsbd_table_integral(const hsbd_table *t, double x);
+
+#endif

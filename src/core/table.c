@@ -1,0 +1,196 @@
+/* Natural cubic spline tables (see include/hsbd/table.h). */
+#include "hsbd/table.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct hsbd_table {
+    size_t n;
+    double *x, *y, *m; /* knots, values, second derivatives of the spline */
+    double *cum;       /* integral of the spline from x[0] to x[k] */
+};
+
+void hsbd_table_free(hsbd_table *t) {
+    if (!t) return;
+    free(t->x);
+    free(t->y);
+    free(t->m);
+    free(t->cum);
+    free(t);
+}
+
+/* Second derivatives of the natural spline (M_0 = M_{n-1} = 0): tridiagonal solve. */
+static void spline_second_derivatives(hsbd_table *t, double *scratch) {
+    const size_t n = t->n;
+    const double *x = t->x, *y = t->y;
+    double *m = t->m, *c = scratch;
+    m[0] = m[n - 1] = 0.0;
+    if (n < 3) return;
+    /* rows i = 1..n-2: h0 M_{i-1} + 2 (h0 + h1) M_i + h1 M_{i+1} = 6 (s1 - s0) */
+    c[0] = 0.0;
+    for (size_t i = 1; i + 1 < n; ++i) {
+        const double h0 = x[i] - x[i - 1], h1 = x[i + 1] - x[i];
+        const double rhs = 6.0 * ((y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0);
+        const double diag = 2.0 * (h0 + h1) - h0 * c[i - 1];
+        c[i] = h1 / diag;
+        m[i] = (rhs - h0 * m[i - 1]) / diag;
+    }
+    for (size_t i = n - 2; i >= 1; --i)
+        m[i] -= c[i] * m[i + 1];
+}
+
+/* Integral of the spline over [x_k, x_k + a] inside interval k. */
+static double interval_integral(const hsbd_table *t, size_t k, double a) {
+    const double h = t->x[k + 1] - t->x[k], b = h - a;
+    const double c = t->y[k] / h - t->m[k] * h / 6.0, d = t->y[k + 1] / h - t->m[k + 1] * h / 6.0;
+    return t->m[k] * (h * h * h * h - b * b * b * b) / (24.0 * h) +
+           t->m[k + 1] * a * a * a * a / (24.0 * h) + c * (h * h - b * b) / 2.0 + d * a * a / 2.0;
+}
+
+hsbd_table *hsbd_table_alloc(size_t n, const double *x, const double *y, const char *what,
+                             hsbd_error *err) {
+    if (n < 2)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: a table needs at least 2 points, got %zu",
+                              what, n),
+               NULL;
+    for (size_t i = 0; i < n; ++i) {
+        if (!isfinite(x[i]) || !isfinite(y[i]))
+            return hsbd_error_set(err, HSBD_EINPUT, "%s: point %zu is not finite (%g, %g)", what,
+                                  i + 1, x[i], y[i]),
+                   NULL;
+        if (i > 0 && !(x[i] > x[i - 1]))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: x must increase strictly, but point %zu has x = %.17g "
+                                  "after %.17g",
+                                  what, i + 1, x[i], x[i - 1]),
+                   NULL;
+    }
+    hsbd_table *t = calloc(1, sizeof *t);
+    double *scratch = malloc(n * sizeof *scratch);
+    if (t) {
+        t->n = n;
+        t->x = malloc(n * sizeof *t->x);
+        t->y = malloc(n * sizeof *t->y);
+        t->m = malloc(n * sizeof *t->m);
+        t->cum = malloc(n * sizeof *t->cum);
+    }
+    if (!t || !scratch || !t->x || !t->y || !t->m || !t->cum) {
+        hsbd_table_free(t);
+        free(scratch);
+        return hsbd_error_set(err, HSBD_ENOMEM, "%s: out of memory for %zu points", what, n), NULL;
+    }
+    memcpy(t->x, x, n * sizeof *x);
+    memcpy(t->y, y, n * sizeof *y);
+    spline_second_derivatives(t, scratch);
+    free(scratch);
+    t->cum[0] = 0.0;
+    for (size_t k = 0; k + 1 < n; ++k)
+        t->cum[k + 1] = t->cum[k] + interval_integral(t, k, t->x[k + 1] - t->x[k]);
+    return t;
+}
+
+hsbd_table *hsbd_table_load(const char *path, hsbd_error *err) {
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return hsbd_error_set(err, HSBD_EINPUT, "cannot read table '%s': %s", path,
+                              strerror(errno)),
+               NULL;
+    size_t n = 0, cap = 0;
+    double *x = NULL, *y = NULL;
+    char line[4096];
+    int lineno = 0, ok = 1;
+    while (ok && fgets(line, sizeof line, f)) {
+        ++lineno;
+        line[strcspn(line, "\r\n")] = '\0';
+        char *s = line;
+        while (*s == ' ' || *s == '\t')
+            ++s;
+        if (*s == '#' || *s == '\0') continue;
+        char *end1, *end2;
+        const double a = strtod(s, &end1);
+        const double b = end1 != s ? strtod(end1, &end2) : 0.0;
+        if (end1 == s || end2 == end1 || !isfinite(a) || !isfinite(b)) {
+            hsbd_error_set(err, HSBD_EINPUT,
+                           "%s:%d: expected two finite numbers 'x value', got '%.60s'", path,
+                           lineno, s);
+            ok = 0;
+            break;
+        }
+        if (n > 0 && !(a > x[n - 1])) {
+            hsbd_error_set(err, HSBD_EINPUT,
+                           "%s:%d: x = %.17g does not increase (previous x = %.17g); the first "
+                           "column must be strictly increasing",
+                           path, lineno, a, x[n - 1]);
+            ok = 0;
+            break;
+        }
+        if (n == cap) {
+            cap = cap ? 2 * cap : 256;
+            double *nx = realloc(x, cap * sizeof *x), *ny = nx ? realloc(y, cap * sizeof *y) : NULL;
+            if (nx) x = nx;
+            if (ny) y = ny;
+            if (!nx || !ny) {
+                hsbd_error_set(err, HSBD_ENOMEM, "%s: out of memory", path);
+                ok = 0;
+                break;
+            }
+        }
+        x[n] = a, y[n] = b, ++n;
+    }
+    fclose(f);
+    hsbd_table *t = NULL;
+    if (ok) t = hsbd_table_alloc(n, x, y, path, err);
+    free(x);
+    free(y);
+    return t;
+}
+
+size_t hsbd_table_size(const hsbd_table *t) {
+    return t->n;
+}
+double hsbd_table_x_min(const hsbd_table *t) {
+    return t->x[0];
+}
+double hsbd_table_x_max(const hsbd_table *t) {
+    return t->x[t->n - 1];
+}
+double hsbd_table_last_value(const hsbd_table *t) {
+    return t->y[t->n - 1];
+}
+
+/* interval k with x[k] <= x <= x[k+1], x clamped */
+static size_t find_interval(const hsbd_table *t, double *x) {
+    if (*x <= t->x[0]) return *x = t->x[0], 0;
+    if (*x >= t->x[t->n - 1]) return *x = t->x[t->n - 1], t->n - 2;
+    size_t lo = 0, hi = t->n - 1;
+    while (hi - lo > 1) {
+        const size_t mid = (lo + hi) / 2;
+        if (t->x[mid] <= *x)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+double hsbd_table_value(const hsbd_table *t, double x) {
+    const size_t k = find_interval(t, &x);
+    const double h = t->x[k + 1] - t->x[k], a = x - t->x[k], b = t->x[k + 1] - x;
+    return (t->m[k] * b * b * b + t->m[k + 1] * a * a * a) / (6.0 * h) +
+           (t->y[k] / h - t->m[k] * h / 6.0) * b + (t->y[k + 1] / h - t->m[k + 1] * h / 6.0) * a;
+}
+
+double hsbd_table_derivative(const hsbd_table *t, double x) {
+    const size_t k = find_interval(t, &x);
+    const double h = t->x[k + 1] - t->x[k], a = x - t->x[k], b = t->x[k + 1] - x;
+    return (t->m[k + 1] * a * a - t->m[k] * b * b) / (2.0 * h) + (t->y[k + 1] - t->y[k]) / h -
+           (t->m[k + 1] - t->m[k]) * h / 6.0;
+}
+
+double hsbd_table_integral(const hsbd_table *t, double x) {
+    const size_t k = find_interval(t, &x);
+    return t->cum[k] + interval_integral(t, k, x - t->x[k]);
+}
