@@ -12,8 +12,8 @@ enum { ST_SIGMA, ST_GAMMA, ST_ORDER, ST_EPS };
 /* Eq. (32), kT = 1: f = -gamma p (eps - h)^(p-1) / (eps^(p+1)/(p+1) + gamma (eps - h)^p),
  * h = r - sigma in [0, eps) */
 static double sticky_force(const hsbd_pair_term *t, double r) {
+    if (r >= t->range) return 0.0;
     const double h = r - t->p[ST_SIGMA], eps = t->p[ST_EPS];
-    if (h >= eps) return 0.0;
     const double g = t->p[ST_GAMMA], p = t->p[ST_ORDER], w = eps - (h > 0 ? h : 0.0);
     const double wp1 = pow(w, p - 1.0);
     return -g * p * wp1 / (pow(eps, p + 1.0) / (p + 1.0) + g * wp1 * w);
@@ -21,8 +21,8 @@ static double sticky_force(const hsbd_pair_term *t, double r) {
 
 /* Eqs. (30)-(31): V = -ln(1 + gamma delta_eps(h)), delta_eps = (p+1) (eps - h)^p / eps^(p+1) */
 static double sticky_potential(const hsbd_pair_term *t, double r) {
+    if (r >= t->range) return 0.0;
     const double h = r - t->p[ST_SIGMA], eps = t->p[ST_EPS];
-    if (h >= eps) return 0.0;
     const double g = t->p[ST_GAMMA], p = t->p[ST_ORDER], w = eps - (h > 0 ? h : 0.0);
     return -log1p(g * (p + 1.0) * pow(w / eps, p) / eps);
 }

@@ -205,6 +205,120 @@ static void test_bad_input(void) {
     CHECK(hsbd_percus_solve(&p, &r, &err) == HSBD_ENUMERIC, "non-convergence not reported");
 }
 
+static double max_abs_diff(const double *a, const double *b, size_t m, size_t stride_b) {
+    double d = 0;
+    for (size_t j = 0; j < m; ++j)
+        d = fmax(d, fabs(a[j] - b[j * stride_b]));
+    return d;
+}
+
+/* The transfer operator between successive rods is an independent exact method: without
+ * pair forces it must give Percus' profile and contact density (both second order in the
+ * grid, so their difference must shrink about fourfold per doubling). */
+static void test_transfer_is_percus(void) {
+    hsbd_error err;
+    const hsbd_pair none = {0};
+    const double cases[][2] = {{0.5, 0.5}, {0.9, 0.8}, {0.1, 0.2}};
+    for (size_t c = 0; c < 3; ++c) {
+        double prev = 0;
+        for (size_t m = 500; m <= 1000; m *= 2) {
+            hsbd_percus_params p = {.sigma = cases[c][0],
+                                    .rho_mean = cases[c][1],
+                                    .amplitude = 6,
+                                    .wavelength = 1,
+                                    .points = m};
+            hsbd_percus_result a, b;
+            CHECK(hsbd_percus_solve(&p, &a, &err) == HSBD_OK, "%s", err.message);
+            CHECK(hsbd_nn_transfer_solve(&p, &none, &b, &err) == HSBD_OK, "%s", err.message);
+            const double d = max_abs_diff(a.rho, b.rho, m, 1) / a.rho[m / 2];
+            const double d2 = max_abs_diff(a.rho2, b.rho2, m, 1) / a.rho2[m / 2];
+            printf("  transfer vs Percus, sigma %.1f rho %.1f, %zu points: rho %.2e, rho2 %.2e\n",
+                   cases[c][0], cases[c][1], m, d, d2);
+            CHECK(d < 2e-4 && d2 < 2e-4, "transfer differs from Percus: %g, %g", d, d2);
+            if (prev > 1e-12) CHECK(d < prev / 3, "not second order: %g then %g", prev, d);
+            prev = d;
+            hsbd_percus_result_free(&a);
+            hsbd_percus_result_free(&b);
+        }
+    }
+}
+
+/* The delta_eps model (Eqs. 31-32) approaches Baxter's as epsilon -> 0, linearly: the
+ * homogeneous pressure and the profile in the field (Eqs. 34) are reached by Richardson
+ * extrapolation in epsilon. At U0 = 0 the transfer solution is the homogeneous one. */
+static void test_sticky_eps_to_baxter(void) {
+    hsbd_error err;
+    const double sigma = 0.5, rho = 0.5, gamma = 1;
+    double bp[2], c[2];
+    const double eps[2] = {0.02, 0.01};
+    for (int k = 0; k < 2; ++k) {
+        hsbd_pair st = {0};
+        hsbd_pair_add(&st, hsbd_pair_sticky(sigma, gamma, 3, eps[k]));
+        CHECK(hsbd_nn_homogeneous_solve(&st, sigma, rho, &bp[k], &c[k], &err) == HSBD_OK, "%s",
+              err.message);
+    }
+    const double baxter = hsbd_sticky_pressure(rho, sigma, gamma), extrap = 2 * bp[1] - bp[0];
+    printf("  sticky beta P: eps 0.02 %.8f, 0.01 %.8f, extrapolated %.8f, Baxter %.8f\n", bp[0],
+           bp[1], extrap, baxter);
+    CHECK(fabs(bp[1] - baxter) < 0.6 * fabs(bp[0] - baxter), "not approaching Baxter");
+    CHECK_CLOSE(extrap, baxter, 2e-6);
+    /* hard core only: Tonks */
+    const hsbd_pair none = {0};
+    double bt, ct;
+    hsbd_nn_homogeneous_solve(&none, sigma, rho, &bt, &ct, &err);
+    CHECK_CLOSE(bt, hsbd_tonks_pressure(rho, sigma), 1e-10);
+    CHECK_CLOSE(ct, hsbd_tonks_contact(rho, sigma), 1e-10);
+    /* profile in the field against Eq. 34: the deviation of the delta_eps model shrinks
+     * as eps halves (0.04, 0.02, 0.01; 80 or more grid points per eps), and the quadratic
+     * Richardson extrapolation to eps = 0 lands closer than the smallest eps (the profile's
+     * approach is linear with a large quadratic part: +7.2e-4, +5.7e-4, +3.2e-4 at the peak) */
+    hsbd_percus_params p = {.sigma = sigma,
+                            .rho_mean = rho,
+                            .amplitude = 6,
+                            .wavelength = 1,
+                            .points = 4000,
+                            .gamma = gamma};
+    hsbd_percus_result bax, r[3];
+    const double ef[3] = {0.04, 0.02, 0.01};
+    CHECK(hsbd_percus_solve(&p, &bax, &err) == HSBD_OK, "%s", err.message);
+    for (int k = 0; k < 3; ++k) {
+        hsbd_pair st = {0};
+        hsbd_pair_add(&st, hsbd_pair_sticky(sigma, gamma, 3, ef[k]));
+        p.points = k < 2 ? 2000 : 4000;
+        CHECK(hsbd_nn_transfer_solve(&p, &st, &r[k], &err) == HSBD_OK, "%s", err.message);
+    }
+    double d[3] = {0, 0, 0}, dx = 0;
+    for (size_t j = 0; j < 4000; ++j) {
+        const double x = (double)j / 4000, b = bax.rho[j];
+        double f[3];
+        for (int k = 0; k < 3; ++k) {
+            f[k] = hsbd_periodic_interp(r[k].rho, r[k].m, 1.0 / (double)r[k].m, x);
+            d[k] = fmax(d[k], fabs(f[k] - b));
+        }
+        dx = fmax(dx, fabs((8 * f[2] - 6 * f[1] + f[0]) / 3 - b));
+    }
+    printf("  sticky profile vs Eq. 34: eps 0.04 %.2e, 0.02 %.2e, 0.01 %.2e, extrapolated %.2e\n",
+           d[0], d[1], d[2], dx);
+    CHECK(d[1] < d[0] && d[2] < 0.7 * d[1] && dx < 0.5 * d[2],
+          "profile not approaching Eq. 34: %g %g %g -> %g", d[0], d[1], d[2], dx);
+    hsbd_percus_result_free(&bax);
+    for (int k = 0; k < 3; ++k)
+        hsbd_percus_result_free(&r[k]);
+    hsbd_percus_result r2;
+    hsbd_pair s2 = {0};
+    hsbd_pair_add(&s2, hsbd_pair_sticky(sigma, gamma, 3, 0.02));
+    /* U0 = 0: uniform, contact density as the homogeneous solution */
+    p.amplitude = 0;
+    p.points = 2000;
+    CHECK(hsbd_nn_transfer_solve(&p, &s2, &r2, &err) == HSBD_OK, "%s", err.message);
+    double bh, ch;
+    hsbd_nn_homogeneous_solve(&s2, sigma, rho, &bh, &ch, &err);
+    CHECK_CLOSE(r2.rho[17], rho, 1e-9);
+    /* the trapezoid rule's O(h^2) error on the sticky peak: 0.48 % at 10 points per eps */
+    CHECK_CLOSE(r2.rho2[17], ch, 1e-3 * ch);
+    hsbd_percus_result_free(&r2);
+}
+
 int main(void) {
     test_uniform_is_tonks();
     test_point_particles_are_boltzmann();
@@ -212,6 +326,8 @@ int main(void) {
     test_sticky_limits();
     test_tonks_closed_forms();
     test_single_file_exact();
+    test_transfer_is_percus();
+    test_sticky_eps_to_baxter();
     test_bad_input();
     return test_finish("test_theory");
 }
