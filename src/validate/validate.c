@@ -18,7 +18,9 @@
 #include "hsbd/theory.h"
 #include "hsbd/validate.h"
 
-enum family { FAMILY_PERCUS, FAMILY_TONKS, FAMILY_SINGLE_FILE };
+enum family { FAMILY_PERCUS, FAMILY_STICKY, FAMILY_TONKS, FAMILY_SINGLE_FILE };
+/* sticky contact representation of the paper's Fig. 6: p = 3, epsilon = 0.05 */
+static const double STICKY_ORDER = 3, STICKY_EPSILON = 0.05;
 enum { MAX_CASES = 64, MAX_ROWS = 200000 };
 /* contact.tsv: x, then value and error of rho2 (default), theorem, window, extrapolated */
 enum { CONTACT_COLUMNS = 9, COL_THEOREM = 3, COL_WINDOW = 5, COL_EXTRAP = 7 };
@@ -27,6 +29,7 @@ typedef struct vcase {
     char name[64];
     enum family family;
     double sigma, rho, u0, length, dt, t_total, t_equil, bin_width;
+    double gamma; /* sticky family */
     int every;
 } vcase;
 
@@ -93,6 +96,29 @@ static size_t make_cases(const hsbd_validate_options *opt, vcase *cases) {
                          .every = dense ? 1000 : 40};
             snprintf(c->name, sizeof c->name, "percus-s%.1f-rho%.1f", c->sigma, c->rho);
         }
+    /* Sticky rods (paper Fig. 6): gamma 0.1, 1, 10 x rho 0.2, 0.5, 0.8 at sigma = 0.5,
+     * U0 = 6, p = 3, eps = 0.05, against the exact theory of this delta_eps model (transfer
+     * operator); the distance to Baxter's eps -> 0 limit (Eqs. 34) is reported beside it.
+     * dt 1e-5 keeps mu max|f| dt / eps (Eq. 33) at 0.013-0.06; 400 periods, 100 units of
+     * equilibration, 10 sampled. Quick: gamma = 1, rho = 0.5. */
+    const double gammas[] = {0.1, 1, 10};
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            if (q && !(a == 1 && b == 1)) continue;
+            vcase *c = &cases[n++];
+            *c = (vcase){.family = FAMILY_STICKY,
+                         .sigma = 0.5,
+                         .rho = rhos[b],
+                         .u0 = 6,
+                         .gamma = gammas[a],
+                         .length = 400,
+                         .dt = 1e-5,
+                         .t_total = 10,
+                         .t_equil = q ? 60 : 100,
+                         .bin_width = q ? 0.04 : 0.02,
+                         .every = 100};
+            snprintf(c->name, sizeof c->name, "sticky-g%g-rho%.1f", c->gamma, c->rho);
+        }
     /* U0 = 0: exact canonical ring values; dt = 1e-4 (the impulse estimator is 4 % low at
      * 1e-3). Single file: the tagged MSD at all lags against its exact law. */
     cases[n++] = (vcase){.name = "tonks-s0.5-rho0.5",
@@ -143,8 +169,8 @@ static int case_config(const vcase *c, int reflect, const char *dir, hsbd_config
                        hsbd_error *err) {
     hsbd_config_defaults(cfg);
     const long n = lround(c->rho * c->length);
-    const char *sets[20];
-    char store[20][HSBD_PATH_MAX + 64];
+    const char *sets[24];
+    char store[24][HSBD_PATH_MAX + 64];
     int k = 0;
 #define SET(...) (snprintf(store[k], sizeof store[k], __VA_ARGS__), sets[k] = store[k], ++k)
     SET("system.N=%ld", n);
@@ -157,10 +183,16 @@ static int case_config(const vcase *c, int reflect, const char *dir, hsbd_config
     SET("run.t_total=%.17g", c->t_total);
     SET("run.t_equil=%.17g", c->t_equil);
     SET("sample.bin_width=%.17g", c->bin_width);
-    SET("sample.period=%.17g", c->family == FAMILY_PERCUS ? 1.0 : c->bin_width);
+    const int profile = c->family == FAMILY_PERCUS || c->family == FAMILY_STICKY;
+    SET("sample.period=%.17g", profile ? 1.0 : c->bin_width);
     SET("sample.every=%d", c->every);
     if (c->family != FAMILY_TONKS) SET("sample.blocking=space");
-    if (c->family == FAMILY_PERCUS) {
+    if (c->family == FAMILY_STICKY) {
+        SET("contact.gamma=%.17g", c->gamma);
+        SET("contact.order=%.17g", STICKY_ORDER);
+        SET("contact.epsilon=%.17g", STICKY_EPSILON);
+    }
+    if (profile) {
         /* window: 5 rms steps (sticky); with reflect there is no contact layer and a
          * narrow window serves the extrapolation */
         SET("sample.contact_width=%.17g", reflect ? 0.02 : 5 * sqrt(4 * c->dt));
@@ -272,14 +304,33 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
                              .amplitude = c->u0,
                              .wavelength = 1.0,
                              .points = 4000};
-    hsbd_percus_result th;
-    if (hsbd_percus_solve(&pp, &th, err) != HSBD_OK) return err->status;
+    hsbd_percus_result th, baxter = {0};
+    hsbd_pair sticky = {0};
+    const int is_sticky = c->family == FAMILY_STICKY;
+    if (is_sticky) { /* exact for the delta_eps model; Eqs. 34 for its eps -> 0 limit */
+        pp.points = 2000;
+        hsbd_pair_add(&sticky, hsbd_pair_sticky(c->sigma, c->gamma, STICKY_ORDER, STICKY_EPSILON));
+        if (hsbd_nn_transfer_solve(&pp, &sticky, &th, err) != HSBD_OK) return err->status;
+        pp.gamma = c->gamma;
+        if (hsbd_percus_solve(&pp, &baxter, err) != HSBD_OK) {
+            hsbd_percus_result_free(&th);
+            return err->status;
+        }
+    } else if (hsbd_percus_solve(&pp, &th, err) != HSBD_OK) {
+        return err->status;
+    }
     /* keep the theory next to the run for the plots */
     hsbd_outfile o;
     if (hsbd_outfile_open(&o, dir, "theory.tsv", err) == HSBD_OK) {
-        fprintf(o.f, "# Percus exact profile, sigma = %g, rho = %g, U0 = %g\nx\trho\trho2\n",
-                c->sigma, c->rho, c->u0);
-        for (size_t j = 0; j < th.m; j += 4)
+        if (is_sticky)
+            fprintf(o.f,
+                    "# exact profile of sticky rods (delta_eps, p = %g, eps = %g; transfer "
+                    "operator), sigma = %g, rho = %g, U0 = %g, gamma = %g\nx\trho\trho2\n",
+                    STICKY_ORDER, STICKY_EPSILON, c->sigma, c->rho, c->u0, c->gamma);
+        else
+            fprintf(o.f, "# Percus exact profile, sigma = %g, rho = %g, U0 = %g\nx\trho\trho2\n",
+                    c->sigma, c->rho, c->u0);
+        for (size_t j = 0; j < th.m; j += is_sticky ? 2 : 4)
             fprintf(o.f, "%.8g\t%.10g\t%.10g\n", th.x[j], th.rho[j], th.rho2[j]);
         hsbd_outfile_commit(&o, err);
     }
@@ -296,6 +347,19 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
             x[k] = cell(&d, k, 0), s[k] = cell(&d, k, 1), e[k] = cell(&d, k, 2);
         bin_average(&th, th.rho, x, n, c->bin_width, t);
         judge(&v[(*nv)++], "density", s, e, t, n);
+        if (is_sticky) {
+            /* the simulated model against Baxter's limit: how far eps = 0.05 is from it */
+            bin_average(&baxter, baxter.rho, x, n, c->bin_width, t);
+            judge(&v[(*nv)++], "density vs Eq. 34", s, e, t, n);
+            v[*nv - 1].pass = -1;
+            bin_average(&th, th.rho2, x, n, c->bin_width, t);
+            for (size_t k = 0; k < n; ++k)
+                s[k] = cell(&ct, k, COL_THEOREM), e[k] = cell(&ct, k, COL_THEOREM + 1);
+            judge(&v[(*nv)++], "contact (theorem)", s, e, t, n);
+            v[*nv - 1].pass = -1; /* info: the O(dt) bias of the impulses near a steep force */
+            free(x), free(s), free(e), free(t);
+            goto done;
+        }
         bin_average(&th, th.rho2, x, n, c->bin_width, t);
         for (size_t k = 0; k < n; ++k)
             s[k] = cell(&ct, k, COL_THEOREM), e[k] = cell(&ct, k, COL_THEOREM + 1);
@@ -310,8 +374,10 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
         if (opt->sticky) v[*nv - 1].pass = -1; /* sticky: the contact layer spoils it */
         free(x), free(s), free(e), free(t);
     }
+done:
     free(d.v), free(ct.v);
     hsbd_percus_result_free(&th);
+    hsbd_percus_result_free(&baxter);
     return rc;
 }
 
@@ -397,7 +463,8 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
         verdict v[6];
         int nv = 0;
         const vcase *c = &cases[i];
-        int rc = c->family == FAMILY_PERCUS  ? compare_percus(opt, c, v, &nv, err)
+        const int profile = c->family == FAMILY_PERCUS || c->family == FAMILY_STICKY;
+        int rc = profile                     ? compare_percus(opt, c, v, &nv, err)
                  : c->family == FAMILY_TONKS ? compare_tonks(opt, c, v, &nv, err)
                                              : compare_single_file(opt, c, v, &nv, err);
         if (rc != HSBD_OK) {
