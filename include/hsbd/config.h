@@ -10,16 +10,19 @@
 #include "hsbd/error.h"
 
 enum hsbd_model { HSBD_MODEL_RODS = 0 };
-enum hsbd_field_type {
+/* field.type is a sum of terms, e.g. "cosine+tilt": one bit per term */
+enum hsbd_field_terms {
     HSBD_FIELD_NONE = 0,
-    HSBD_FIELD_COSINE,
-    HSBD_FIELD_TILT,
-    HSBD_FIELD_COSINE_TILT
+    HSBD_FIELD_COSINE = 1,
+    HSBD_FIELD_TILT = 2,
+    HSBD_FIELD_HARMONIC = 4,
+    HSBD_FIELD_TABLE = 8
 };
+enum hsbd_boundary { HSBD_BOUNDARY_PERIODIC = 0, HSBD_BOUNDARY_WALLS };
 enum hsbd_pair_type { HSBD_PAIR_NONE = 0, HSBD_PAIR_YUKAWA, HSBD_PAIR_LJ, HSBD_PAIR_TABLE };
 enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ };
 enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE };
-enum { HSBD_PATH_MAX = 1024, HSBD_ORIGIN_MAX = 1100, HSBD_CONFIG_MAX_KEYS = 64 };
+enum { HSBD_PATH_MAX = 1024, HSBD_ORIGIN_MAX = 1100, HSBD_CONFIG_MAX_KEYS = 96 };
 
 typedef struct hsbd_config {
     struct {
@@ -29,6 +32,7 @@ typedef struct hsbd_config {
         uint64_t seed;
         int hard_core;
         int contact_rule;
+        int boundary;
     } system;
     struct {
         double gamma, order, epsilon;
@@ -39,8 +43,10 @@ typedef struct hsbd_config {
         char table[HSBD_PATH_MAX];
     } pair;
     struct {
-        int type;
-        double amplitude, wavelength, force;
+        int type; /* bits of enum hsbd_field_terms */
+        double amplitude, wavelength, force, stiffness, center;
+        char table[HSBD_PATH_MAX];
+        int table_kind; /* HSBD_TABLE_POTENTIAL or HSBD_TABLE_FORCE */
     } field;
     struct {
         double dt, t_equil, t_total, dt_equil;

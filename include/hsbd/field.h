@@ -8,9 +8,10 @@
 
 #include <stddef.h>
 
-enum { HSBD_MAX_FIELD_TERMS = 4, HSBD_FIELD_PARAMS = 4 };
+enum { HSBD_MAX_FIELD_TERMS = 6, HSBD_FIELD_PARAMS = 4 };
 
 typedef struct hsbd_field_term hsbd_field_term;
+typedef struct hsbd_table hsbd_table;
 
 typedef struct hsbd_field_ops {
     const char *name;
@@ -24,6 +25,7 @@ typedef struct hsbd_field_ops {
 struct hsbd_field_term {
     const hsbd_field_ops *ops;
     double p[HSBD_FIELD_PARAMS]; /* meaning set by the constructor */
+    const hsbd_table *table;     /* tabulated terms: owned by the caller, must outlive use */
 };
 
 typedef struct hsbd_field {
@@ -33,8 +35,16 @@ typedef struct hsbd_field {
 
 /* U(x) = (U0/2) cos(2 pi x / lambda), Antonov Eq. (21); force (pi U0/lambda) sin(2 pi x/lambda). */
 hsbd_field_term hsbd_field_cosine(double amplitude_u0, double wavelength);
-/* constant force f (a tilt of the potential: U(x) = -f x) */
+/* constant force f: the linear potential U(x) = -f x (gravity: f = -m_b g, pointing to x = 0) */
 hsbd_field_term hsbd_field_tilt(double force);
+/* harmonic trap U(x) = (k/2) d^2 with d = x - center; period > 0 (a ring of that length):
+ * d is the nearest image, in [-period/2, period/2); period = 0: no images (walls). */
+hsbd_field_term hsbd_field_harmonic(double stiffness, double center, double period);
+/* Tabulated potential U(x) (kind 0) or force f(x) (kind 1): the table's natural cubic
+ * spline; a force table's potential is minus its integral from the table's first x.
+ * period > 0: x is taken modulo period (the table must cover [0, period]). */
+enum { HSBD_TABLE_POTENTIAL = 0, HSBD_TABLE_FORCE = 1 };
+hsbd_field_term hsbd_field_table(const hsbd_table *table, int kind, double period);
 
 /* Append a term; returns 0, or -1 when the field already has HSBD_MAX_FIELD_TERMS. */
 int hsbd_field_add(hsbd_field *field, hsbd_field_term term);

@@ -1,11 +1,15 @@
-/* Brownian cluster dynamics (BCD) of hard rods on a periodic line (Antonov et al. 2022).
+/* Brownian cluster dynamics (BCD) of hard rods on a periodic line or between hard walls
+ * (Antonov et al. 2022), one species or a mixture.
  *
- * State: contact-offset coordinates z_i = x_i - i sigma, kept in ring order
- * (z_0 <= ... <= z_{N-1} <= z_0 + L - N sigma); touching rods have equal z. A step draws
- * the free end points y_i = z_i + mu F_i dt (F_i: field force plus Brownian force,
- * Eq. 11) and replaces z by the weighted isotonic regression of y on the ring, which is
- * exactly the fragmentation (Eqs. 4-5) followed by all time-ordered perfectly inelastic
- * mergers (Eqs. 13-19). See docs/algorithms.md. */
+ * State: contact-offset coordinates z_i = x_i - offset_i with offset_i the sum of
+ * (sigma_k + sigma_{k+1})/2 over k < i (plus sigma_0/2 between walls), kept in order
+ * (z_0 <= ... <= z_{N-1} <= z_0 + L - sum sigma on a ring, 0 <= z_0, z_{N-1} <= L - sum
+ * sigma between walls); touching rods have equal z. A step draws the free end points
+ * y_i = z_i + mu_i F_i dt (F_i: field and pair forces plus the Brownian force, Eq. 11)
+ * and replaces z by the isotonic regression of y with weights 1/mu_i (frictions), on the
+ * ring or on the line clamped to the walls: exactly the fragmentation (Eqs. 4-5) followed
+ * by all time-ordered perfectly inelastic, friction-weighted mergers (Eqs. 13-19), a wall
+ * acting as a cluster of infinite friction. See docs/algorithms.md. */
 #ifndef HSBD_RODS_H
 #define HSBD_RODS_H
 
@@ -27,6 +31,11 @@ enum hsbd_contact_rule {
                                 same regression resolves what still overlaps */
 };
 
+enum hsbd_rods_boundary {
+    HSBD_RODS_PERIODIC = 0, /* a ring of length L */
+    HSBD_RODS_WALLS = 1     /* hard walls at 0 and L: centres in [sigma_i/2, L - sigma_i/2] */
+};
+
 typedef struct hsbd_rods_params {
     size_t n;         /* number of rods N */
     double length;    /* ring length L */
@@ -39,6 +48,14 @@ typedef struct hsbd_rods_params {
     int contact_rule; /* enum hsbd_contact_rule */
     hsbd_field field;
     hsbd_pair pair; /* pair forces between rods within range (Eq. 28); needs the hard core */
+    int boundary;   /* enum hsbd_rods_boundary */
+    /* Mixtures (nspecies >= 1 with the arrays set; nspecies = 0: every rod has sigma and
+     * diffusion): species[i] < nspecies of rod i, in the order of the positions given to
+     * hsbd_rods_set_positions, or the order along the line for hsbd_rods_init_equilibrium;
+     * species_sigma (>= 0) and species_diffusion (> 0) per species. Copied at alloc. */
+    size_t nspecies;
+    const int *species;
+    const double *species_sigma, *species_diffusion;
 } hsbd_rods_params;
 
 /* What happened inside one step (filled only when asked for: it costs a pass). */
@@ -52,13 +69,19 @@ typedef struct hsbd_rods_step_stats {
  * z[i] + offset[i] + unwrap; position on the ring: that value modulo length. */
 typedef struct hsbd_rods_view {
     size_t n;
-    double length, sigma, free_length;
+    double length, sigma, free_length; /* sigma: of species 0 in mixtures */
+    int periodic;                      /* 0: hard walls at 0 and L */
     const double *z, *offset;
+    /* mixtures (else NULL / 0): species of each rod in line order, and per species */
+    size_t nspecies;
+    const int *species;
+    const double *species_sigma, *species_mobility;
     /* free end points of the last step in the frame of z (hard core only; else NULL):
      * y_i - z_i = mu (J_{i-1,i} - J_{i,i+1}) with J the contact impulses of the step */
     const double *y;
-    /* reflection push given to each gap i (between rods i and i+1) in the last step,
-     * as a change of the gap; NULL for the sticky rule */
+    /* reflection push given to each gap in the last step, as a change of the gap: push[i]
+     * for the gap right of rod i (i = N-1: to rod 0 across the ring, or to the right
+     * wall), push[N] for the gap between the left wall and rod 0; NULL for the sticky rule */
     const double *push;
     double unwrap;
     double mobility, kT, dt;
@@ -69,18 +92,20 @@ typedef struct hsbd_rods_view {
 
 typedef struct hsbd_rods hsbd_rods;
 
-/* Checks the parameters (N >= 1, N sigma < L, D > 0, kT > 0, dt > 0, pair range <= L/2
- * and pair forces only with the hard core); NULL on error. */
+/* Checks the parameters (N >= 1, sum sigma < L, D > 0, kT > 0, dt > 0, pair range <= L/2
+ * and pair forces only with the hard core and one species); NULL on error. */
 hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *params, hsbd_error *err);
 void hsbd_rods_free(hsbd_rods *rods);
 
-/* Exact equilibrium sample of the field-free hard-rod ring (uniform on configuration
- * space): N sorted uniform points in the free length, the i-th shifted by i sigma, the
- * whole ring rotated by a uniform offset. Uses the seed's initial-state stream. */
+/* Exact equilibrium sample of field-free hard rods in their order (uniform on
+ * configuration space): N sorted uniform points in the free length shifted by the
+ * offsets; on a ring the whole ring is rotated by a uniform offset. Uses the seed's
+ * initial-state stream. */
 void hsbd_rods_init_equilibrium(hsbd_rods *rods);
 
-/* Positions in [0, L) or unwrapped, any order; sorted on the ring. Refuses overlaps
- * (gap < -1e-12 sigma) and non-finite values with HSBD_EINPUT. */
+/* Positions (ring: in [0, L) or unwrapped; walls: in [sigma_i/2, L - sigma_i/2]), any
+ * order; sorted along the line, a mixture's species following their rods. Refuses
+ * overlaps (gap < -1e-12 sigma) and non-finite values with HSBD_EINPUT. */
 int hsbd_rods_set_positions(hsbd_rods *rods, const double *x, hsbd_error *err);
 
 /* Change the time step (e.g. after a coarse equilibration); dt > 0. */
@@ -97,7 +122,7 @@ size_t hsbd_rods_cluster_size(const hsbd_rods *rods, size_t k);
 hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *rods);
 const hsbd_rods_params *hsbd_rods_get_params(const hsbd_rods *rods);
 
-/* Smallest gap between ring neighbours (negative: overlap), and whether all
+/* Smallest gap between neighbours, walls included (negative: overlap), and whether all
  * coordinates are finite. Hard-core runs only. */
 double hsbd_rods_min_gap(const hsbd_rods *rods, int *all_finite);
 

@@ -6,6 +6,7 @@
 #include <stddef.h>
 
 #include "hsbd/error.h"
+#include "hsbd/field.h"
 #include "hsbd/pair.h"
 
 /* ---- Percus functional on one period (Antonov Eqs. 20-23, sticky: Eqs. 34a-c) ---- */
@@ -54,6 +55,32 @@ int hsbd_nn_homogeneous_solve(const hsbd_pair *pair, double sigma, double rho, d
  * pair density at contact rho2(x, x + sigma+); beta_mu is not computed (NaN). */
 int hsbd_nn_transfer_solve(const hsbd_percus_params *p, const hsbd_pair *pair,
                            hsbd_percus_result *out, hsbd_error *err);
+
+/* ---- N hard rods between hard walls in any external field, exact and canonical ---- */
+typedef struct hsbd_box_params {
+    size_t n;                /* number of rods */
+    double length, sigma;    /* box [0, L], rod length; N sigma < L */
+    const hsbd_field *field; /* may be NULL (no field) */
+    size_t points;           /* grid intervals on the free length L - N sigma */
+} hsbd_box_params;
+
+typedef struct hsbd_box_result {
+    size_t nbins;
+    double bin_width;
+    double *rho;  /* density averaged over bin k = [k w, (k+1) w) of the box */
+    double *rho2; /* pair density at contact rho2(x, x + sigma+), x the left rod, bin averages */
+    double wall_left, wall_right; /* density at contact with each wall, rho(sigma/2) and
+                                     rho(L - sigma/2): the wall's force over kT */
+} hsbd_box_result;
+
+/* The configuration integral in contact-offset coordinates 0 <= z_0 <= ... <= z_{N-1} <=
+ * L - N sigma is a chain of nested integrals: forward and backward cumulative integrals
+ * give every rod's marginal density and every neighbour pair's density at contact
+ * (trapezoid rule, second order in the spacing; docs/theory.md). No finite-size
+ * correction is needed: this is the canonical ensemble of the simulation. */
+int hsbd_box_solve(const hsbd_box_params *p, double bin_width, hsbd_box_result *out,
+                   hsbd_error *err);
+void hsbd_box_result_free(hsbd_box_result *r);
 
 /* ---- homogeneous hard rods (Tonks gas) ---- */
 double hsbd_tonks_pressure(double rho, double sigma); /* beta P = rho / (1 - rho sigma) */

@@ -34,7 +34,7 @@ static double cosine_potential(const hsbd_field_term *t, double x) {
 static const hsbd_field_ops cosine_ops = {"cosine", cosine_add_force, cosine_potential};
 
 hsbd_field_term hsbd_field_cosine(double amplitude_u0, double wavelength) {
-    hsbd_field_term t = {&cosine_ops, {0}};
+    hsbd_field_term t = {&cosine_ops, {0}, 0};
     t.p[COS_U0] = amplitude_u0;
     t.p[COS_LAMBDA] = wavelength;
     return t;

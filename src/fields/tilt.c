@@ -16,7 +16,7 @@ static double tilt_potential(const hsbd_field_term *t, double x) {
 static const hsbd_field_ops tilt_ops = {"tilt", tilt_add_force, tilt_potential};
 
 hsbd_field_term hsbd_field_tilt(double force) {
-    hsbd_field_term t = {&tilt_ops, {0}};
+    hsbd_field_term t = {&tilt_ops, {0}, 0};
     t.p[0] = force;
     return t;
 }

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef enum { K_INT, K_UINT64, K_DOUBLE, K_STRING, K_ENUM, K_BOOL } key_type;
+typedef enum { K_INT, K_UINT64, K_DOUBLE, K_STRING, K_ENUM, K_BOOL, K_TERMS } key_type;
 
 enum { OPEN_MIN = 1, OPEN_MAX = 2 };
 
@@ -18,7 +18,8 @@ typedef struct key_spec {
     double min, max;
     unsigned flags;
     const char *def;     /* default, parsed like user input */
-    const char *choices; /* K_ENUM: "a|b|c" (value = position) */
+    const char *choices; /* K_ENUM: "a|b|c" (value = position); K_TERMS: "none|a|b|c", the
+                            value a '+'-joined set of them (bit k-1 for choice k) */
     const char *doc;
 } key_spec;
 
@@ -47,6 +48,9 @@ static const key_spec schema[] = {
      "reflect: each gap's Brownian-bridge minimum is drawn first and a crossing reflects it "
      "(no O(sqrt(dt)) contact layer; validated, docs/validation.md); sticky: the paper's BCD "
      "as printed (inelastic mergers), needs ~100x smaller dt in dense systems"},
+    {"system", "boundary", K_ENUM, OFF(system.boundary), 0, 0, 0, "periodic", "periodic|walls",
+     "periodic: a ring of length L; walls: hard walls at 0 and L (rod centres in [sigma/2, "
+     "L - sigma/2])"},
     {"contact", "gamma", K_DOUBLE, OFF(contact.gamma), 0, INF, OPEN_MAX, "0", 0,
      "Baxter stickiness gamma (Antonov Eqs. 29-30); 0: pure hard core"},
     {"contact", "order", K_DOUBLE, OFF(contact.order), 1, INF, OPEN_MIN | OPEN_MAX, "3", 0,
@@ -69,14 +73,27 @@ static const key_spec schema[] = {
     {"pair", "table", K_STRING, OFF(pair.table), 0, 0, 0, "", 0,
      "pair.type = table: file with lines 'r f(r)' (force on the right rod, kT/length), r "
      "strictly increasing from <= sigma, f = 0 at the last r; natural cubic spline"},
-    {"field", "type", K_ENUM, OFF(field.type), 0, 0, 0, "cosine", "none|cosine|tilt|cosine+tilt",
-     "external field: U = (amplitude/2) cos(2 pi x/wavelength) and/or constant force"},
+    {"field", "type", K_TERMS, OFF(field.type), 0, 0, 0, "cosine",
+     "none|cosine|tilt|harmonic|table",
+     "external field, a sum of terms joined by '+' (e.g. cosine+tilt): cosine U = (amplitude/2) "
+     "cos(2 pi x/wavelength); tilt: constant force (linear potential U = -force x, gravity); "
+     "harmonic: U = (stiffness/2)(x - center)^2 (nearest image on a ring); table: U(x) or f(x) "
+     "from field.table"},
     {"field", "amplitude", K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX, "6", 0,
      "cosine amplitude U0 (kT), Antonov Eq. 21"},
     {"field", "wavelength", K_DOUBLE, OFF(field.wavelength), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
      "cosine wavelength lambda; must divide L"},
     {"field", "force", K_DOUBLE, OFF(field.force), -INF, INF, OPEN_MIN | OPEN_MAX, "0", 0,
-     "constant force f (kT/length) for tilt fields"},
+     "constant force f (kT/length) of the tilt term; f < 0 pushes rods towards x = 0"},
+    {"field", "stiffness", K_DOUBLE, OFF(field.stiffness), 0, INF, OPEN_MAX, "1", 0,
+     "harmonic trap stiffness k (kT/length^2)"},
+    {"field", "center", K_DOUBLE, OFF(field.center), -INF, INF, OPEN_MIN | OPEN_MAX, "", 0,
+     "harmonic trap centre (default: L/2)"},
+    {"field", "table", K_STRING, OFF(field.table), 0, 0, 0, "", 0,
+     "field.type with table: file with lines 'x value', x strictly increasing and covering "
+     "[0, L]; natural cubic spline (continuous force)"},
+    {"field", "table_kind", K_ENUM, OFF(field.table_kind), 0, 0, 0, "potential", "potential|force",
+     "what field.table holds: potential U(x) (kT; force -U') or force f(x) (kT/length)"},
     {"run", "dt", K_DOUBLE, OFF(run.dt), 0, INF, OPEN_MIN | OPEN_MAX, "1e-4", 0, "time step"},
     {"run", "t_equil", K_DOUBLE, OFF(run.t_equil), 0, INF, OPEN_MAX, "10", 0,
      "unsampled dynamics after the initial state"},
@@ -201,6 +218,9 @@ static void format_range(const key_spec *k, char *buf, size_t len) {
     case K_ENUM:
         snprintf(buf, len, "one of %s", k->choices);
         return;
+    case K_TERMS:
+        snprintf(buf, len, "none, or terms from %s joined by '+'", strchr(k->choices, '|') + 1);
+        return;
     case K_BOOL:
         snprintf(buf, len, "on/off (also true/false, yes/no, 1/0)");
         return;
@@ -238,6 +258,34 @@ static char *trim(char *s) {
         --e;
     *e = '\0';
     return s;
+}
+
+/* Position of the word [w, w + len) in "a|b|c", or -1. */
+static int choice_index(const char *choices, const char *w, size_t len) {
+    const char *c = choices;
+    for (int idx = 0; *c; ++idx) {
+        const char *bar = strchr(c, '|');
+        const size_t l = bar ? (size_t)(bar - c) : strlen(c);
+        if (l == len && !strncmp(w, c, len)) return idx;
+        c += l + (bar ? 1 : 0);
+    }
+    return -1;
+}
+
+/* "a+b+c" -> bits of the choices (choice k > 0 is bit k-1; "none" alone is 0); -1 when a
+ * term is unknown, repeated or "none" is combined. */
+static int parse_terms(const char *choices, const char *v) {
+    if (!strcmp(v, "none")) return 0;
+    int bits = 0;
+    for (const char *w = v;;) {
+        const char *plus = strchr(w, '+');
+        const size_t len = plus ? (size_t)(plus - w) : strlen(w);
+        const int idx = choice_index(choices, w, len);
+        if (idx <= 0 || (bits & (1 << (idx - 1)))) return -1;
+        bits |= 1 << (idx - 1);
+        if (!plus) return bits;
+        w = plus + 1;
+    }
 }
 
 /* Parse `text` into the key's slot; on failure a message naming the key and range. */
@@ -301,14 +349,11 @@ static int parse_value(hsbd_config *cfg, const key_spec *k, const char *text, co
         return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a switch; allowed: %s",
                               where, k->section, k->key, v, range);
     }
-    case K_ENUM: {
-        const char *c = k->choices;
-        for (int idx = 0; *c; ++idx) {
-            const char *bar = strchr(c, '|');
-            const size_t len = bar ? (size_t)(bar - c) : strlen(c);
-            if (strlen(v) == len && !strncmp(v, c, len)) return *(int *)slot(cfg, k) = idx, HSBD_OK;
-            c += len + (bar ? 1 : 0);
-        }
+    case K_ENUM:
+    case K_TERMS: {
+        const int value =
+            k->type == K_ENUM ? choice_index(k->choices, v, strlen(v)) : parse_terms(k->choices, v);
+        if (value >= 0) return *(int *)slot(cfg, k) = value, HSBD_OK;
         return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not known; allowed: %s", where,
                               k->section, k->key, v, range);
     }
@@ -351,6 +396,20 @@ static void format_value(const hsbd_config *cfg, const key_spec *k, char *buf, s
             c += l + (bar ? 1 : 0);
         }
         snprintf(buf, len, "?");
+        break;
+    }
+    case K_TERMS: {
+        const int bits = *(const int *)p;
+        snprintf(buf, len, "none");
+        size_t used = 0;
+        const char *c = strchr(k->choices, '|') + 1;
+        for (int bit = 0; *c; ++bit) {
+            const char *bar = strchr(c, '|');
+            const int l = bar ? (int)(bar - c) : (int)strlen(c);
+            if ((bits & (1 << bit)) && used < len)
+                used += (size_t)snprintf(buf + used, len - used, "%s%.*s", used ? "+" : "", l, c);
+            c += l + (bar ? 1 : 0);
+        }
     }
     }
 }
@@ -363,6 +422,7 @@ void hsbd_config_defaults(hsbd_config *cfg) {
         snprintf(cfg->origin[i], HSBD_ORIGIN_MAX, "default");
     }
     cfg->sample.period = NAN; /* derived in finalize unless set */
+    cfg->field.center = NAN;  /* L/2 unless set */
 }
 
 /* ---- INI files ---------------------------------------------------------------------- */
@@ -472,7 +532,7 @@ int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err) {
     if (st.seen_authors) {
         cfg->authors_dialect = 1;
         /* the authors' program: U = (AmpU/2) cos(2 pi x) + tilt, lambda = 1, mu = 1 */
-        cfg->field.type = HSBD_FIELD_COSINE_TILT;
+        cfg->field.type = HSBD_FIELD_COSINE | HSBD_FIELD_TILT;
         cfg->field.wavelength = 1.0;
         cfg->system.kT = cfg->system.diffusion;
     }
@@ -574,19 +634,34 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               "%s: contact.epsilon = %g out of range; allowed: sigma + epsilon <= "
                               "L/2 = %g",
                               origin_of(cfg, "contact", "epsilon"), cfg->contact.epsilon, 0.5 * L);
-    const int has_cosine =
-        cfg->field.type == HSBD_FIELD_COSINE || cfg->field.type == HSBD_FIELD_COSINE_TILT;
-    if (has_cosine && !divides(cfg->field.wavelength, L))
+    const int walls = cfg->system.boundary == HSBD_BOUNDARY_WALLS;
+    const int has_cosine = (cfg->field.type & HSBD_FIELD_COSINE) != 0;
+    if (has_cosine && !walls && !divides(cfg->field.wavelength, L))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: field.wavelength = %g must divide system.L = %g (the ring is "
                               "periodic)",
                               origin_of(cfg, "field", "wavelength"), cfg->field.wavelength, L);
+    if ((cfg->field.type & HSBD_FIELD_TABLE) && !cfg->field.table[0])
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: field.type with table needs field.table = <file with 'x value' "
+                              "lines covering [0, L]>",
+                              origin_of(cfg, "field", "type"));
+    if (isnan(cfg->field.center)) {
+        cfg->field.center = 0.5 * L;
+        snprintf(cfg->origin[key_index(find_key("field", "center"))], HSBD_ORIGIN_MAX,
+                 "default (L/2)");
+    }
     if (isnan(cfg->sample.period)) {
-        cfg->sample.period = cfg->field.wavelength;
+        cfg->sample.period = has_cosine && !walls ? cfg->field.wavelength : L;
         if (!divides(cfg->sample.period, L)) cfg->sample.period = L;
         snprintf(cfg->origin[key_index(find_key("sample", "period"))], HSBD_ORIGIN_MAX,
-                 "default (field.wavelength or L)");
+                 walls ? "default (L: walls)" : "default (field.wavelength or L)");
     }
+    if (walls && cfg->sample.period != L)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.period = %g, but with system.boundary = walls the "
+                              "profile covers the whole box; allowed: sample.period = L = %g",
+                              origin_of(cfg, "sample", "period"), cfg->sample.period, L);
     if (!divides(cfg->sample.period, L))
         return hsbd_error_set(err, HSBD_EINPUT, "%s: sample.period = %g must divide system.L = %g",
                               origin_of(cfg, "sample", "period"), cfg->sample.period, L);
@@ -670,7 +745,7 @@ void hsbd_config_write_json(const hsbd_config *cfg, FILE *out, int indent) {
         if (first_in_section) fprintf(out, "\n%*s\"%s\": {", indent + 2, "", k->section);
         format_value(cfg, k, v, sizeof v);
         fprintf(out, "\n%*s\"%s\": ", indent + 4, "", k->key);
-        if (k->type == K_STRING || k->type == K_ENUM || k->type == K_BOOL)
+        if (k->type == K_STRING || k->type == K_ENUM || k->type == K_BOOL || k->type == K_TERMS)
             json_string(out, v);
         else
             fputs(v, out);

@@ -17,8 +17,9 @@ typedef struct run_state {
     const hsbd_config *cfg;
     const hsbd_run_options *opt;
     hsbd_rods *rods;
-    hsbd_table *pair_table; /* pair.type = table */
-    double sticky_ratio;    /* mu max|f| dt / epsilon, Eq. (33) (NaN without stickiness) */
+    hsbd_table *pair_table;  /* pair.type = table */
+    hsbd_table *field_table; /* field.type with table */
+    double sticky_ratio;     /* mu max|f| dt / epsilon, Eq. (33) (NaN without stickiness) */
     hsbd_profile *profile;
     hsbd_msd *msd;
     hsbd_clusters *clusters;
@@ -85,13 +86,36 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
         .seed = cfg->system.seed,
         .hard_core = cfg->system.hard_core,
         .contact_rule = cfg->system.contact_rule,
+        .boundary =
+            cfg->system.boundary == HSBD_BOUNDARY_WALLS ? HSBD_RODS_WALLS : HSBD_RODS_PERIODIC,
     };
-    const int t = cfg->field.type;
-    if (t == HSBD_FIELD_COSINE || t == HSBD_FIELD_COSINE_TILT)
-        hsbd_field_add(&p.field, hsbd_field_cosine(cfg->field.amplitude, cfg->field.wavelength));
-    if (t == HSBD_FIELD_TILT || t == HSBD_FIELD_COSINE_TILT)
-        hsbd_field_add(&p.field, hsbd_field_tilt(cfg->field.force));
     return p;
+}
+
+/* Field terms from the configuration (field.type is a sum); a table is loaded and must
+ * cover the box [0, L]. */
+static int build_field(const hsbd_config *cfg, hsbd_table **table, hsbd_field *field,
+                       hsbd_error *err) {
+    const int t = cfg->field.type;
+    const double L = cfg->system.length;
+    const double period = cfg->system.boundary == HSBD_BOUNDARY_PERIODIC ? L : 0.0;
+    if (t & HSBD_FIELD_COSINE)
+        hsbd_field_add(field, hsbd_field_cosine(cfg->field.amplitude, cfg->field.wavelength));
+    if (t & HSBD_FIELD_TILT) hsbd_field_add(field, hsbd_field_tilt(cfg->field.force));
+    if (t & HSBD_FIELD_HARMONIC)
+        hsbd_field_add(field, hsbd_field_harmonic(cfg->field.stiffness, cfg->field.center, period));
+    if (t & HSBD_FIELD_TABLE) {
+        *table = hsbd_table_load(cfg->field.table, err);
+        if (!*table) return err->status;
+        const double x0 = hsbd_table_x_min(*table), x1 = hsbd_table_x_max(*table);
+        if (x0 > 0 || x1 < L)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s (field.table): x runs from %g to %g and does not cover the "
+                                  "box; allowed: first x <= 0 and last x >= system.L = %g",
+                                  cfg->field.table, x0, x1, L);
+        hsbd_field_add(field, hsbd_field_table(*table, cfg->field.table_kind, period));
+    }
+    return HSBD_OK;
 }
 
 static double sum_unwrapped(const hsbd_rods *rods) {
@@ -286,7 +310,8 @@ static int check_sticky_step(run_state *s, const hsbd_rods_params *par, hsbd_err
 static int setup(run_state *s, hsbd_error *err) {
     const hsbd_config *cfg = s->cfg;
     hsbd_rods_params par = rods_params_from(cfg);
-    int rc0 = build_pair(cfg, &s->pair_table, &par.pair, err);
+    int rc0 = build_field(cfg, &s->field_table, &par.field, err);
+    if (rc0 == HSBD_OK) rc0 = build_pair(cfg, &s->pair_table, &par.pair, err);
     if (rc0 == HSBD_OK) rc0 = check_sticky_step(s, &par, err);
     if (rc0 != HSBD_OK) return rc0;
     s->rods = hsbd_rods_alloc(&par, err);
@@ -463,6 +488,7 @@ static void release(run_state *s) {
     hsbd_outfile_discard(&s->current);
     hsbd_rods_free(s->rods);
     hsbd_table_free(s->pair_table);
+    hsbd_table_free(s->field_table);
     hsbd_profile_free(s->profile);
     hsbd_msd_free(s->msd);
     hsbd_clusters_free(s->clusters);

@@ -96,8 +96,30 @@ static size_t acc_index(const hsbd_profile *p, const hsbd_rods_view *v, double x
     return (k < p->nsegments ? k : p->nsegments - 1) * p->nbins + b;
 }
 
+/* gap between rod i and the next in ring order; between walls the last rod has none */
 static double ring_gap(const hsbd_rods_view *v, size_t i) {
-    return i + 1 < v->n ? v->z[i + 1] - v->z[i] : v->z[0] + v->free_length - v->z[i];
+    if (i + 1 < v->n) return v->z[i + 1] - v->z[i];
+    return v->periodic ? v->z[0] + v->free_length - v->z[i] : HUGE_VAL;
+}
+
+static double view_mobility(const hsbd_rods_view *v, size_t i) {
+    return v->species ? v->species_mobility[v->species[i]] : v->mobility;
+}
+
+/* Between walls: the impulse (times the mobility scale of the running sum) the left wall
+ * passed to the chain of rods linked to it (closed or pushed gaps): minus the sum of
+ * (y_i - z_i)/mu_i over that chain, since no impulse crosses the chain's open end. */
+static double left_wall_impulse(const hsbd_rods_view *v, double tol) {
+    const size_t n = v->n;
+    const int linked = (v->push && v->push[n] > 0) || v->z[0] <= tol;
+    if (!linked) return 0.0;
+    double j = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        j -= (v->y[i] - v->z[i]) / view_mobility(v, i);
+        const int pushed = v->push && v->push[i] > 0;
+        if (!pushed && ring_gap(v, i) > tol) break;
+    }
+    return j;
 }
 
 /* Contact theorem estimator: the impulse the step passed across contact (i, i+1) is
@@ -107,21 +129,23 @@ static double ring_gap(const hsbd_rods_view *v, size_t i) {
 static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v, double *impulse) {
     const size_t n = v->n;
     const double tol = 1e-12 * v->length;
-    /* anchor: a rod whose left gap is open and was not pushed (no impulse across it) */
+    /* anchor: a rod whose left gap is open and was not pushed (no impulse across it);
+     * between walls rod 0, starting from the left wall's impulse */
     size_t start = 0;
     double widest = -1.0;
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < n && v->periodic; ++i) {
         const size_t left = (i + n - 1) % n;
         const double g = ring_gap(v, left);
         const int pushed = v->push && v->push[left] > 0;
         if (!pushed && g > widest) widest = g, start = i;
         if (!pushed && g > tol) break;
     }
-    const double scale = 1.0 / (v->mobility * v->kT * v->dt);
-    double j = 0.0; /* impulse across the gap to the right of rod i (times mu) */
+    const double scale = 1.0 / (v->kT * v->dt);
+    double j = v->periodic ? 0.0 : left_wall_impulse(v, tol); /* across the gap right of i */
     for (size_t k = 0; k < n; ++k) {
         const size_t i = (start + k) % n;
-        j += v->y[i] - v->z[i];
+        j += (v->y[i] - v->z[i]) / view_mobility(v, i);
+        if (!v->periodic && i + 1 == n) break; /* the right wall's impulse: no rod pair */
         const int pushed = v->push && v->push[i] > 0;
         if (!pushed && ring_gap(v, i) > tol) {
             j = 0.0; /* open gap, no impulse: the running sum closes here */
@@ -146,7 +170,7 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
         const size_t b = acc_index(p, v, x);
         acc.density[b] += 1.0;
         if (!v->hard_core || n < 2) continue;
-        const double gap = i + 1 < n ? v->z[i + 1] - v->z[i] : v->z[0] + v->free_length - v->z[i];
+        const double gap = ring_gap(v, i);
         if (gap < min_gap) min_gap = gap;
         if (gap <= p->contact_width) {
             acc.contact[b] += 1.0; /* left rod */

@@ -12,8 +12,14 @@ enum { STEP_CHUNK = 256 }; /* rods per inner batch; even, so RNG pairs align */
 
 struct hsbd_rods {
     hsbd_rods_params par;
-    double mobility;    /* mu = D / kT */
-    double free_length; /* L - N sigma */
+    int walls;          /* boundary == HSBD_RODS_WALLS */
+    double mobility;    /* mu = D / kT (species 0 in mixtures) */
+    double free_length; /* L - sum of sigma_i */
+    /* mixtures (NULL for one species): per-rod species, friction 1/mu_i (the regression's
+     * weights); per species sigma, D, mobility and the step's mu dt and noise amplitude */
+    int *species;
+    double *friction;
+    double *sp_sigma, *sp_diffusion, *sp_mobility, *sp_mu_dt, *sp_noise;
     double contact_tol; /* gaps below this count as contact in the diagnostics */
     double *z;          /* contact-offset coordinates, ring order */
     double *offset;     /* z_i + offset_i = position (offset_i = i sigma) */
@@ -25,37 +31,103 @@ struct hsbd_rods {
     hsbd_pava *pava;  /* the step's regression */
     hsbd_pava *frag;  /* per-cluster regressions for the fragmentation diagnostic */
     double *frag_v;   /* scratch for one cluster's velocities */
-    double *push;     /* reflect rule: push per gap in the last step */
+    double *push;     /* reflect rule: push per gap in the last step (N + 1 gaps) */
+    size_t *csize;    /* walls: cluster sizes after the clamp (blocks pressed together) */
     double *ypush;    /* reflect rule: end points after the pushes (the regression's input) */
     double *fpair;    /* pair forces of the step (NULL without pair terms) */
     double pair_range;
 };
 
-hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
-    if (par->n < 1)
-        return hsbd_error_set(err, HSBD_EINPUT, "rods: N = %zu must be >= 1", par->n), NULL;
-    if (!(par->sigma >= 0) || !(par->length > 0) || !((double)par->n * par->sigma < par->length))
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "rods: need sigma >= 0 and N sigma < L (N = %zu, sigma = %g, L = %g)",
-                              par->n, par->sigma, par->length),
-               NULL;
-    if (!(par->diffusion > 0) || !(par->kT > 0) || !(par->dt > 0) || !isfinite(par->dt))
-        return hsbd_error_set(err, HSBD_EINPUT, "rods: need D > 0, kT > 0, dt > 0"), NULL;
-    const double range = hsbd_pair_range(&par->pair);
-    if (par->pair.nterms > 0 && (!par->hard_core || !(range <= 0.5 * par->length)))
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "rods: pair forces need the hard core and a range <= L/2 (range = "
-                              "%g, L = %g)",
-                              range, par->length),
-               NULL;
+static double rod_sigma(const hsbd_rods *r, size_t i) {
+    return r->species ? r->sp_sigma[r->species[i]] : r->par.sigma;
+}
 
+static double rod_mobility(const hsbd_rods *r, size_t i) {
+    return r->species ? r->sp_mobility[r->species[i]] : r->mobility;
+}
+
+/* offset_i: centre of rod i minus z_i, the summed contact distances to its left */
+static void compute_offsets(hsbd_rods *r) {
+    double off = r->walls ? 0.5 * rod_sigma(r, 0) : 0.0;
+    for (size_t i = 0; i < r->par.n; ++i) {
+        if (i > 0) off += 0.5 * (rod_sigma(r, i - 1) + rod_sigma(r, i));
+        r->offset[i] = off;
+        if (r->friction) r->friction[i] = 1.0 / rod_mobility(r, i);
+    }
+}
+
+static int check_params(const hsbd_rods_params *par, hsbd_error *err) {
+    if (par->n < 1) return hsbd_error_set(err, HSBD_EINPUT, "rods: N = %zu must be >= 1", par->n);
+    if (par->boundary != HSBD_RODS_PERIODIC && par->boundary != HSBD_RODS_WALLS)
+        return hsbd_error_set(err, HSBD_EINPUT, "rods: unknown boundary %d", par->boundary);
+    double total = (double)par->n * par->sigma;
+    if (par->nspecies > 0) {
+        if (!par->species || !par->species_sigma || !par->species_diffusion)
+            return hsbd_error_set(err, HSBD_EINPUT, "rods: a mixture needs its species arrays");
+        for (size_t k = 0; k < par->nspecies; ++k)
+            if (!(par->species_sigma[k] >= 0) || !(par->species_diffusion[k] > 0) ||
+                !isfinite(par->species_sigma[k]) || !isfinite(par->species_diffusion[k]))
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "rods: species %zu needs sigma >= 0 and D > 0 (sigma = %g, "
+                                      "D = %g)",
+                                      k, par->species_sigma[k], par->species_diffusion[k]);
+        total = 0;
+        for (size_t i = 0; i < par->n; ++i) {
+            if (par->species[i] < 0 || (size_t)par->species[i] >= par->nspecies)
+                return hsbd_error_set(err, HSBD_EINPUT, "rods: rod %zu has species %d of %zu", i,
+                                      par->species[i], par->nspecies);
+            total += par->species_sigma[par->species[i]];
+        }
+    }
+    if (!(par->sigma >= 0) || !(par->length > 0) || !(total < par->length))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "rods: need sigma >= 0 and sum of sigma < L (N = %zu, sum = %g, L = "
+                              "%g)",
+                              par->n, total, par->length);
+    if (!(par->diffusion > 0) || !(par->kT > 0) || !(par->dt > 0) || !isfinite(par->dt))
+        return hsbd_error_set(err, HSBD_EINPUT, "rods: need D > 0, kT > 0, dt > 0");
+    const double range = hsbd_pair_range(&par->pair);
+    if (par->pair.nterms > 0 &&
+        (!par->hard_core || par->nspecies > 1 || !(range <= 0.5 * par->length)))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "rods: pair forces need the hard core, one species and a range <= "
+                              "L/2 (range = %g, L = %g)",
+                              range, par->length);
+    return HSBD_OK;
+}
+
+static int alloc_species(hsbd_rods *r, const hsbd_rods_params *par) {
+    const size_t n = par->n, ns = par->nspecies;
+    r->species = malloc(n * sizeof *r->species);
+    r->friction = malloc(n * sizeof *r->friction);
+    double **sp[] = {&r->sp_sigma, &r->sp_diffusion, &r->sp_mobility, &r->sp_mu_dt, &r->sp_noise};
+    for (int k = 0; k < 5; ++k)
+        *sp[k] = malloc(ns * sizeof **sp[k]);
+    if (!r->species || !r->friction || !r->sp_sigma || !r->sp_diffusion || !r->sp_mobility ||
+        !r->sp_mu_dt || !r->sp_noise)
+        return -1;
+    memcpy(r->species, par->species, n * sizeof *r->species);
+    for (size_t k = 0; k < ns; ++k) {
+        r->sp_sigma[k] = par->species_sigma[k];
+        r->sp_diffusion[k] = par->species_diffusion[k];
+        r->sp_mobility[k] = par->species_diffusion[k] / par->kT;
+    }
+    /* the caller's arrays need not outlive the call */
+    r->par.species = r->species;
+    r->par.species_sigma = r->sp_sigma;
+    r->par.species_diffusion = r->sp_diffusion;
+    r->par.sigma = r->sp_sigma[0];
+    r->par.diffusion = r->sp_diffusion[0];
+    return 0;
+}
+
+hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
+    if (check_params(par, err) != HSBD_OK) return NULL;
     hsbd_rods *r = calloc(1, sizeof *r);
     if (!r) return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory"), NULL;
     const size_t n = par->n;
     r->par = *par;
-    r->mobility = par->diffusion / par->kT;
-    r->free_length = par->length - (double)n * par->sigma;
-    r->contact_tol = 1e-12 * par->length;
+    r->walls = par->boundary == HSBD_RODS_WALLS;
     r->z = calloc(n, sizeof *r->z);
     r->offset = malloc(n * sizeof *r->offset);
     r->y = malloc(n * sizeof *r->y);
@@ -63,19 +135,27 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     r->pava = hsbd_pava_alloc(n);
     r->frag = hsbd_pava_alloc(n);
     if (par->contact_rule == HSBD_CONTACT_REFLECT) {
-        r->push = calloc(n, sizeof *r->push);
+        r->push = calloc(n + 1, sizeof *r->push);
         r->ypush = malloc(n * sizeof *r->ypush);
     }
-    r->pair_range = range;
+    if (r->walls) r->csize = malloc(n * sizeof *r->csize);
+    r->pair_range = hsbd_pair_range(&par->pair);
     if (par->pair.nterms > 0) r->fpair = malloc(n * sizeof *r->fpair);
-    if (!r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
+    int species_ok = par->nspecies == 0;
+    if (!species_ok) species_ok = alloc_species(r, par) == 0;
+    if (!species_ok || !r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
         (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush)) ||
-        (par->pair.nterms > 0 && !r->fpair)) {
+        (r->walls && !r->csize) || (par->pair.nterms > 0 && !r->fpair)) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
     }
+    r->mobility = r->par.diffusion / par->kT;
+    double total = 0;
     for (size_t i = 0; i < n; ++i)
-        r->offset[i] = (double)i * par->sigma;
+        total += rod_sigma(r, i);
+    r->free_length = par->length - total;
+    r->contact_tol = 1e-12 * par->length;
+    compute_offsets(r);
     return r;
 }
 
@@ -88,6 +168,14 @@ void hsbd_rods_free(hsbd_rods *r) {
     free(r->push);
     free(r->ypush);
     free(r->fpair);
+    free(r->csize);
+    free(r->species);
+    free(r->friction);
+    free(r->sp_sigma);
+    free(r->sp_diffusion);
+    free(r->sp_mobility);
+    free(r->sp_mu_dt);
+    free(r->sp_noise);
     hsbd_pava_free(r->pava);
     hsbd_pava_free(r->frag);
     free(r);
@@ -108,44 +196,70 @@ void hsbd_rods_init_equilibrium(hsbd_rods *r) {
         u[i] = sum;
     }
     sum += -log(last);
-    const double scale = r->free_length / sum, shift = rotation * r->par.length;
+    const double scale = r->free_length / sum, shift = r->walls ? 0.0 : rotation * r->par.length;
     for (size_t i = 0; i < n; ++i)
         r->z[i] = u[i] * scale + shift;
     r->wraps = 0;
     r->nclusters = 0;
 }
 
-static int compare_doubles(const void *a, const void *b) {
-    const double x = *(const double *)a, y = *(const double *)b;
+typedef struct position_key {
+    double x;
+    int species;
+} position_key;
+
+static int compare_positions(const void *a, const void *b) {
+    const double x = ((const position_key *)a)->x, y = ((const position_key *)b)->x;
     return (x > y) - (x < y);
 }
 
 int hsbd_rods_set_positions(hsbd_rods *r, const double *x, hsbd_error *err) {
     const size_t n = r->par.n;
-    const double L = r->par.length, sigma = r->par.sigma;
-    double *w = r->y;
-    for (size_t i = 0; i < n; ++i) {
+    const double L = r->par.length;
+    position_key *w = malloc(n * sizeof *w);
+    if (!w) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int rc = HSBD_OK;
+    for (size_t i = 0; i < n && rc == HSBD_OK; ++i) {
+        w[i].species = r->species ? r->species[i] : 0;
+        const double half = 0.5 * (r->species ? r->sp_sigma[w[i].species] : r->par.sigma);
         if (!isfinite(x[i]))
-            return hsbd_error_set(err, HSBD_EINPUT, "initial position %zu is not finite", i + 1);
-        w[i] = x[i] - L * floor(x[i] / L);
+            rc = hsbd_error_set(err, HSBD_EINPUT, "initial position %zu is not finite", i + 1);
+        else if (r->walls && (x[i] < half * (1 - 1e-12) || x[i] > L - half * (1 - 1e-12)))
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "initial position %zu, x = %.17g, is outside the walls: allowed "
+                                "sigma/2 = %g <= x <= L - sigma/2 = %g",
+                                i + 1, x[i], half, L - half);
+        w[i].x = r->walls ? x[i] : x[i] - L * floor(x[i] / L);
     }
-    qsort(w, n, sizeof *w, compare_doubles);
-    const double tol = 1e-12 * (sigma > 0 ? sigma : 1.0);
-    for (size_t i = 0; i < n; ++i) {
-        const double next = i + 1 < n ? w[i + 1] : w[0] + L;
-        if (n > 1 && next - w[i] - sigma < -tol)
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "initial positions overlap: rods at x = %.17g and %.17g are "
-                                  "closer than sigma = %g",
-                                  w[i], next - (i + 1 < n ? 0.0 : L), sigma);
+    if (rc == HSBD_OK) qsort(w, n, sizeof *w, compare_positions);
+    for (size_t i = 0; i < n && rc == HSBD_OK; ++i)
+        if (r->species) r->species[i] = w[i].species;
+    if (rc == HSBD_OK) compute_offsets(r);
+    const double tol = 1e-12 * (r->par.sigma > 0 ? r->par.sigma : 1.0);
+    for (size_t i = 0; i < n && rc == HSBD_OK; ++i) {
+        if (n < 2 || (r->walls && i + 1 == n)) break;
+        const size_t j = i + 1 < n ? i + 1 : 0;
+        const double next = i + 1 < n ? w[j].x : w[0].x + L;
+        const double contact = 0.5 * (rod_sigma(r, i) + rod_sigma(r, j));
+        if (next - w[i].x - contact < -tol)
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "initial positions overlap: rods at x = %.17g and %.17g are "
+                                "closer than their contact distance %g",
+                                w[i].x, next - (i + 1 < n ? 0.0 : L), contact);
     }
-    for (size_t i = 0; i < n; ++i)
-        r->z[i] = w[i] - r->offset[i];
-    /* clamp rounding-level overlaps to exact contact, keeping ring order */
-    for (size_t i = 1; i < n; ++i)
-        if (r->z[i] < r->z[i - 1]) r->z[i] = r->z[i - 1];
-    r->wraps = 0;
-    return HSBD_OK;
+    if (rc == HSBD_OK) {
+        for (size_t i = 0; i < n; ++i)
+            r->z[i] = w[i].x - r->offset[i];
+        /* clamp rounding-level overlaps to exact contact, keeping the order */
+        for (size_t i = 1; i < n; ++i)
+            if (r->z[i] < r->z[i - 1]) r->z[i] = r->z[i - 1];
+        if (r->walls)
+            for (size_t i = 0; i < n; ++i)
+                r->z[i] = fmin(fmax(r->z[i], 0.0), r->free_length);
+        r->wraps = 0;
+    }
+    free(w);
+    return rc;
 }
 
 /* Pair forces of rods closer than the range, Eq. (28): walk right from each rod in ring
@@ -159,6 +273,7 @@ static void compute_pair_forces(hsbd_rods *r) {
     for (size_t i = 0; i < n; ++i) {
         const double xi = z[i] + off[i];
         for (size_t k = 1; k < n; ++k) {
+            if (r->walls && i + k >= n) break;
             const size_t j = i + k < n ? i + k : i + k - n;
             const double d = z[j] + off[j] + (i + k < n ? 0.0 : L) - xi;
             if (d >= range) break;
@@ -169,14 +284,23 @@ static void compute_pair_forces(hsbd_rods *r) {
     }
 }
 
-/* y_i = z_i + mu dt F_i + sqrt(2 D dt) N_i: the free end point of Eq. (10), i.e.
- * z_i + mu F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28). */
+/* mixtures: each species' mu dt and noise amplitude sqrt(2 D dt) for the current dt */
+static void species_step_factors(hsbd_rods *r) {
+    for (size_t k = 0; k < r->par.nspecies; ++k) {
+        r->sp_mu_dt[k] = r->sp_mobility[k] * r->par.dt;
+        r->sp_noise[k] = sqrt(2.0 * r->sp_diffusion[k] * r->par.dt);
+    }
+}
+
+/* y_i = z_i + mu_i dt F_i + sqrt(2 D_i dt) N_i: the free end point of Eq. (10), i.e.
+ * z_i + mu_i F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28). */
 static void compute_endpoints(hsbd_rods *r) {
     const size_t n = r->par.n;
     const double mu_dt = r->mobility * r->par.dt;
     const double noise = sqrt(2.0 * r->par.diffusion * r->par.dt);
     const int has_field = r->par.field.nterms > 0, has_pair = r->fpair != NULL;
     if (has_pair) compute_pair_forces(r);
+    if (r->species) species_step_factors(r);
     double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];
     for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK) {
         const size_t m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
@@ -190,6 +314,14 @@ static void compute_endpoints(hsbd_rods *r) {
             if (has_pair)
                 for (size_t j = 0; j < m; ++j)
                     f[j] += r->fpair[i0 + j];
+        } else {
+            memset(f, 0, m * sizeof *f);
+        }
+        if (r->species) {
+            const int *sp = r->species + i0;
+            for (size_t j = 0; j < m; ++j)
+                y[j] = z[j] + r->sp_mu_dt[sp[j]] * f[j] + r->sp_noise[sp[j]] * g[j];
+        } else if (has_field || has_pair) {
             for (size_t j = 0; j < m; ++j)
                 y[j] = z[j] + mu_dt * f[j] + noise * g[j];
         } else {
@@ -199,9 +331,17 @@ static void compute_endpoints(hsbd_rods *r) {
     }
 }
 
+/* gap right of rod i; for the last rod: to rod 0 across the ring, or to the right wall */
 static double ring_gap(const hsbd_rods *r, size_t i) {
     const size_t n = r->par.n;
-    return i + 1 < n ? r->z[i + 1] - r->z[i] : r->z[0] + r->free_length - r->z[n - 1];
+    if (i + 1 < n) return r->z[i + 1] - r->z[i];
+    return r->walls ? r->free_length - r->z[n - 1] : r->z[0] + r->free_length - r->z[n - 1];
+}
+
+/* gap between rods i and i+1 (ring order); between walls the last rod has no right
+ * neighbour (infinite gap) */
+static double rod_gap(const hsbd_rods *r, size_t i) {
+    return r->walls && i + 1 == r->par.n ? HUGE_VAL : ring_gap(r, i);
 }
 
 /* Fragmentation diagnostic: clusters touching at the start and the number of moving
@@ -214,7 +354,7 @@ static void count_fragments(hsbd_rods *r, const double *target, hsbd_rods_step_s
     size_t start = 0; /* a rod whose left gap is open; else the one after the widest gap */
     double widest = -DBL_MAX;
     for (size_t i = 0; i < n; ++i) {
-        const double g = ring_gap(r, (i + n - 1) % n);
+        const double g = rod_gap(r, (i + n - 1) % n);
         if (g > widest) widest = g, start = i;
         if (g > r->contact_tol) break;
     }
@@ -224,7 +364,7 @@ static void count_fragments(hsbd_rods *r, const double *target, hsbd_rods_step_s
     for (size_t k = 0; k < n; ++k) {
         const size_t i = (start + k) % n;
         r->frag_v[len++] = (target[i] - r->z[i]) * inv_dt; /* mu F_i, Eq. (12) */
-        if (k + 1 == n || ring_gap(r, i) > r->contact_tol) {
+        if (k + 1 == n || rod_gap(r, i) > r->contact_tol) {
             st->clusters_start += 1;
             st->fragments +=
                 len == 1 ? 1 : hsbd_pava_line(r->frag, len, r->frag_v, NULL, r->frag_v);
@@ -237,7 +377,7 @@ static void count_fragments(hsbd_rods *r, const double *target, hsbd_rods_step_s
 static void recenter(hsbd_rods *r) {
     const double L = r->par.length;
     const double z0 = r->z[0];
-    if (z0 >= -L && z0 < 2 * L) return;
+    if (r->walls || (z0 >= -L && z0 < 2 * L)) return;
     const int64_t k = (int64_t)floor(z0 / L);
     for (size_t i = 0; i < r->par.n; ++i) {
         r->z[i] -= (double)k * L;
@@ -247,34 +387,89 @@ static void recenter(hsbd_rods *r) {
     r->wraps += k;
 }
 
+/* Brownian-bridge minimum of a gap from g0 to the free end gap g1 whose increments have
+ * variance 2 d_rel dt (d_rel: relative diffusion), drawn with the uniform u:
+ * P(min < m) = exp(-(g0 - m)(g1 - m) / (d_rel dt)). Returns the push -m > 0 that reflects
+ * the gap at zero (Skorokhod; design note 7), or 0. */
+static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, uint64_t step,
+                          size_t gap) {
+    /* crossing probability exp(-g0 g1 / (d_rel dt)) < 2e-9 otherwise */
+    if (g1 > 0 && g0 * g1 > 20.0 * d_rel_dt) return 0.0;
+    double u;
+    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, gap, 1, &u);
+    const double d = g1 - g0;
+    const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));
+    return m < 0 ? -m : 0.0;
+}
+
+/* The part of a gap's push that rod i takes: mu_i / (mu_i + mu_nb) against rod nb, all of
+ * it against a wall (nb = i). */
+static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
+    if (nb == i) return 1.0;
+    if (!r->species) return 0.5;
+    const double mi = rod_mobility(r, i);
+    return mi / (mi + rod_mobility(r, nb));
+}
+
 /* Reflect rule: for every gap that may have touched zero during the step, draw the
- * minimum m of its Brownian bridge from the start gap g0 to the free end gap g1
- * (relative diffusion D_rel = 2D): m = (g0 + g1 - sqrt((g1 - g0)^2 - 4 D_rel dt ln U)) / 2. If
- * m < 0 the exact reflected end gap is g1 - m (Skorokhod; design note 7): the pair is
- * pushed apart by -m, shared equally (equal mobilities). Pushes are computed from the
+ * minimum of its Brownian bridge; a crossing reflects the gap (exact for an isolated pair,
+ * any dt and constant force). Rod-rod gaps have relative diffusion D_i + D_{i+1}, and the
+ * push is shared in proportion to the mobilities, which keeps the pair's friction-weighted
+ * centre; a wall gap has D_i and the rod takes all of it. Pushes are computed from the
  * free end points of all gaps first, so the result does not depend on the order. */
 static void reflect_gaps(hsbd_rods *r) {
     const size_t n = r->par.n;
-    const double d_rel_dt = 2.0 * r->par.diffusion * r->par.dt;
-    const double lf = r->free_length;
+    const double dt = r->par.dt, lf = r->free_length;
+    const uint64_t seed = r->par.seed, step = r->step;
     for (size_t i = 0; i < n; ++i) {
         const size_t j = i + 1 < n ? i + 1 : 0;
-        const double wrap = i + 1 < n ? 0.0 : lf;
-        const double g0 = r->z[j] + wrap - r->z[i], g1 = r->y[j] + wrap - r->y[i];
         r->push[i] = 0.0;
-        /* crossing probability exp(-g0 g1 / (D_rel dt)) < 2e-9 otherwise */
-        if (n < 2 || (g1 > 0 && g0 * g1 > 20.0 * d_rel_dt)) continue;
-        double u;
-        hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, i, 1, &u);
-        const double d = g1 - g0;
-        /* bridge with increment variance v = 2 D_rel dt: P(min < m) = e^(-2 (g0-m)(g1-m)/v) */
-        const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));
-        if (m < 0) r->push[i] = -m;
+        if (r->walls && i + 1 == n) { /* right wall */
+            const double d_dt = rod_mobility(r, i) * r->par.kT * dt;
+            r->push[i] = bridge_push(lf - r->z[i], lf - r->y[i], d_dt, seed, step, i);
+            continue;
+        }
+        if (n < 2) continue;
+        const double wrap = i + 1 < n ? 0.0 : lf;
+        const double d_rel_dt = (rod_mobility(r, i) + rod_mobility(r, j)) * r->par.kT * dt;
+        r->push[i] = bridge_push(r->z[j] + wrap - r->z[i], r->y[j] + wrap - r->y[i], d_rel_dt, seed,
+                                 step, i);
     }
+    r->push[n] =
+        r->walls ? bridge_push(r->z[0], r->y[0], rod_mobility(r, 0) * r->par.kT * dt, seed, step, n)
+                 : 0.0;
     for (size_t i = 0; i < n; ++i) {
-        const double left = r->push[i > 0 ? i - 1 : n - 1]; /* gap on the left of rod i */
-        r->ypush[i] = r->y[i] + 0.5 * left - 0.5 * r->push[i];
+        const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
+        const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
+        const double left = r->push[wall_left ? n : il], right = r->push[i];
+        r->ypush[i] = r->y[i] + left * push_share(r, i, wall_left ? i : il) -
+                      right * push_share(r, i, wall_right ? i : ir);
     }
+}
+
+/* Between walls: clamp the line regression to [0, free length] (the exact solution of the
+ * bounded isotonic regression) and record the cluster sizes, the blocks clamped to the
+ * same wall forming one cluster. Returns the number of clusters. */
+static size_t clamp_to_walls(hsbd_rods *r, size_t nblocks) {
+    const double lf = r->free_length;
+    size_t nc = 0, start = 0;
+    int at_left = 0, at_right = 0;
+    for (size_t k = 0; k < nblocks; ++k) {
+        const size_t size = hsbd_pava_block_size(r->pava, k);
+        const double v = r->z[start];
+        const int left = v <= 0.0, right = v >= lf;
+        if (left || right)
+            for (size_t i = start; i < start + size; ++i)
+                r->z[i] = left ? 0.0 : lf;
+        if ((left && at_left) || (right && at_right))
+            r->csize[nc - 1] += size;
+        else
+            r->csize[nc++] = size;
+        at_left = left;
+        at_right = right;
+        start += size;
+    }
+    return nc;
 }
 
 void hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
@@ -286,7 +481,12 @@ void hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
             target = r->ypush;
         }
         if (stats) count_fragments(r, target, stats);
-        r->nclusters = hsbd_pava_ring(r->pava, r->par.n, target, NULL, r->free_length, r->z);
+        if (r->walls)
+            r->nclusters =
+                clamp_to_walls(r, hsbd_pava_line(r->pava, r->par.n, target, r->friction, r->z));
+        else
+            r->nclusters =
+                hsbd_pava_ring(r->pava, r->par.n, target, r->friction, r->free_length, r->z);
         if (stats) stats->clusters_end = r->nclusters;
     } else {
         double *t = r->z;
@@ -308,7 +508,7 @@ size_t hsbd_rods_cluster_count(const hsbd_rods *r) {
 }
 
 size_t hsbd_rods_cluster_size(const hsbd_rods *r, size_t k) {
-    return hsbd_pava_block_size(r->pava, k);
+    return r->walls ? r->csize[k] : hsbd_pava_block_size(r->pava, k);
 }
 
 hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *r) {
@@ -317,8 +517,13 @@ hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *r) {
         .length = r->par.length,
         .sigma = r->par.sigma,
         .free_length = r->free_length,
+        .periodic = !r->walls,
         .z = r->z,
         .offset = r->offset,
+        .nspecies = r->species ? r->par.nspecies : 0,
+        .species = r->species,
+        .species_sigma = r->sp_sigma,
+        .species_mobility = r->sp_mobility,
         .y = r->par.hard_core && r->step > 0 ? r->y : NULL,
         .push = r->par.hard_core && r->step > 0 ? r->push : NULL,
         .unwrap = (double)r->wraps * r->par.length,
@@ -342,8 +547,9 @@ double hsbd_rods_min_gap(const hsbd_rods *r, int *all_finite) {
     for (size_t i = 0; i < r->par.n; ++i) {
         const double g = ring_gap(r, i);
         finite &= isfinite(r->z[i]);
-        if (g < m) m = g;
+        if ((r->par.n > 1 || r->walls) && g < m) m = g;
     }
+    if (r->walls && r->z[0] < m) m = r->z[0];
     if (all_finite) *all_finite = finite;
-    return r->par.n > 1 ? m : r->free_length;
+    return m < DBL_MAX ? m : r->free_length;
 }

@@ -77,8 +77,13 @@ with_line sample 'period = 0.3' >per.ini
 expect_fail period "per.ini:" "sample.period = 0.3 must divide system.L" -- run per.ini
 base_ini | sed 's/^bin_width = 0.05/bin_width = 0.3/' >bw.ini
 expect_fail bin-width "bw.ini:" "sample.bin_width = 0.3 must divide sample.period" -- run bw.ini
-with_line field 'type = cosinus' >ft.ini
-expect_fail enum "ft.ini:" "field.type = 'cosinus' is not known" "one of none|cosine|tilt|cosine+tilt" -- run ft.ini
+with_line system 'contact_rule = bounce' >ft.ini
+expect_fail enum "ft.ini:" "system.contact_rule = 'bounce' is not known" "one of sticky|reflect" -- run ft.ini
+for terms in cosinus cosine+cosine none+tilt 'cosine+'; do
+    with_line field "type = $terms" >ft.ini
+    expect_fail "field terms $terms" "ft.ini:" "field.type = '$terms' is not known" \
+        "none, or terms from cosine|tilt|harmonic|table joined by '+'" -- run ft.ini
+done
 with_line system 'N = 30' >dup.ini
 expect_fail duplicate "dup.ini:" "system.N is set twice" -- run dup.ini
 printf '[system]\nthis line has no equals sign\n' >mal.ini

@@ -16,4 +16,11 @@ size_t oracle_fragment(size_t n, const double *force, const double *mob, size_t 
 size_t oracle_step(size_t n, double *x, const double *force, const double *mob, double sigma,
                    double L, double dt, double contact_tol);
 
+/* The same for rods of lengths sig[i] (contact distance (sig_i + sig_j)/2) on a ring, or
+ * between hard walls at 0 and L (walls != 0; x_0 >= sig_0/2, x_{n-1} <= L - sig_{n-1}/2):
+ * a wall is an immovable cluster of infinite friction; fragments pressed into it at the
+ * start stay, and clusters reaching it stop. Returns the number of merge events. */
+size_t oracle_step_general(size_t n, double *x, const double *force, const double *mob,
+                           const double *sig, double L, int walls, double dt, double contact_tol);
+
 #endif

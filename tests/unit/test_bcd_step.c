@@ -193,6 +193,70 @@ static void test_library_step_vs_oracle(void) {
     hsbd_rods_free(rods);
 }
 
+/* A binary mixture (lengths 0.3 and 0.7, D 1 and 2.5) on a ring and between walls: the
+ * library step (friction-weighted regression, clamped to the walls) equals the literal
+ * oracle with per-rod lengths and mobilities, walls as immovable clusters. */
+static void test_mixture_step_vs_oracle(int boundary) {
+    enum { N = 12 };
+    const int species[N] = {0, 1, 1, 0, 0, 1, 0, 1, 1, 1, 0, 0};
+    const double sp_sigma[2] = {0.3, 0.7}, sp_d[2] = {1.0, 2.5};
+    hsbd_rods_params par = {.n = N,
+                            .length = 7.0,
+                            .sigma = 0.3,
+                            .diffusion = 1.0,
+                            .kT = 0.8,
+                            .dt = 1e-2,
+                            .seed = 77,
+                            .hard_core = 1,
+                            .boundary = boundary,
+                            .nspecies = 2,
+                            .species = species,
+                            .species_sigma = sp_sigma,
+                            .species_diffusion = sp_d};
+    hsbd_field_add(&par.field, hsbd_field_cosine(4.0, 1.0));
+    hsbd_field_add(&par.field, hsbd_field_tilt(boundary == HSBD_RODS_WALLS ? -3.0 : 0.8));
+    hsbd_error err;
+    hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
+    CHECK(rods != NULL, "alloc: %s", err.message);
+    if (!rods) return;
+    hsbd_rods_init_equilibrium(rods);
+    double worst = 0, min_gap = 1;
+    size_t merges = 0, wall_contacts = 0;
+    for (int s = 0; s < 400; ++s) {
+        const hsbd_rods_view v = hsbd_rods_get_view(rods);
+        double x[N], force[N], g[N], mob[N], sig[N];
+        hsbd_rng_normals(par.seed, HSBD_STREAM_NOISE, v.step, 0, N, g);
+        for (size_t i = 0; i < N; ++i) {
+            x[i] = v.z[i] + v.offset[i];
+            mob[i] = v.species_mobility[v.species[i]];
+            sig[i] = v.species_sigma[v.species[i]];
+        }
+        hsbd_field_force(&par.field, N, x, force);
+        for (size_t i = 0; i < N; ++i)
+            force[i] += sqrt(2 * mob[i] * par.kT / par.dt) / mob[i] * g[i];
+        const double shift = v.unwrap;
+        merges += oracle_step_general(N, x, force, mob, sig, par.length, boundary, par.dt, 1e-12);
+        hsbd_rods_step(rods, NULL);
+        const hsbd_rods_view w = hsbd_rods_get_view(rods);
+        for (size_t i = 0; i < N; ++i) {
+            const double d = fabs((w.z[i] + w.offset[i] + w.unwrap) - (x[i] + shift));
+            if (d > worst) worst = d;
+        }
+        wall_contacts += boundary == HSBD_RODS_WALLS && w.z[0] == 0.0;
+        const double gmin = hsbd_rods_min_gap(rods, NULL);
+        if (gmin < min_gap) min_gap = gmin;
+    }
+    CHECK(worst <= 1e-12, "mixture (boundary %d) vs oracle: max deviation %.3g", boundary, worst);
+    CHECK(merges > 100, "only %zu merges exercised", merges);
+    CHECK(min_gap >= -1e-12, "overlap: min gap %.3g", min_gap);
+    if (boundary == HSBD_RODS_WALLS)
+        CHECK(wall_contacts > 50, "only %zu steps ended at the left wall", wall_contacts);
+    printf("mixture step vs oracle (boundary %d): max deviation %.3g, %zu merges, %zu steps at "
+           "the wall\n",
+           boundary, worst, merges, wall_contacts);
+    hsbd_rods_free(rods);
+}
+
 /* The fragmentation diagnostic counts what the oracle does; with the reflect rule the
  * fragments are those of the pushed end points, so merges stay >= 0 (a regression of
  * 2026-11: counted before the pushes, they went negative and wrapped around). */
@@ -231,6 +295,8 @@ int main(void) {
     test_fragmentation_brute_force();
     test_ring_step_vs_oracle();
     test_library_step_vs_oracle();
+    test_mixture_step_vs_oracle(HSBD_RODS_PERIODIC);
+    test_mixture_step_vs_oracle(HSBD_RODS_WALLS);
     test_step_stats(HSBD_CONTACT_STICKY);
     test_step_stats(HSBD_CONTACT_REFLECT);
     return test_finish("test_bcd_step");

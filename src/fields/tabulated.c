@@ -1,0 +1,37 @@
+/* Tabulated external potential or force (natural cubic spline of a file's points). */
+#include <math.h>
+
+#include "hsbd/field.h"
+#include "hsbd/table.h"
+
+enum { TAB_KIND, TAB_PERIOD };
+
+static double reduce(const hsbd_field_term *t, double x) {
+    const double period = t->p[TAB_PERIOD];
+    return period > 0 ? x - period * floor(x / period) : x;
+}
+
+/* potential table: f = -U'(x); force table: f(x) (kT/length) */
+static void table_add_force(const hsbd_field_term *t, size_t n, const double *restrict x,
+                            double *restrict f) {
+    const int force_table = t->p[TAB_KIND] == HSBD_TABLE_FORCE;
+    for (size_t i = 0; i < n; ++i) {
+        const double xr = reduce(t, x[i]);
+        f[i] += force_table ? hsbd_table_value(t->table, xr) : -hsbd_table_derivative(t->table, xr);
+    }
+}
+
+static double table_potential(const hsbd_field_term *t, double x) {
+    const double xr = reduce(t, x);
+    return t->p[TAB_KIND] == HSBD_TABLE_FORCE ? -hsbd_table_integral(t->table, xr)
+                                              : hsbd_table_value(t->table, xr);
+}
+
+static const hsbd_field_ops table_ops = {"table", table_add_force, table_potential};
+
+hsbd_field_term hsbd_field_table(const hsbd_table *table, int kind, double period) {
+    hsbd_field_term t = {&table_ops, {0}, table};
+    t.p[TAB_KIND] = kind;
+    t.p[TAB_PERIOD] = period;
+    return t;
+}
