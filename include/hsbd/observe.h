@@ -58,6 +58,24 @@ uint64_t hsbd_profile_nonfinite(const hsbd_profile *p);
 /* Smallest neighbour gap seen in the samples. */
 double hsbd_profile_min_gap(const hsbd_profile *p);
 
+/* ---- contact impulses of a step, and contact densities per species pair and at walls ---- */
+/* The impulse each contact passed in the last step over (kT dt) (contact theorem: its
+ * mean is the pair density at contact): out[i] for the gap right of rod i (i = N-1: across
+ * the ring, or the right wall), out[N] the left wall; 0 for open gaps. N + 1 entries. */
+void hsbd_contact_impulses(const hsbd_rods_view *v, double *out);
+
+typedef struct hsbd_contacts hsbd_contacts;
+/* n rods of nspecies species (1 for a single species), block averages */
+hsbd_contacts *hsbd_contacts_alloc(size_t n, size_t nspecies, size_t nblocks,
+                                   uint64_t nsamples_total, hsbd_error *err);
+void hsbd_contacts_free(hsbd_contacts *c);
+void hsbd_contacts_sample(hsbd_contacts *c, const hsbd_rods_view *v);
+/* Contact density of ordered pairs (species a on the left, b on the right) per length of
+ * line, (1/L) int rho2_ab(x, x + sigma_ab+) dx, from the contact theorem. */
+void hsbd_contacts_pair(const hsbd_contacts *c, size_t a, size_t b, double *val, double *err);
+/* Density at contact with the left (right = 0) or right wall: the wall's force over kT. */
+void hsbd_contacts_wall(const hsbd_contacts *c, int right, double *val, double *err);
+
 /* ---- tagged-particle mean-squared displacement at log-spaced lags ---- */
 typedef struct hsbd_msd hsbd_msd;
 /* sample_dt: time between samples; max_lag: largest lag time. */
@@ -66,6 +84,9 @@ hsbd_msd *hsbd_msd_alloc(size_t n, double sample_dt, uint64_t nsamples_total, do
 void hsbd_msd_free(hsbd_msd *m);
 /* Errors from nseg contiguous groups of rods instead of time blocks (call before sampling). */
 int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err);
+/* Only these rods (indices in line order, which never changes) enter the average, e.g.
+ * one species of a mixture; call before sampling. */
+int hsbd_msd_set_members(hsbd_msd *m, size_t count, const size_t *members, hsbd_error *err);
 void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v);
 size_t hsbd_msd_lags(const hsbd_msd *m);
 /* lag time, MSD, its error (time blocks or rod segments) and number of origins */

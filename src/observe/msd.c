@@ -21,6 +21,7 @@ struct hsbd_msd {
     uint64_t *snap_at; /* sample index of each slot's origin */
     double *value;     /* nlags x max_origins */
     size_t *count;     /* values per lag */
+    size_t *members;   /* the rods averaged over (NULL: all n) */
     size_t nseg;       /* rod segments for the error (0: time blocks) */
     double *seg_sum;   /* nlags x nseg sums of squared displacements */
 };
@@ -34,6 +35,7 @@ void hsbd_msd_free(hsbd_msd *m) {
     free(m->value);
     free(m->count);
     free(m->seg_sum);
+    free(m->members);
     free(m);
 }
 
@@ -87,15 +89,35 @@ oom:
     return NULL;
 }
 
-/* sum of squared displacements of rods [lo, hi) from the origin snapshot x0 */
-static double squared_displacements(const hsbd_rods_view *v, const double *x0, size_t lo,
-                                    size_t hi) {
+static size_t rod_of(const hsbd_msd *m, size_t k) {
+    return m->members ? m->members[k] : k;
+}
+
+/* sum of squared displacements of averaged rods [lo, hi) from the origin snapshot x0 */
+static double squared_displacements(const hsbd_msd *m, const hsbd_rods_view *v, const double *x0,
+                                    size_t lo, size_t hi) {
     double sum = 0;
-    for (size_t i = lo; i < hi; ++i) {
-        const double d = v->z[i] + v->offset[i] + v->unwrap - x0[i];
+    for (size_t k = lo; k < hi; ++k) {
+        const size_t i = rod_of(m, k);
+        const double d = v->z[i] + v->offset[i] + v->unwrap - x0[k];
         sum += d * d;
     }
     return sum;
+}
+
+int hsbd_msd_set_members(hsbd_msd *m, size_t count, const size_t *members, hsbd_error *err) {
+    if (count < 1 || count > m->n || m->sample > 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "msd: %zu members of %zu rods (need 1..N, before "
+                              "sampling)",
+                              count, m->n);
+    free(m->members);
+    m->members = malloc(count * sizeof *m->members);
+    if (!m->members) return hsbd_error_set(err, HSBD_ENOMEM, "msd: out of memory");
+    for (size_t k = 0; k < count; ++k)
+        m->members[k] = members[k];
+    m->n = count;
+    return HSBD_OK;
 }
 
 void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
@@ -112,12 +134,12 @@ void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
         if (m->nseg) {
             for (size_t g = 0; g < m->nseg; ++g) {
                 const double part =
-                    squared_displacements(v, x0, g * n / m->nseg, (g + 1) * n / m->nseg);
+                    squared_displacements(m, v, x0, g * n / m->nseg, (g + 1) * n / m->nseg);
                 m->seg_sum[(size_t)j * m->nseg + g] += part;
                 sum += part;
             }
         } else {
-            sum = squared_displacements(v, x0, 0, n);
+            sum = squared_displacements(m, v, x0, 0, n);
         }
         const size_t c = m->count[j];
         if (c < m->max_origins)
@@ -126,8 +148,10 @@ void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
     if (k % m->origin_every == 0) {
         const size_t s = (size_t)((k / m->origin_every) % m->slots);
         double *x0 = m->snap + s * n;
-        for (size_t i = 0; i < n; ++i)
-            x0[i] = v->z[i] + v->offset[i] + v->unwrap;
+        for (size_t q = 0; q < n; ++q) {
+            const size_t i = rod_of(m, q);
+            x0[q] = v->z[i] + v->offset[i] + v->unwrap;
+        }
         m->snap_at[s] = k;
     }
 }

@@ -3,6 +3,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "hsbd/observe.h"
 
@@ -17,6 +18,8 @@ struct hsbd_profile {
     hsbd_blocks *contact; /* contact pairs per bin (left rod) per sample */
     hsbd_blocks *impulse; /* contact impulses / (kT dt) per bin (left rod) per sample */
     hsbd_blocks *extrap;  /* gap density extrapolated to zero gap, per bin per sample */
+    double *scratch;      /* N + 1 contact impulses of a sample */
+    size_t scratch_n;
 };
 
 static hsbd_profile *profile_alloc(double period, double bin_width, double contact_width,
@@ -64,6 +67,7 @@ void hsbd_profile_free(hsbd_profile *p) {
     hsbd_blocks_free(p->contact);
     hsbd_blocks_free(p->impulse);
     hsbd_blocks_free(p->extrap);
+    free(p->scratch);
     free(p);
 }
 
@@ -106,9 +110,9 @@ static double view_mobility(const hsbd_rods_view *v, size_t i) {
     return v->species ? v->species_mobility[v->species[i]] : v->mobility;
 }
 
-/* Between walls: the impulse (times the mobility scale of the running sum) the left wall
- * passed to the chain of rods linked to it (closed or pushed gaps): minus the sum of
- * (y_i - z_i)/mu_i over that chain, since no impulse crosses the chain's open end. */
+/* Between walls: the impulse the left wall passed to the chain of rods linked to it
+ * (closed or pushed gaps): minus the sum of (y_i - z_i)/mu_i over that chain, since no
+ * impulse crosses the chain's open end. */
 static double left_wall_impulse(const hsbd_rods_view *v, double tol) {
     const size_t n = v->n;
     const int linked = (v->push && v->push[n] > 0) || v->z[0] <= tol;
@@ -123,12 +127,14 @@ static double left_wall_impulse(const hsbd_rods_view *v, double tol) {
 }
 
 /* Contact theorem estimator: the impulse the step passed across contact (i, i+1) is
- * J_i = sum over the cluster's rods k <= i of (y_k - z_k) / mu (Antonov Eq. 8 integrated
- * over the step); kT rho2(x, x+sigma) is the mean contact force, so each contact adds
- * J_i / (kT dt) to the bin of its left rod. */
-static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v, double *impulse) {
+ * J_i = sum over the cluster's rods k <= i of (y_k - z_k) / mu_k (Antonov Eq. 8
+ * integrated over the step, friction-weighted); kT rho2(x, x+sigma) is the mean contact
+ * force, so each contact contributes J_i / (kT dt). */
+void hsbd_contact_impulses(const hsbd_rods_view *v, double *out) {
     const size_t n = v->n;
     const double tol = 1e-12 * v->length;
+    memset(out, 0, (n + 1) * sizeof *out);
+    if (!v->hard_core || !v->y) return;
     /* anchor: a rod whose left gap is open and was not pushed (no impulse across it);
      * between walls rod 0, starting from the left wall's impulse */
     size_t start = 0;
@@ -142,17 +148,28 @@ static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v, double *im
     }
     const double scale = 1.0 / (v->kT * v->dt);
     double j = v->periodic ? 0.0 : left_wall_impulse(v, tol); /* across the gap right of i */
+    out[n] = j * scale;
     for (size_t k = 0; k < n; ++k) {
         const size_t i = (start + k) % n;
         j += (v->y[i] - v->z[i]) / view_mobility(v, i);
-        if (!v->periodic && i + 1 == n) break; /* the right wall's impulse: no rod pair */
         const int pushed = v->push && v->push[i] > 0;
-        if (!pushed && ring_gap(v, i) > tol) {
+        const int open = !pushed && (!v->periodic && i + 1 == n ? v->free_length - v->z[i]
+                                                                : ring_gap(v, i)) > tol;
+        if (open) {
             j = 0.0; /* open gap, no impulse: the running sum closes here */
             continue;
         }
-        const double x = v->z[i] + v->offset[i];
-        impulse[acc_index(p, v, x)] += j * scale;
+        out[i] = j * scale;
+    }
+}
+
+static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v, double *impulse) {
+    const size_t n = v->n;
+    double *j = p->scratch;
+    hsbd_contact_impulses(v, j);
+    for (size_t i = 0; i < n; ++i) {
+        if (!v->periodic && i + 1 == n) break; /* the right wall: no rod pair */
+        if (j[i] != 0.0) impulse[acc_index(p, v, v->z[i] + v->offset[i])] += j[i];
     }
 }
 
@@ -184,7 +201,12 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
         }
     }
     p->min_gap = min_gap;
-    if (v->hard_core && v->y && n > 1) sample_impulses(p, v, acc.impulse);
+    if (v->hard_core && v->y && n > 1 && p->scratch_n != n + 1) {
+        free(p->scratch);
+        p->scratch = malloc((n + 1) * sizeof *p->scratch);
+        p->scratch_n = p->scratch ? n + 1 : 0;
+    }
+    if (v->hard_core && v->y && n > 1 && p->scratch) sample_impulses(p, v, acc.impulse);
     hsbd_blocks_end_sample(p->density);
     hsbd_blocks_end_sample(p->contact);
     hsbd_blocks_end_sample(p->impulse);

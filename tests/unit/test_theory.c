@@ -319,6 +319,112 @@ static void test_sticky_eps_to_baxter(void) {
     hsbd_percus_result_free(&r2);
 }
 
+static hsbd_box_result box(size_t n, double length, double sigma, const hsbd_field *field,
+                           size_t points, double bin_width) {
+    hsbd_box_params p = {
+        .n = n, .length = length, .sigma = sigma, .field = field, .points = points};
+    hsbd_box_result r;
+    hsbd_error err;
+    const int rc = hsbd_box_solve(&p, bin_width, &r, &err);
+    CHECK(rc == HSBD_OK, "box(N %zu, L %g, sigma %g): %s", n, length, sigma, rc ? err.message : "");
+    return r;
+}
+
+static double bins_integral(const hsbd_box_result *r, const double *f) {
+    double s = 0;
+    for (size_t k = 0; k < r->nbins; ++k)
+        s += f[k] * r->bin_width;
+    return s;
+}
+
+/* Closed forms of the field-free box (N uniform points in the free length l = L - N sigma):
+ * the first rod's gap to the wall has density N/l at zero, so does every neighbour gap. */
+static void test_box_field_free(void) {
+    const size_t n = 30;
+    const double L = 50, sigma = 1, l = L - (double)n * sigma;
+    const double contacts = (double)n * (double)(n - 1) / l;
+    double dev[2][3];
+    for (int pass = 0; pass < 2; ++pass) {
+        hsbd_box_result r = box(n, L, sigma, NULL, pass ? 8000 : 4000, 0.1);
+        CHECK_CLOSE(bins_integral(&r, r.rho), (double)n, 1e-9 * n);
+        CHECK_CLOSE(r.wall_left, r.wall_right, 1e-12);
+        dev[pass][0] = fabs(r.wall_left / (n / l) - 1);
+        dev[pass][1] = fabs(bins_integral(&r, r.rho2) / contacts - 1);
+        /* nothing outside [sigma/2, L - sigma/2] */
+        CHECK(r.rho[0] + r.rho[4] + r.rho[r.nbins - 1] == 0, "density beyond the wall contact");
+        hsbd_box_result_free(&r);
+    }
+    for (int q = 0; q < 2; ++q)
+        CHECK(dev[1][q] < 1e-5 && dev[0][q] / dev[1][q] > 3.5,
+              "field-free box, %s: relative deviation %.3g (4000 points), %.3g (8000): not "
+              "second order",
+              q ? "contact pairs" : "wall contact", dev[0][q], dev[1][q]);
+}
+
+/* One rod: the Boltzmann distribution exp(-U)/Z on [sigma/2, L - sigma/2] (here a harmonic
+ * trap plus gravity); second order in the grid spacing. */
+static void test_box_one_rod_is_boltzmann(void) {
+    hsbd_field field = {0};
+    hsbd_field_add(&field, hsbd_field_harmonic(0.3, 4.0, 0.0));
+    hsbd_field_add(&field, hsbd_field_tilt(-0.7));
+    const double L = 10, sigma = 1, w = 0.25;
+    double z = 0;
+    const int sub = 20000;
+    for (int k = 0; k < sub; ++k) {
+        const double x = 0.5 * sigma + (L - sigma) * (k + 0.5) / sub;
+        z += exp(-hsbd_field_potential(&field, x)) * (L - sigma) / sub;
+    }
+    double err_coarse = 0, err_fine = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        hsbd_box_result r = box(1, L, sigma, &field, pass ? 1800 : 900, w);
+        double worst = 0;
+        for (size_t k = 2; k + 2 < r.nbins; ++k) { /* bins fully inside */
+            double avg = 0;
+            for (int q = 0; q < 200; ++q) {
+                const double x = (k + (q + 0.5) / 200) * w;
+                avg += exp(-hsbd_field_potential(&field, x)) / z / 200;
+            }
+            worst = fmax(worst, fabs(r.rho[k] - avg));
+        }
+        CHECK_CLOSE(r.wall_left, exp(-hsbd_field_potential(&field, 0.5 * sigma)) / z, 1e-5);
+        *(pass ? &err_fine : &err_coarse) = worst;
+        hsbd_box_result_free(&r);
+    }
+    CHECK(err_fine < 2e-6 && err_coarse / err_fine > 3.0,
+          "one rod: deviation %.3g (900 points), %.3g (1800): not second order", err_coarse,
+          err_fine);
+}
+
+/* Many rods far from the other wall: Percus' profile at a single hard wall, which for hard
+ * rods is the Tonks pair density seen from a fixed rod, rho(s) = rho_b g(s + sigma) at
+ * distance s from wall contact (the wall acts as a rod at the origin), with rho_b and
+ * beta P = rho_b / (1 - rho_b sigma) of the bulk. The box differs at O(1/N). */
+static void test_box_wall_is_percus(void) {
+    const size_t n = 400;
+    const double L = 1000, sigma = 1, w = 0.05;
+    hsbd_box_result r = box(n, L, sigma, NULL, 12000, w);
+    double rho_b = 0;
+    size_t nb = 0;
+    for (size_t k = (size_t)(400 / w); k < (size_t)(600 / w); ++k)
+        rho_b += r.rho[k], ++nb;
+    rho_b /= (double)nb;
+    double worst = 0;
+    for (size_t k = (size_t)(0.5 / w); k < (size_t)(6.0 / w); ++k) {
+        double avg = 0;
+        for (int q = 0; q < 50; ++q) {
+            const double s = (k + (q + 0.5) / 50) * w - 0.5 * sigma;
+            avg += rho_b * hsbd_tonks_g(s + sigma, rho_b, sigma) / 50;
+        }
+        worst = fmax(worst, fabs(r.rho[k] - avg) / avg);
+    }
+    CHECK(worst < 2.0 / n, "box near the wall vs Percus: relative deviation %.3g > 2/N", worst);
+    CHECK_CLOSE(r.wall_left, hsbd_tonks_pressure(rho_b, sigma), 2.0 / n * r.wall_left);
+    printf("box vs Percus wall profile (N = %zu): max relative deviation %.3g within 6 sigma, "
+           "wall contact %.6f vs beta P %.6f\n",
+           n, worst, r.wall_left, hsbd_tonks_pressure(rho_b, sigma));
+    hsbd_box_result_free(&r);
+}
+
 int main(void) {
     test_uniform_is_tonks();
     test_point_particles_are_boltzmann();
@@ -329,5 +435,8 @@ int main(void) {
     test_transfer_is_percus();
     test_sticky_eps_to_baxter();
     test_bad_input();
+    test_box_field_free();
+    test_box_one_rod_is_boltzmann();
+    test_box_wall_is_percus();
     return test_finish("test_theory");
 }
