@@ -22,7 +22,13 @@ enum hsbd_boundary { HSBD_BOUNDARY_PERIODIC = 0, HSBD_BOUNDARY_WALLS };
 enum hsbd_pair_type { HSBD_PAIR_NONE = 0, HSBD_PAIR_YUKAWA, HSBD_PAIR_LJ, HSBD_PAIR_TABLE };
 enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ };
 enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE };
-enum { HSBD_PATH_MAX = 1024, HSBD_ORIGIN_MAX = 1100, HSBD_CONFIG_MAX_KEYS = 96 };
+enum {
+    HSBD_PATH_MAX = 1024,
+    HSBD_ORIGIN_MAX = 1100,
+    HSBD_CONFIG_MAX_KEYS = 96,
+    HSBD_MAX_SPECIES = 16,
+    HSBD_SPECIES_NAME = 32
+};
 
 typedef struct hsbd_config {
     struct {
@@ -48,6 +54,16 @@ typedef struct hsbd_config {
         char table[HSBD_PATH_MAX];
         int table_kind; /* HSBD_TABLE_POTENTIAL or HSBD_TABLE_FORCE */
     } field;
+    struct {
+        /* the keys' texts: whitespace- or comma-separated lists */
+        char names_text[HSBD_PATH_MAX], count_text[HSBD_PATH_MAX], sigma_text[HSBD_PATH_MAX],
+            d_text[HSBD_PATH_MAX];
+        /* parsed by hsbd_config_finalize; n = 0: one species (system.sigma, system.D) */
+        size_t n;
+        char name[HSBD_MAX_SPECIES][HSBD_SPECIES_NAME];
+        int64_t count[HSBD_MAX_SPECIES];
+        double sigma[HSBD_MAX_SPECIES], diffusion[HSBD_MAX_SPECIES];
+    } species;
     struct {
         double dt, t_equil, t_total, dt_equil;
     } run;

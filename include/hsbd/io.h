@@ -27,10 +27,13 @@ void hsbd_outfile_discard(hsbd_outfile *o);
  * (HSBD_EINPUT) unless force is set. */
 int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err);
 
-/* Read n positions (one number per line; blank lines and '#' comments allowed). */
-int hsbd_read_positions(const char *path, size_t n, double *x, hsbd_error *err);
+/* Read n positions (one number per line; blank lines and '#' comments allowed); for a
+ * mixture (nspecies > 0) each line is 'x name' and species[i] gets the name's index. */
+int hsbd_read_positions(const char *path, size_t n, double *x, size_t nspecies,
+                        const char (*names)[HSBD_SPECIES_NAME], int *species, hsbd_error *err);
 
-/* One extended-XYZ frame of the rods (wrapped positions, unwrapped column, radius). */
-void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v);
+/* One extended-XYZ frame of the rods (wrapped positions, unwrapped column, radius); names:
+ * the species names of a mixture (NULL: every rod is "R"). */
+void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v, const char (*names)[HSBD_SPECIES_NAME]);
 
 #endif

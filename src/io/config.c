@@ -94,6 +94,16 @@ static const key_spec schema[] = {
      "[0, L]; natural cubic spline (continuous force)"},
     {"field", "table_kind", K_ENUM, OFF(field.table_kind), 0, 0, 0, "potential", "potential|force",
      "what field.table holds: potential U(x) (kT; force -U') or force f(x) (kT/length)"},
+    {"species", "names", K_STRING, OFF(species.names_text), 0, 0, 0, "", 0,
+     "a mixture: species names (letters, digits, '_'), separated by spaces or commas; empty: "
+     "one species with system.sigma and system.D"},
+    {"species", "count", K_STRING, OFF(species.count_text), 0, 0, 0, "", 0,
+     "rods of each species (whole numbers >= 1), summing to system.N; the order along the "
+     "line is a uniformly random arrangement unless init.positions gives it"},
+    {"species", "sigma", K_STRING, OFF(species.sigma_text), 0, 0, 0, "", 0,
+     "rod length of each species (>= 0); contact distance (sigma_a + sigma_b)/2"},
+    {"species", "D", K_STRING, OFF(species.d_text), 0, 0, 0, "", 0,
+     "diffusion coefficient of each species (> 0); mobility D/kT"},
     {"run", "dt", K_DOUBLE, OFF(run.dt), 0, INF, OPEN_MIN | OPEN_MAX, "1e-4", 0, "time step"},
     {"run", "t_equil", K_DOUBLE, OFF(run.t_equil), 0, INF, OPEN_MAX, "10", 0,
      "unsampled dynamics after the initial state"},
@@ -475,12 +485,13 @@ static int authors_handler(ini_state *st, const char *name, const char *value) {
         strcat(known, i ? ", " : "");
         strcat(known, authors_keys[i].name);
     }
-    hsbd_error_set(st->err, HSBD_EINPUT,
-                   "%s:%d: unknown key '%s' outside any [section]; hsbd keys live in sections "
-                   "([system], [contact], [pair], [field], [run], [sample], [output], [init]) "
-                   "and the authors' "
-                   "section-less keys are: %s",
-                   st->path, st->line, name, known);
+    hsbd_error_set(
+        st->err, HSBD_EINPUT,
+        "%s:%d: unknown key '%s' outside any [section]; hsbd keys live in sections "
+        "([system], [species], [contact], [pair], [field], [run], [sample], [output], [init]) "
+        "and the authors' "
+        "section-less keys are: %s",
+        st->path, st->line, name, known);
     return 0;
 }
 
@@ -594,15 +605,148 @@ uint64_t hsbd_config_equil_steps(const hsbd_config *cfg) {
     return (uint64_t)llround(cfg->run.t_equil / hsbd_config_dt_equil(cfg));
 }
 
+/* Split a list on spaces and commas into at most `max` words; returns the count, or
+ * max + 1 when there are more. */
+static size_t split_list(char *text, char **words, size_t max) {
+    size_t count = 0;
+    for (char *w = strtok(text, " \t,"); w; w = strtok(NULL, " \t,")) {
+        if (count == max) return max + 1;
+        words[count++] = w;
+    }
+    return count;
+}
+
+static int is_default(const hsbd_config *cfg, const char *section, const char *key) {
+    return !strncmp(origin_of(cfg, section, key), "default", 7);
+}
+
+/* One numeric species list (count, sigma or D): as many finite entries as names, each in
+ * [min, inf) (open at min when `open`), whole numbers when `whole`. */
+static int parse_species_numbers(hsbd_config *cfg, const char *key, const char *text, double min,
+                                 int open, int whole, double *out, hsbd_error *err) {
+    char buf[HSBD_PATH_MAX], *words[HSBD_MAX_SPECIES + 1];
+    snprintf(buf, sizeof buf, "%s", text);
+    const size_t ns = cfg->species.n, got = split_list(buf, words, HSBD_MAX_SPECIES);
+    if (got != ns)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: species.%s has %zu entries for %zu species.names; allowed: one "
+                              "per species",
+                              origin_of(cfg, "species", key), key, got, ns);
+    for (size_t k = 0; k < ns; ++k) {
+        char *end;
+        const double v = strtod(words[k], &end);
+        if (end == words[k] || *end || !isfinite(v) || (open ? !(v > min) : !(v >= min)) ||
+            (whole && v != floor(v)))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: species.%s entry %zu ('%s', species %s) is out of range; "
+                                  "allowed: %s %s %g",
+                                  origin_of(cfg, "species", key), key, k + 1, words[k],
+                                  cfg->species.name[k], whole ? "whole numbers" : key,
+                                  open ? ">" : ">=", min);
+        out[k] = v;
+    }
+    return HSBD_OK;
+}
+
+/* The [species] lists: names, counts summing to system.N, lengths and D. */
+static int parse_species(hsbd_config *cfg, hsbd_error *err) {
+    cfg->species.n = 0;
+    if (!cfg->species.names_text[0]) {
+        static const char *const lists[] = {"count", "sigma", "D"};
+        for (int k = 0; k < 3; ++k)
+            if (!is_default(cfg, "species", lists[k]))
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "%s: species.%s is set but species.names is empty; name the "
+                                      "species first",
+                                      origin_of(cfg, "species", lists[k]), lists[k]);
+        return HSBD_OK;
+    }
+    char buf[HSBD_PATH_MAX], *words[HSBD_MAX_SPECIES + 1];
+    snprintf(buf, sizeof buf, "%s", cfg->species.names_text);
+    const size_t ns = split_list(buf, words, HSBD_MAX_SPECIES);
+    if (ns < 1 || ns > HSBD_MAX_SPECIES)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: species.names: allowed: 1 to %d names",
+                              origin_of(cfg, "species", "names"), HSBD_MAX_SPECIES);
+    for (size_t k = 0; k < ns; ++k) {
+        const size_t len = strlen(words[k]);
+        int ok = len < HSBD_SPECIES_NAME;
+        for (size_t c = 0; c < len; ++c)
+            ok &= (words[k][c] >= 'a' && words[k][c] <= 'z') ||
+                  (words[k][c] >= 'A' && words[k][c] <= 'Z') ||
+                  (words[k][c] >= '0' && words[k][c] <= '9') || words[k][c] == '_';
+        for (size_t q = 0; q < k; ++q)
+            ok &= strcmp(words[q], words[k]) != 0;
+        if (!ok)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: species.names entry '%s' is not allowed: names are unique, "
+                                  "at most %d letters, digits or '_'",
+                                  origin_of(cfg, "species", "names"), words[k],
+                                  HSBD_SPECIES_NAME - 1);
+        snprintf(cfg->species.name[k], HSBD_SPECIES_NAME, "%s", words[k]);
+    }
+    cfg->species.n = ns;
+    double count[HSBD_MAX_SPECIES];
+    int rc = parse_species_numbers(cfg, "count", cfg->species.count_text, 1, 0, 1, count, err);
+    if (rc == HSBD_OK)
+        rc = parse_species_numbers(cfg, "sigma", cfg->species.sigma_text, 0, 0, 0,
+                                   cfg->species.sigma, err);
+    if (rc == HSBD_OK)
+        rc = parse_species_numbers(cfg, "D", cfg->species.d_text, 0, 1, 0, cfg->species.diffusion,
+                                   err);
+    if (rc != HSBD_OK) return rc;
+    double total = 0;
+    for (size_t k = 0; k < ns; ++k)
+        cfg->species.count[k] = (int64_t)count[k], total += count[k];
+    if (total != (double)cfg->system.n)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: species.count sums to %.0f rods but system.N = %lld (%s); "
+                              "allowed: counts summing to system.N",
+                              origin_of(cfg, "species", "count"), total, (long long)cfg->system.n,
+                              origin_of(cfg, "system", "N"));
+    static const char *const single[] = {"sigma", "D"};
+    for (int k = 0; k < 2; ++k)
+        if (!is_default(cfg, "system", single[k]))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: system.%s is set, but with species.names the species.%s "
+                                  "list gives it; remove one of them",
+                                  origin_of(cfg, "system", single[k]), single[k], single[k]);
+    if (cfg->pair.type != HSBD_PAIR_NONE || cfg->contact.gamma > 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: pair forces and sticky contacts need one species (mixtures with "
+                              "pair forces are not supported yet)",
+                              origin_of(cfg, cfg->contact.gamma > 0 ? "contact" : "pair",
+                                        cfg->contact.gamma > 0 ? "gamma" : "type"));
+    cfg->system.sigma = cfg->species.sigma[0];
+    cfg->system.diffusion = cfg->species.diffusion[0];
+    return HSBD_OK;
+}
+
+/* total length of the rods */
+static double rods_length(const hsbd_config *cfg) {
+    if (!cfg->species.n) return (double)cfg->system.n * cfg->system.sigma;
+    double total = 0;
+    for (size_t k = 0; k < cfg->species.n; ++k)
+        total += (double)cfg->species.count[k] * cfg->species.sigma[k];
+    return total;
+}
+
 int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
     hsbd_error_clear(err);
-    const double n = (double)cfg->system.n, L = cfg->system.length, sigma = cfg->system.sigma;
-    if (!(n * sigma < L))
+    if (parse_species(cfg, err) != HSBD_OK) return err->status;
+    const double L = cfg->system.length, sigma = cfg->system.sigma;
+    const double occupied = rods_length(cfg);
+    if (!(occupied < L)) {
+        char allowed[96];
+        if (cfg->species.n)
+            snprintf(allowed, sizeof allowed, "sum of species.count x species.sigma < L");
+        else
+            snprintf(allowed, sizeof allowed, "N < %g", sigma > 0 ? L / sigma : INF);
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: system.N = %lld with system.sigma = %g needs N*sigma = %g < "
-                              "system.L = %g (no room); allowed: N < %g",
-                              origin_of(cfg, "system", "N"), (long long)cfg->system.n, sigma,
-                              n * sigma, L, sigma > 0 ? L / sigma : INF);
+                              "%s: system.N = %lld rods of total length %g do not fit in system.L "
+                              "= %g (no room); allowed: %s",
+                              origin_of(cfg, "system", "N"), (long long)cfg->system.n, occupied, L,
+                              allowed);
+    }
     if (cfg->pair.type != HSBD_PAIR_NONE && !cfg->system.hard_core)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: pair.type needs system.hard_core = on (pair forces act between "

@@ -81,7 +81,16 @@ int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err) {
     return HSBD_OK;
 }
 
-int hsbd_read_positions(const char *path, size_t n, double *x, hsbd_error *err) {
+/* species name -> index, or -1 */
+static int species_index(const char *word, size_t nspecies,
+                         const char (*names)[HSBD_SPECIES_NAME]) {
+    for (size_t k = 0; k < nspecies; ++k)
+        if (!strcmp(word, names[k])) return (int)k;
+    return -1;
+}
+
+int hsbd_read_positions(const char *path, size_t n, double *x, size_t nspecies,
+                        const char (*names)[HSBD_SPECIES_NAME], int *species, hsbd_error *err) {
     FILE *f = fopen(path, "r");
     if (!f)
         return hsbd_error_set(err, HSBD_EINPUT, "init.positions: cannot read '%s': %s", path,
@@ -97,17 +106,32 @@ int hsbd_read_positions(const char *path, size_t n, double *x, hsbd_error *err) 
         if (*s == '#' || *s == '\n' || *s == '\r' || *s == '\0') continue;
         char *end;
         const double v = strtod(s, &end);
+        char word[HSBD_SPECIES_NAME + 2] = "";
+        int used = 0;
+        if (nspecies > 0 && end != s) sscanf(end, " %33[A-Za-z0-9_]%n", word, &used);
+        end += used;
         while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n')
             ++end;
-        if (end == s || *end != '\0' || !isfinite(v)) {
-            rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%d: expected one finite number per line",
-                                path, lineno);
+        if (end == s || *end != '\0' || !isfinite(v) || (nspecies > 0 && !word[0])) {
+            rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%d: expected %s per line", path, lineno,
+                                nspecies ? "a finite position and a species name"
+                                         : "one finite number");
             break;
         }
         if (count == n) {
             rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%d: more positions than system.N = %zu", path,
                                 lineno, n);
             break;
+        }
+        if (nspecies > 0) {
+            const int k = species_index(word, nspecies, names);
+            if (k < 0) {
+                rc = hsbd_error_set(err, HSBD_EINPUT,
+                                    "%s:%d: unknown species '%s'; allowed: the species.names", path,
+                                    lineno, word);
+                break;
+            }
+            species[count] = k;
         }
         x[count++] = v;
     }
@@ -118,16 +142,19 @@ int hsbd_read_positions(const char *path, size_t n, double *x, hsbd_error *err) 
     return rc;
 }
 
-void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v) {
+void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v, const char (*names)[HSBD_SPECIES_NAME]) {
     const double L = v->length;
     fprintf(f, "%zu\n", v->n);
     fprintf(f,
-            "Lattice=\"%.17g 0 0 0 1 0 0 0 1\" pbc=\"T F F\" Time=%.17g Step=%llu "
+            "Lattice=\"%.17g 0 0 0 1 0 0 0 1\" pbc=\"%s F F\" Time=%.17g Step=%llu "
             "Properties=species:S:1:pos:R:3:radius:R:1:x_unwrapped:R:1:id:I:1\n",
-            L, v->time, (unsigned long long)v->step);
+            L, v->periodic ? "T" : "F", v->time, (unsigned long long)v->step);
     for (size_t i = 0; i < v->n; ++i) {
         const double xu = v->z[i] + v->offset[i] + v->unwrap;
-        const double xw = xu - L * floor(xu / L);
-        fprintf(f, "R %.10g 0 0 %.10g %.15g %zu\n", xw, 0.5 * v->sigma, xu, i + 1);
+        const double xw = v->periodic ? xu - L * floor(xu / L) : xu;
+        const int sp = v->species ? v->species[i] : 0;
+        const double sigma = v->species ? v->species_sigma[sp] : v->sigma;
+        fprintf(f, "%s %.10g 0 0 %.10g %.15g %zu\n", names && v->species ? names[sp] : "R", xw,
+                0.5 * sigma, xu, i + 1);
     }
 }

@@ -8,6 +8,7 @@
 #include "core/vmath.h"
 #include "hsbd/io.h"
 #include "hsbd/observe.h"
+#include "hsbd/rng.h"
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
 #include "hsbd/table.h"
@@ -22,6 +23,9 @@ typedef struct run_state {
     double sticky_ratio;     /* mu max|f| dt / epsilon, Eq. (33) (NaN without stickiness) */
     hsbd_profile *profile;
     hsbd_msd *msd;
+    hsbd_msd *msd_species[HSBD_MAX_SPECIES]; /* mixtures: one MSD per species */
+    hsbd_contacts *contacts;                 /* contacts per species pair, at walls */
+    int *species;                            /* mixtures: species of each rod, line order */
     hsbd_clusters *clusters;
     hsbd_outfile trajectory, current;
     uint64_t steps_done, equil_done;
@@ -195,15 +199,29 @@ static int write_msd(run_state *s, hsbd_error *err) {
     hsbd_outfile o;
     int rc = hsbd_outfile_open(&o, s->cfg->output.dir, "msd.tsv", err);
     if (rc != HSBD_OK) return rc;
+    char columns[64 + HSBD_MAX_SPECIES * (2 * HSBD_SPECIES_NAME + 16)] = "t\tmsd\tmsd_err\torigins";
+    const size_t ns = s->cfg->species.n;
+    for (size_t q = 0; q < ns; ++q) {
+        const char *name = s->cfg->species.name[q];
+        snprintf(columns + strlen(columns), sizeof columns - strlen(columns),
+                 "\tmsd_%s\tmsd_%s_err", name, name);
+    }
     write_table_header(o.f, s->cfg,
-                       "tagged-particle mean-squared displacement (unwrapped positions); errors "
-                       "from block averages over time origins",
-                       "t\tmsd\tmsd_err\torigins");
+                       "tagged-particle mean-squared displacement (unwrapped positions), all rods "
+                       "and, for mixtures, per species; errors from block averages over time "
+                       "origins",
+                       columns);
     for (size_t k = 0; k < hsbd_msd_lags(s->msd); ++k) {
         double t, m, e;
         size_t origins;
         hsbd_msd_result(s->msd, k, &t, &m, &e, &origins);
-        if (origins) fprintf(o.f, "%.10g\t%.10g\t%.4g\t%zu\n", t, m, e, origins);
+        if (!origins) continue;
+        fprintf(o.f, "%.10g\t%.10g\t%.4g\t%zu", t, m, e, origins);
+        for (size_t q = 0; q < ns; ++q) {
+            hsbd_msd_result(s->msd_species[q], k, &t, &m, &e, &origins);
+            fprintf(o.f, "\t%.10g\t%.4g", m, e);
+        }
+        fputc('\n', o.f);
     }
     return hsbd_outfile_commit(&o, err);
 }
@@ -225,6 +243,34 @@ static void json_number(FILE *f, const char *key, double v, int comma) {
         fprintf(f, "  \"%s\": %.10g%s\n", key, v, comma ? "," : "");
     else
         fprintf(f, "  \"%s\": null%s\n", key, comma ? "," : "");
+}
+
+/* "contacts": contact densities per ordered species pair (contact theorem) and, between
+ * walls, the densities at wall contact (wall force / kT), with block-average errors */
+static void write_contacts_json(const run_state *s, FILE *f) {
+    const hsbd_config *cfg = s->cfg;
+    const size_t ns = cfg->species.n ? cfg->species.n : 1;
+    fprintf(f, "  \"contacts\": {\n    \"pairs\": [");
+    for (size_t a = 0; a < ns; ++a)
+        for (size_t b = 0; b < ns; ++b) {
+            double val, err;
+            hsbd_contacts_pair(s->contacts, a, b, &val, &err);
+            fprintf(f,
+                    "%s\n      {\"left\": \"%s\", \"right\": \"%s\", \"rho2\": %.10g, "
+                    "\"rho2_err\": %.4g}",
+                    a + b ? "," : "", cfg->species.n ? cfg->species.name[a] : "rods",
+                    cfg->species.n ? cfg->species.name[b] : "rods", val, isfinite(err) ? err : 0);
+        }
+    fprintf(f, "\n    ]");
+    if (cfg->system.boundary == HSBD_BOUNDARY_WALLS)
+        for (int right = 0; right < 2; ++right) {
+            double val, err;
+            hsbd_contacts_wall(s->contacts, right, &val, &err);
+            fprintf(f, ",\n    \"wall_%s\": %.10g,\n    \"wall_%s_err\": %.4g",
+                    right ? "right" : "left", val, right ? "right" : "left",
+                    isfinite(err) ? err : 0);
+        }
+    fprintf(f, "\n  },\n");
 }
 
 static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err) {
@@ -265,6 +311,7 @@ static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err)
     json_number(f, "sticky_step_ratio", s->sticky_ratio, 1);
     json_number(f, "min_gap", cfg->system.hard_core ? hsbd_profile_min_gap(s->profile) : NAN, 1);
     json_number(f, "particle_current", current, 1);
+    if (s->contacts && s->steps_done >= (uint64_t)cfg->sample.every) write_contacts_json(s, f);
     json_number(f, "final_time", v.time, 1);
     fprintf(f, "  \"parameters\": ");
     hsbd_config_write_json(cfg, f, 2);
@@ -307,25 +354,100 @@ static int check_sticky_step(run_state *s, const hsbd_rods_params *par, hsbd_err
     return HSBD_OK;
 }
 
+/* Mixtures: the species of each rod along the line, a uniformly random arrangement of
+ * the counts (Fisher-Yates with the seed's initial-state stream), which with the uniform
+ * gaps of hsbd_rods_init_equilibrium samples the field-free equilibrium exactly. */
+static int arrange_species(run_state *s, hsbd_rods_params *par, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const size_t n = (size_t)cfg->system.n;
+    s->species = malloc(n * sizeof *s->species);
+    double *u = malloc(n * sizeof *u);
+    if (!s->species || !u) {
+        free(u);
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory for N = %zu species", n);
+    }
+    size_t i = 0;
+    for (size_t k = 0; k < cfg->species.n; ++k)
+        for (int64_t c = 0; c < cfg->species.count[k]; ++c)
+            s->species[i++] = (int)k;
+    hsbd_rng_uniforms(cfg->system.seed, HSBD_STREAM_INIT, 3, 0, n, u);
+    for (size_t k = n; k-- > 1;) {
+        size_t j = (size_t)(u[k] * (double)(k + 1));
+        if (j > k) j = k;
+        const int t = s->species[k];
+        s->species[k] = s->species[j];
+        s->species[j] = t;
+    }
+    free(u);
+    par->nspecies = cfg->species.n;
+    par->species = s->species;
+    par->species_sigma = cfg->species.sigma;
+    par->species_diffusion = cfg->species.diffusion;
+    return HSBD_OK;
+}
+
+/* Mixtures: one MSD observer per species (rods of that species, line order is fixed). */
+static int setup_species_msd(run_state *s, const hsbd_rods_params *par, uint64_t samples,
+                             hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const hsbd_rods_view v = hsbd_rods_get_view(s->rods);
+    size_t *members = malloc(par->n * sizeof *members);
+    if (!members) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int rc = HSBD_OK;
+    for (size_t k = 0; k < cfg->species.n && rc == HSBD_OK; ++k) {
+        size_t count = 0;
+        for (size_t i = 0; i < par->n; ++i)
+            if ((size_t)v.species[i] == k) members[count++] = i;
+        s->msd_species[k] = hsbd_msd_alloc(
+            par->n, cfg->run.dt * (double)cfg->sample.every, samples, cfg->sample.msd_max_lag,
+            (int)cfg->sample.msd_points_per_decade, (size_t)cfg->sample.blocks, err);
+        rc = s->msd_species[k] ? hsbd_msd_set_members(s->msd_species[k], count, members, err)
+                               : err->status;
+    }
+    free(members);
+    return rc;
+}
+
+/* init.positions: positions (and a mixture's species, which must match the counts). */
+static int read_initial_positions(run_state *s, double *x, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const size_t n = (size_t)cfg->system.n;
+    int rc = hsbd_read_positions(cfg->init.positions, n, x, cfg->species.n, cfg->species.name,
+                                 s->species, err);
+    for (size_t k = 0; k < cfg->species.n && rc == HSBD_OK; ++k) {
+        int64_t c = 0;
+        for (size_t i = 0; i < n; ++i)
+            c += s->species[i] == (int)k;
+        if (c != cfg->species.count[k])
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s (init.positions): %lld rods of species %s, but species.count "
+                                "says %lld",
+                                cfg->init.positions, (long long)c, cfg->species.name[k],
+                                (long long)cfg->species.count[k]);
+    }
+    return rc;
+}
+
 static int setup(run_state *s, hsbd_error *err) {
     const hsbd_config *cfg = s->cfg;
     hsbd_rods_params par = rods_params_from(cfg);
+    if (cfg->species.n > 0 && arrange_species(s, &par, err) != HSBD_OK) return err->status;
     int rc0 = build_field(cfg, &s->field_table, &par.field, err);
     if (rc0 == HSBD_OK) rc0 = build_pair(cfg, &s->pair_table, &par.pair, err);
     if (rc0 == HSBD_OK) rc0 = check_sticky_step(s, &par, err);
     if (rc0 != HSBD_OK) return rc0;
-    s->rods = hsbd_rods_alloc(&par, err);
-    if (!s->rods) return err->status;
-    if (cfg->init.positions[0]) {
-        double *x = malloc(par.n * sizeof *x);
+    double *x = NULL;
+    if (cfg->init.positions[0]) { /* before the rods copy the species */
+        x = malloc(par.n * sizeof *x);
         if (!x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-        int rc = hsbd_read_positions(cfg->init.positions, par.n, x, err);
-        if (rc == HSBD_OK) rc = hsbd_rods_set_positions(s->rods, x, err);
-        free(x);
-        if (rc != HSBD_OK) return rc;
-    } else {
-        hsbd_rods_init_equilibrium(s->rods);
+        rc0 = read_initial_positions(s, x, err);
     }
+    if (rc0 == HSBD_OK) s->rods = hsbd_rods_alloc(&par, err);
+    if (rc0 == HSBD_OK && !s->rods) rc0 = err->status;
+    if (rc0 == HSBD_OK && x) rc0 = hsbd_rods_set_positions(s->rods, x, err);
+    if (rc0 == HSBD_OK && !x) hsbd_rods_init_equilibrium(s->rods);
+    free(x);
+    if (rc0 != HSBD_OK) return rc0;
     const uint64_t samples = hsbd_config_steps(cfg) / (uint64_t)cfg->sample.every;
     const size_t blocks = (size_t)cfg->sample.blocks;
     s->profile = cfg->sample.blocking == HSBD_BLOCKS_SPACE
@@ -343,6 +465,11 @@ static int setup(run_state *s, hsbd_error *err) {
         return err->status;
     s->clusters = hsbd_clusters_alloc(par.n, blocks, samples);
     if (!s->clusters) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    if (cfg->system.hard_core) {
+        s->contacts = hsbd_contacts_alloc(par.n, cfg->species.n, blocks, samples, err);
+        if (!s->contacts) return err->status;
+    }
+    if (cfg->species.n > 0) return setup_species_msd(s, &par, samples, err);
     return HSBD_OK;
 }
 
@@ -414,6 +541,9 @@ static int produce(run_state *s, hsbd_error *err) {
             const hsbd_rods_view v = hsbd_rods_get_view(s->rods);
             hsbd_profile_sample(s->profile, &v);
             hsbd_msd_sample(s->msd, &v);
+            for (size_t q = 0; q < cfg->species.n; ++q)
+                hsbd_msd_sample(s->msd_species[q], &v);
+            if (hard) hsbd_contacts_sample(s->contacts, &v);
             if (hard) hsbd_clusters_sample(s->clusters, s->rods, &st);
             if (hsbd_profile_nonfinite(s->profile)) {
                 rc = hsbd_error_set(err, HSBD_ENUMERIC,
@@ -425,7 +555,7 @@ static int produce(run_state *s, hsbd_error *err) {
         }
         if (traj_every && (k + 1) % traj_every == 0) {
             const hsbd_rods_view v = hsbd_rods_get_view(s->rods);
-            hsbd_xyz_write_rods(s->trajectory.f, &v);
+            hsbd_xyz_write_rods(s->trajectory.f, &v, cfg->species.n ? cfg->species.name : NULL);
         }
         if (cur_every && (k + 1) % cur_every == 0) {
             const double sx = sum_unwrapped(s->rods);
@@ -491,6 +621,10 @@ static void release(run_state *s) {
     hsbd_table_free(s->field_table);
     hsbd_profile_free(s->profile);
     hsbd_msd_free(s->msd);
+    for (size_t q = 0; q < HSBD_MAX_SPECIES; ++q)
+        hsbd_msd_free(s->msd_species[q]);
+    hsbd_contacts_free(s->contacts);
+    free(s->species);
     hsbd_clusters_free(s->clusters);
 }
 

@@ -121,6 +121,50 @@ expect_fail authors-unknown "authtypo.cfg:2:" "unknown key 'lenght' outside any 
 printf '1.0\n1.2\n5\n' >pos.txt
 expect_fail positions-count "pos.txt" "3 positions for system.N = 20" -- run good.ini --set init.positions=pos.txt
 
+# fields: tables that do not cover the box or are not increasing, a table without a file
+printf '0 1\n20 0\n41 1\n' >ftab.txt
+"$HSBD" run good.ini --set field.type=cosine+table --set field.table=ftab.txt --out "$T/ftab" "${QUICK[@]}" \
+    && ok || bad "field table covering the box did not run"
+printf '0 1\n20 0\n30 1\n' >fshort.txt
+expect_fail field-table-cover "fshort.txt" "does not cover the box" "last x >= system.L = 40" -- run good.ini --set field.type=table --set field.table=fshort.txt
+printf '0 1\n20 0\n10 1\n50 0\n' >fsort.txt
+expect_fail field-table-unsorted "fsort.txt:3" "strictly increasing" -- run good.ini --set field.type=table --set field.table=fsort.txt
+printf '0 1\n20 nan\n50 0\n' >fnan.txt
+expect_fail field-table-nan "fnan.txt:2" "two finite numbers" -- run good.ini --set field.type=table --set field.table=fnan.txt
+expect_fail field-table-missing "field.table" -- run good.ini --set field.type=harmonic+table
+expect_fail field-stiffness "field.stiffness = -1" "0 <= stiffness" -- run good.ini --set field.type=harmonic --set field.stiffness=-1
+# walls: profile over the box only; positions inside the walls
+expect_fail walls-period "sample.period = 1" "allowed: sample.period = L = 40" -- run good.ini --set system.boundary=walls --set sample.period=1
+printf '0.1\n' >wpos.txt; for k in $(seq 1 19); do echo "$((2 * k))" >>wpos.txt; done
+expect_fail walls-positions "outside the walls" "sigma/2 = 0.25 <= x" -- run good.ini --set system.boundary=walls --set init.positions=wpos.txt
+"$HSBD" run good.ini --set system.boundary=walls --set field.type=harmonic+tilt --set field.force=-0.5 --out "$T/walls" "${QUICK[@]}" \
+    && grep -q '"wall_left"' "$T/walls/summary.json" && ok || bad "walls run without wall contact densities"
+# mixtures: counts must sum to N, one entry per species, sane values
+mix_ini() {
+    printf '[system]\nN = 20\nL = 40\n[species]\nnames = A B\ncount = %s\nsigma = %s\nD = %s\n' "$1" "$2" "$3"
+    printf '[field]\ntype = none\n[run]\ndt = 1e-3\nt_equil = 0.1\nt_total = 0.5\n[sample]\nblocks = 4\n'
+}
+mix_ini "12 8" "1 0.5" "1 2" >mix.ini
+"$HSBD" run mix.ini --out "$T/mix" --quiet && grep -q 'msd_A' "$T/mix/msd.tsv" \
+    && grep -q '"left": "B", "right": "A"' "$T/mix/summary.json" && ok || bad "mixture run lacks per-species outputs"
+mix_ini "12 9" "1 0.5" "1 2" >mixn.ini
+expect_fail species-sum "mixn.ini:6" "species.count sums to 21 rods but system.N = 20" -- run mixn.ini
+mix_ini "12 8" "1" "1 2" >mixl.ini
+expect_fail species-entries "mixl.ini:7" "species.sigma has 1 entries for 2 species.names" -- run mixl.ini
+mix_ini "12 8" "1 0.5" "1 0" >mixd.ini
+expect_fail species-d "mixd.ini:8" "species.D entry 2" "D > 0" -- run mixd.ini
+mix_ini "12 8" "1 -0.5" "1 2" >mixs.ini
+expect_fail species-sigma "mixs.ini:7" "species.sigma entry 2" "sigma >= 0" -- run mixs.ini
+mix_ini "12 8.5" "1 0.5" "1 2" >mixc.ini
+expect_fail species-count "mixc.ini:6" "species.count entry 2" "whole numbers" -- run mixc.ini
+expect_fail species-system-sigma "system.sigma is set" -- run mix.ini --set system.sigma=0.5
+expect_fail species-pair "one species" -- run mix.ini --set pair.type=yukawa
+expect_fail species-no-names "species.count is set but species.names is empty" -- run good.ini --set species.count=20
+printf '1 A\n3 C\n' >mpos.txt
+expect_fail species-positions-name "mpos.txt:2" "unknown species 'C'" -- run mix.ini --set init.positions=mpos.txt
+: >mpos2.txt; for k in $(seq 0 19); do echo "$((2 * k + 1)) A" >>mpos2.txt; done
+expect_fail species-positions-count "20 rods of species A, but species.count says 12" -- run mix.ini --set init.positions=mpos2.txt
+
 # an existing, non-empty run directory is refused without --force, accepted with it
 mkdir -p existing && echo keep >existing/note
 "$HSBD" run good.ini --out existing --quiet 2>"$T/stderr"
