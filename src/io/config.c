@@ -815,6 +815,18 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               "whole number of bins",
                               origin_of(cfg, "sample", "bin_width"), cfg->sample.bin_width,
                               cfg->sample.period);
+    /* the profile keeps four accumulators per bin and error block */
+    const double profile_bytes =
+        cfg->sample.period / cfg->sample.bin_width * ((double)cfg->sample.blocks + 1) * 4 * 8;
+    if (profile_bytes > 4.0 * 1024 * 1024 * 1024)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.bin_width = %g gives %.3g bins over sample.period = %g, "
+                              "%.1f GiB of profile accumulators with %lld blocks; allowed: at most "
+                              "4 GiB (a wider bin, or fewer blocks)",
+                              origin_of(cfg, "sample", "bin_width"), cfg->sample.bin_width,
+                              cfg->sample.period / cfg->sample.bin_width, cfg->sample.period,
+                              profile_bytes / (1024.0 * 1024 * 1024),
+                              (long long)cfg->sample.blocks);
     if (cfg->run.t_total / cfg->run.dt > 9.0e15 || cfg->run.t_equil / cfg->run.dt > 9.0e15)
         return hsbd_error_set(err, HSBD_EINPUT, "%s: run.dt = %g gives more than 9e15 steps",
                               origin_of(cfg, "run", "dt"), cfg->run.dt);

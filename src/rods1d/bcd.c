@@ -26,15 +26,16 @@ struct hsbd_rods {
     double *y;          /* free end points of the current step */
     int64_t wraps;      /* unwrapped = z + offset + wraps * L */
     uint64_t step;
-    double time;      /* sum of the steps' dt */
-    size_t nclusters; /* blocks of the last step */
-    hsbd_pava *pava;  /* the step's regression */
-    hsbd_pava *frag;  /* per-cluster regressions for the fragmentation diagnostic */
-    double *frag_v;   /* scratch for one cluster's velocities */
-    double *push;     /* reflect rule: push per gap in the last step (N + 1 gaps) */
-    size_t *csize;    /* walls: cluster sizes after the clamp (blocks pressed together) */
-    double *ypush;    /* reflect rule: end points after the pushes (the regression's input) */
-    double *fpair;    /* pair forces of the step (NULL without pair terms) */
+    double time;           /* sum of the steps' dt */
+    size_t nclusters;      /* blocks of the last step */
+    hsbd_pava *pava;       /* the step's regression */
+    hsbd_pava *frag;       /* per-cluster regressions for the fragmentation diagnostic */
+    double *frag_v;        /* scratch for one cluster's velocities */
+    double *push;          /* reflect rule: push per gap in the last step (N + 1 gaps) */
+    size_t wall_blocks[2]; /* walls: regression blocks clamped to the left / right wall */
+    size_t pava_blocks;    /* walls: blocks of the last regression */
+    double *ypush;         /* reflect rule: end points after the pushes (the regression's input) */
+    double *fpair;         /* pair forces of the step (NULL without pair terms) */
     double pair_range;
 };
 
@@ -138,14 +139,13 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
         r->push = calloc(n + 1, sizeof *r->push);
         r->ypush = malloc(n * sizeof *r->ypush);
     }
-    if (r->walls) r->csize = malloc(n * sizeof *r->csize);
     r->pair_range = hsbd_pair_range(&par->pair);
     if (par->pair.nterms > 0) r->fpair = malloc(n * sizeof *r->fpair);
     int species_ok = par->nspecies == 0;
     if (!species_ok) species_ok = alloc_species(r, par) == 0;
     if (!species_ok || !r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
         (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush)) ||
-        (r->walls && !r->csize) || (par->pair.nterms > 0 && !r->fpair)) {
+        (par->pair.nterms > 0 && !r->fpair)) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
     }
@@ -168,7 +168,6 @@ void hsbd_rods_free(hsbd_rods *r) {
     free(r->push);
     free(r->ypush);
     free(r->fpair);
-    free(r->csize);
     free(r->species);
     free(r->friction);
     free(r->sp_sigma);
@@ -314,7 +313,7 @@ static void compute_endpoints(hsbd_rods *r) {
             if (has_pair)
                 for (size_t j = 0; j < m; ++j)
                     f[j] += r->fpair[i0 + j];
-        } else {
+        } else if (r->species) {
             memset(f, 0, m * sizeof *f);
         }
         if (r->species) {
@@ -391,8 +390,8 @@ static void recenter(hsbd_rods *r) {
  * variance 2 d_rel dt (d_rel: relative diffusion), drawn with the uniform u:
  * P(min < m) = exp(-(g0 - m)(g1 - m) / (d_rel dt)). Returns the push -m > 0 that reflects
  * the gap at zero (Skorokhod; design note 7), or 0. */
-static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, uint64_t step,
-                          size_t gap) {
+static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed,
+                                 uint64_t step, size_t gap) {
     /* crossing probability exp(-g0 g1 / (d_rel dt)) < 2e-9 otherwise */
     if (g1 > 0 && g0 * g1 > 20.0 * d_rel_dt) return 0.0;
     double u;
@@ -419,57 +418,72 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
  * free end points of all gaps first, so the result does not depend on the order. */
 static void reflect_gaps(hsbd_rods *r) {
     const size_t n = r->par.n;
-    const double dt = r->par.dt, lf = r->free_length;
+    const double kt_dt = r->par.kT * r->par.dt, lf = r->free_length;
+    const double d_rel_dt_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
     const uint64_t seed = r->par.seed, step = r->step;
-    for (size_t i = 0; i < n; ++i) {
-        const size_t j = i + 1 < n ? i + 1 : 0;
-        r->push[i] = 0.0;
-        if (r->walls && i + 1 == n) { /* right wall */
-            const double d_dt = rod_mobility(r, i) * r->par.kT * dt;
-            r->push[i] = bridge_push(lf - r->z[i], lf - r->y[i], d_dt, seed, step, i);
-            continue;
-        }
-        if (n < 2) continue;
-        const double wrap = i + 1 < n ? 0.0 : lf;
-        const double d_rel_dt = (rod_mobility(r, i) + rod_mobility(r, j)) * r->par.kT * dt;
-        r->push[i] = bridge_push(r->z[j] + wrap - r->z[i], r->y[j] + wrap - r->y[i], d_rel_dt, seed,
-                                 step, i);
+    const double *z = r->z, *y = r->y;
+    double *push = r->push;
+    for (size_t i = 0; i + 1 < n; ++i) {
+        const double d_rel_dt =
+            r->species ? (rod_mobility(r, i) + rod_mobility(r, i + 1)) * kt_dt : d_rel_dt_one;
+        push[i] = bridge_push(z[i + 1] - z[i], y[i + 1] - y[i], d_rel_dt, seed, step, i);
     }
-    r->push[n] =
-        r->walls ? bridge_push(r->z[0], r->y[0], rod_mobility(r, 0) * r->par.kT * dt, seed, step, n)
-                 : 0.0;
+    if (r->walls) { /* the rod's own D against each wall */
+        const double d_last = rod_mobility(r, n - 1) * kt_dt, d_first = rod_mobility(r, 0) * kt_dt;
+        push[n - 1] = bridge_push(lf - z[n - 1], lf - y[n - 1], d_last, seed, step, n - 1);
+        push[n] = bridge_push(z[0], y[0], d_first, seed, step, n);
+    } else {
+        const double d_rel_dt = (rod_mobility(r, n - 1) + rod_mobility(r, 0)) * kt_dt;
+        push[n - 1] = n > 1 ? bridge_push(z[0] + lf - z[n - 1], y[0] + lf - y[n - 1], d_rel_dt,
+                                          seed, step, n - 1)
+                            : 0.0;
+        push[n] = 0.0;
+    }
+    /* interior rods of one species take half of each neighbouring push */
+    const size_t first_general = r->species ? n : 1;
+    for (size_t i = first_general; i + 1 < n; ++i)
+        r->ypush[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
     for (size_t i = 0; i < n; ++i) {
+        if (i >= first_general && i + 1 < n) continue;
         const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
         const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
-        const double left = r->push[wall_left ? n : il], right = r->push[i];
-        r->ypush[i] = r->y[i] + left * push_share(r, i, wall_left ? i : il) -
+        const double left = push[wall_left ? n : il], right = push[i];
+        r->ypush[i] = y[i] + left * push_share(r, i, wall_left ? i : il) -
                       right * push_share(r, i, wall_right ? i : ir);
     }
 }
 
 /* Between walls: clamp the line regression to [0, free length] (the exact solution of the
- * bounded isotonic regression) and record the cluster sizes, the blocks clamped to the
- * same wall forming one cluster. Returns the number of clusters. */
+ * bounded isotonic regression). Only blocks at the ends can reach a wall (the fit is
+ * sorted), so this costs O(clamped blocks). Blocks clamped to the same wall form one
+ * cluster; their numbers are kept for the cluster sizes. Returns the number of clusters. */
 static size_t clamp_to_walls(hsbd_rods *r, size_t nblocks) {
     const double lf = r->free_length;
-    size_t nc = 0, start = 0;
-    int at_left = 0, at_right = 0;
-    for (size_t k = 0; k < nblocks; ++k) {
-        const size_t size = hsbd_pava_block_size(r->pava, k);
-        const double v = r->z[start];
-        const int left = v <= 0.0, right = v >= lf;
-        if (left || right)
-            for (size_t i = start; i < start + size; ++i)
-                r->z[i] = left ? 0.0 : lf;
-        if ((left && at_left) || (right && at_right))
-            r->csize[nc - 1] += size;
-        else
-            r->csize[nc++] = size;
-        at_left = left;
-        at_right = right;
+    size_t lead = 0, trail = 0, start = 0, end = r->par.n;
+    while (lead < nblocks && r->z[start] <= 0.0) {
+        const size_t size = hsbd_pava_block_size(r->pava, lead++);
+        for (size_t i = start; i < start + size; ++i)
+            r->z[i] = 0.0;
         start += size;
     }
-    return nc;
+    while (trail < nblocks - lead && r->z[end - 1] >= lf) {
+        const size_t size = hsbd_pava_block_size(r->pava, nblocks - 1 - trail++);
+        for (size_t i = end - size; i < end; ++i)
+            r->z[i] = lf;
+        end -= size;
+    }
+    r->wall_blocks[0] = lead;
+    r->wall_blocks[1] = trail;
+    r->pava_blocks = nblocks;
+    return nblocks - (lead > 1 ? lead - 1 : 0) - (trail > 1 ? trail - 1 : 0);
+}
+
+/* sum of the sizes of regression blocks [a, b) */
+static size_t blocks_size(const hsbd_rods *r, size_t a, size_t b) {
+    size_t total = 0;
+    for (size_t k = a; k < b; ++k)
+        total += hsbd_pava_block_size(r->pava, k);
+    return total;
 }
 
 void hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
@@ -508,7 +522,11 @@ size_t hsbd_rods_cluster_count(const hsbd_rods *r) {
 }
 
 size_t hsbd_rods_cluster_size(const hsbd_rods *r, size_t k) {
-    return r->walls ? r->csize[k] : hsbd_pava_block_size(r->pava, k);
+    if (!r->walls) return hsbd_pava_block_size(r->pava, k);
+    const size_t lead = r->wall_blocks[0], trail = r->wall_blocks[1], nb = r->pava_blocks;
+    if (lead > 0 && k == 0) return blocks_size(r, 0, lead); /* held by the left wall */
+    if (trail > 0 && k + 1 == r->nclusters) return blocks_size(r, nb - trail, nb);
+    return hsbd_pava_block_size(r->pava, k + (lead > 1 ? lead - 1 : 0));
 }
 
 hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *r) {

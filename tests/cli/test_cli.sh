@@ -139,6 +139,7 @@ printf '0.1\n' >wpos.txt; for k in $(seq 1 19); do echo "$((2 * k))" >>wpos.txt;
 expect_fail walls-positions "outside the walls" "sigma/2 = 0.25 <= x" -- run good.ini --set system.boundary=walls --set init.positions=wpos.txt
 "$HSBD" run good.ini --set system.boundary=walls --set field.type=harmonic+tilt --set field.force=-0.5 --out "$T/walls" "${QUICK[@]}" \
     && grep -q '"wall_left"' "$T/walls/summary.json" && ok || bad "walls run without wall contact densities"
+expect_fail profile-memory "sample.bin_width = 0.0001" "GiB of profile accumulators" "at most 4 GiB" -- run good.ini --set system.boundary=walls --set system.L=1000 --set sample.bin_width=1e-4 --set sample.blocks=20 --set sample.every=1
 # mixtures: counts must sum to N, one entry per species, sane values
 mix_ini() {
     printf '[system]\nN = 20\nL = 40\n[species]\nnames = A B\ncount = %s\nsigma = %s\nD = %s\n' "$1" "$2" "$3"
