@@ -56,6 +56,10 @@ static void usage(FILE *out) {
             "                                       exact equilibrium profile (x rho rho2)\n"
             "       hsbd theory tonks --sigma S --rho R [--gamma G] [--D D]\n"
             "                                       closed forms of the homogeneous fluid\n"
+            "       hsbd theory box --N N --L L --sigma S [--force F] [--stiffness K]\n"
+            "                      [--center C] [--amplitude U0] [--wavelength W] [--bin W]\n"
+            "                      [--points M] --out FILE|-\n"
+            "                                       exact profile between hard walls\n"
             "       hsbd validate [--quick] [--dt-scan] [--sticky] [--out DIR] [--case TEXT]\n"
             "                     [--jobs N]\n"
             "                                       simulations against exact theory\n"
@@ -307,6 +311,85 @@ static int parse_num_flags(const char *cmd, int argc, char **argv, int first, nu
     return 0;
 }
 
+/* --out FILE (written atomically) or - (standard output) */
+static int open_theory_output(const char *out, hsbd_outfile *o, FILE **f, hsbd_error *err) {
+    if (!strcmp(out, "-")) return HSBD_OK;
+    char dir[HSBD_PATH_MAX], name[HSBD_PATH_MAX];
+    const char *slash = strrchr(out, '/');
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - out) : 1, slash ? out : ".");
+    snprintf(name, sizeof name, "%s", slash ? slash + 1 : out);
+    if (hsbd_outfile_open(o, dir, name, err) != HSBD_OK) return err->status;
+    *f = o->f;
+    return HSBD_OK;
+}
+
+/* N rods between hard walls at 0 and L in cosine + tilt + harmonic fields: the exact
+ * canonical profile (src/theory/box.c), bin averages. */
+static int cmd_theory_box(int argc, char **argv) {
+    double n = 0, length = 0, sigma = 0, u0 = 0, wavelength = 1, force = 0, stiffness = 0,
+           center = NAN, bin = 0.01, points = 0;
+    const char *out = NULL;
+    num_flag flags[] = {
+        {"--N", &n, 1, 1e7, 0, 0, 1, 0},
+        {"--L", &length, 0, 1e300, 1, 1, 1, 0},
+        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, 0},
+        {"--amplitude", &u0, -1e6, 1e6, 0, 0, 0, 0},
+        {"--wavelength", &wavelength, 0, 1e300, 1, 1, 0, 0},
+        {"--force", &force, -1e6, 1e6, 0, 0, 0, 0},
+        {"--stiffness", &stiffness, 0, 1e6, 0, 0, 0, 0},
+        {"--center", &center, -1e300, 1e300, 0, 0, 0, 0},
+        {"--bin", &bin, 0, 1e300, 1, 1, 0, 0},
+        {"--points", &points, 16, 1e8, 0, 0, 0, 0},
+    };
+    const int rc =
+        parse_num_flags("theory box", argc, argv, 3, flags, sizeof flags / sizeof flags[0], &out);
+    if (rc) return rc;
+    if (!out || n != floor(n) || points != floor(points) || !(n * sigma < length)) {
+        fprintf(stderr, "hsbd theory box: need --out FILE|-, whole --N and --points, and "
+                        "N sigma < L\n");
+        return EXIT_INPUT;
+    }
+    hsbd_field field = {0};
+    if (u0 != 0) hsbd_field_add(&field, hsbd_field_cosine(u0, wavelength));
+    if (force != 0) hsbd_field_add(&field, hsbd_field_tilt(force));
+    if (stiffness > 0)
+        hsbd_field_add(&field,
+                       hsbd_field_harmonic(stiffness, isnan(center) ? 0.5 * length : center, 0.0));
+    if (points == 0) points = fmin(1e5, fmax(2000, 2e7 / n)); /* memory N x points doubles */
+    hsbd_box_params p = {.n = (size_t)n,
+                         .length = length,
+                         .sigma = sigma,
+                         .field = &field,
+                         .points = (size_t)points};
+    hsbd_box_result r;
+    hsbd_error err;
+    const int st = hsbd_box_solve(&p, bin, &r, &err);
+    if (st != HSBD_OK) return fail(st, err.message);
+    FILE *f = stdout;
+    hsbd_outfile o = {0};
+    if (open_theory_output(out, &o, &f, &err) != HSBD_OK) {
+        hsbd_box_result_free(&r);
+        return fail(err.status, err.message);
+    }
+    fprintf(f,
+            "# hsbd %s (git %s): N hard rods between hard walls, exact canonical profile "
+            "(docs/theory.md), bin averages\n",
+            HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
+    fprintf(f,
+            "# N = %zu\n# L = %.17g\n# sigma = %.17g\n# amplitude = %.17g\n# wavelength = %.17g\n"
+            "# force = %.17g\n# stiffness = %.17g\n# center = %.17g\n# points = %zu\n"
+            "# wall_left = %.12g\n# wall_right = %.12g\n",
+            p.n, length, sigma, u0, wavelength, force, stiffness,
+            isnan(center) ? 0.5 * length : center, p.points, r.wall_left, r.wall_right);
+    fprintf(f, "x\trho\trho2\n");
+    for (size_t k = 0; k < r.nbins; ++k)
+        fprintf(f, "%.10g\t%.12g\t%.12g\n", (k + 0.5) * bin, r.rho[k], r.rho2[k]);
+    hsbd_box_result_free(&r);
+    if (f != stdout && hsbd_outfile_commit(&o, &err) != HSBD_OK)
+        return fail(err.status, err.message);
+    return 0;
+}
+
 static int cmd_theory_percus(int argc, char **argv) {
     double sigma = 0, rho = 0, u0 = 0, gamma = 0, wavelength = 1, points = 2000;
     const char *out = NULL;
@@ -348,16 +431,9 @@ static int cmd_theory_percus(int argc, char **argv) {
     if (st != HSBD_OK) return fail(st, err.message);
     FILE *f = stdout;
     hsbd_outfile o = {0};
-    if (strcmp(out, "-")) {
-        char dir[HSBD_PATH_MAX], name[HSBD_PATH_MAX];
-        const char *slash = strrchr(out, '/');
-        snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - out) : 1, slash ? out : ".");
-        snprintf(name, sizeof name, "%s", slash ? slash + 1 : out);
-        if (hsbd_outfile_open(&o, dir, name, &err) != HSBD_OK) {
-            hsbd_percus_result_free(&r);
-            return fail(err.status, err.message);
-        }
-        f = o.f;
+    if (open_theory_output(out, &o, &f, &err) != HSBD_OK) {
+        hsbd_percus_result_free(&r);
+        return fail(err.status, err.message);
     }
     fprintf(f, "# hsbd %s (git %s): Percus exact equilibrium profile%s\n", HSBD_VERSION_STRING,
             HSBD_GIT_COMMIT, gamma > 0 ? " (sticky, Antonov Eqs. 34)" : " (Antonov Eqs. 20-23)");
@@ -448,7 +524,8 @@ static int cmd_validate(int argc, char **argv) {
 static int cmd_theory(int argc, char **argv) {
     if (argc >= 3 && !strcmp(argv[2], "percus")) return cmd_theory_percus(argc, argv);
     if (argc >= 3 && !strcmp(argv[2], "tonks")) return cmd_theory_tonks(argc, argv);
-    fprintf(stderr, "hsbd theory: expected 'percus' or 'tonks'\n");
+    if (argc >= 3 && !strcmp(argv[2], "box")) return cmd_theory_box(argc, argv);
+    fprintf(stderr, "hsbd theory: expected 'percus', 'tonks' or 'box'\n");
     usage(stderr);
     return EXIT_INPUT;
 }

@@ -140,6 +140,12 @@ expect_fail walls-positions "outside the walls" "sigma/2 = 0.25 <= x" -- run goo
 "$HSBD" run good.ini --set system.boundary=walls --set field.type=harmonic+tilt --set field.force=-0.5 --out "$T/walls" "${QUICK[@]}" \
     && grep -q '"wall_left"' "$T/walls/summary.json" && ok || bad "walls run without wall contact densities"
 expect_fail profile-memory "sample.bin_width = 0.0001" "GiB of profile accumulators" "at most 4 GiB" -- run good.ini --set system.boundary=walls --set system.L=1000 --set sample.bin_width=1e-4 --set sample.blocks=20 --set sample.every=1
+# exact theory between walls: the walls carry the column's weight (N |force| = 15)
+"$HSBD" theory box --N 30 --L 50 --sigma 1 --force -0.5 --bin 0.5 --out box.tsv \
+    && awk '/^# wall_left/{l=$4} /^# wall_right/{r=$4} END{d=l-r-15; exit !(d < 1e-3 && d > -1e-3)}' box.tsv \
+    && ok || bad "theory box: walls do not balance the weight"
+"$HSBD" theory box --N 30 --L 20 --sigma 1 --out - >/dev/null 2>"$T/stderr"
+[ $? -eq 2 ] && grep -q "N sigma < L" "$T/stderr" && ok || bad "theory box: no room not refused"
 # mixtures: counts must sum to N, one entry per species, sane values
 mix_ini() {
     printf '[system]\nN = 20\nL = 40\n[species]\nnames = A B\ncount = %s\nsigma = %s\nD = %s\n' "$1" "$2" "$3"

@@ -395,6 +395,18 @@ static void test_box_one_rod_is_boltzmann(void) {
           err_fine);
 }
 
+/* Force balance on the whole column: the walls' forces (kT times the densities at
+ * contact) carry the total external force, wall_left - wall_right = -N f for a constant
+ * force f (sedimentation; second order in the spacing). */
+static void test_box_force_balance(void) {
+    hsbd_field field = {0};
+    hsbd_field_add(&field, hsbd_field_tilt(-0.5));
+    hsbd_box_result r = box(30, 50, 1, &field, 20000, 0.5);
+    CHECK_CLOSE(r.wall_left - r.wall_right, 15.0, 1e-4);
+    CHECK_CLOSE(bins_integral(&r, r.rho), 30.0, 1e-9);
+    hsbd_box_result_free(&r);
+}
+
 /* Many rods far from the other wall: Percus' profile at a single hard wall, which for hard
  * rods is the Tonks pair density seen from a fixed rod, rho(s) = rho_b g(s + sigma) at
  * distance s from wall contact (the wall acts as a rod at the origin), with rho_b and
@@ -438,5 +450,6 @@ int main(void) {
     test_box_field_free();
     test_box_one_rod_is_boltzmann();
     test_box_wall_is_percus();
+    test_box_force_balance();
     return test_finish("test_theory");
 }
