@@ -21,8 +21,8 @@ struct hsbd_rods {
     double *friction;
     double *sp_sigma, *sp_diffusion, *sp_mobility, *sp_mu_dt, *sp_noise;
     double contact_tol; /* gaps below this count as contact in the diagnostics */
-    double *z;          /* contact-offset coordinates, ring order */
-    double *offset;     /* z_i + offset_i = position (offset_i = i sigma) */
+    double *z;          /* contact-offset coordinates, in order along the line */
+    double *offset;     /* z_i + offset_i = position (summed contact distances, docs) */
     double *y;          /* free end points of the current step */
     int64_t wraps;      /* unwrapped = z + offset + wraps * L */
     uint64_t step;
