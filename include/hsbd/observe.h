@@ -30,6 +30,12 @@ uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
  * density of a fixed number of rods observed in segments of the ring). */
 size_t hsbd_blocks_result_shape(const hsbd_blocks *b, double *mean, double *err);
 
+/* Each block's mean per sample (nblocks x nvalues, row k = block k; NaN rows for blocks
+ * without samples). shape: each row rescaled to the common total, as in
+ * hsbd_blocks_result_shape. The rows are the independent estimates behind the errors, for
+ * users who want the covariance between values. Returns nblocks. */
+size_t hsbd_blocks_block_means(const hsbd_blocks *b, int shape, double *out);
+
 /* ---- density profile (Eqs. 24-25) and two-particle density at contact (Eq. 26) ---- */
 typedef struct hsbd_profile hsbd_profile;
 /* spatial_blocks = 0: error bars from time blocks; else from that many equal segments
@@ -53,6 +59,12 @@ void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double
 void hsbd_profile_contact_extrapolated(const hsbd_profile *p, double *x, double *rho2, double *err);
 /* rho2(x, x+sigma) from pairs with gaps in [0, contact_width] (Antonov Eq. 26). */
 void hsbd_profile_contact_window(const hsbd_profile *p, double *x, double *rho2, double *err);
+/* Per-block profiles behind the error bars (time blocks, or segments with spatial
+ * blocking), normalised like the profiles above: out is nblocks x bins. Returns nblocks. */
+size_t hsbd_profile_blocks(const hsbd_profile *p);
+void hsbd_profile_density_blocks(const hsbd_profile *p, double *out);
+void hsbd_profile_contact_blocks(const hsbd_profile *p, double *out);
+void hsbd_profile_contact_extrapolated_blocks(const hsbd_profile *p, double *out);
 /* Positions that were not finite in the samples (a run should stop at the first). */
 uint64_t hsbd_profile_nonfinite(const hsbd_profile *p);
 /* Smallest neighbour gap seen in the samples. */

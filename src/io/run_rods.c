@@ -195,6 +195,57 @@ static int write_profiles(run_state *s, hsbd_error *err) {
     return rc;
 }
 
+typedef void (*blocks_getter)(const hsbd_profile *p, double *out);
+
+/* One profile per error block (the independent estimates behind the error bars), as
+ * columns: x, block_1 .. block_n. */
+static int write_blocks_table(run_state *s, const char *name, const char *what, blocks_getter get,
+                              hsbd_error *err) {
+    const size_t nb = hsbd_profile_bins(s->profile), nblk = hsbd_profile_blocks(s->profile);
+    double *val = malloc(nb * nblk * sizeof *val);
+    if (!val) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing %s", name);
+    hsbd_outfile o;
+    int rc = hsbd_outfile_open(&o, s->cfg->output.dir, name, err);
+    if (rc == HSBD_OK) {
+        fprintf(o.f, "# hsbd %s (git %s): %s\n", HSBD_VERSION_STRING, HSBD_GIT_COMMIT, what);
+        hsbd_config_write_header(s->cfg, o.f, "# ");
+        fprintf(o.f, "x");
+        for (size_t b = 0; b < nblk; ++b)
+            fprintf(o.f, "\tblock_%zu", b + 1);
+        fputc('\n', o.f);
+        get(s->profile, val);
+        const double w = s->cfg->sample.period / (double)nb;
+        for (size_t k = 0; k < nb; ++k) {
+            fprintf(o.f, "%.10g", ((double)k + 0.5) * w);
+            for (size_t b = 0; b < nblk; ++b)
+                fprintf(o.f, "\t%.8g", val[b * nb + k]);
+            fputc('\n', o.f);
+        }
+        rc = hsbd_outfile_commit(&o, err);
+    }
+    free(val);
+    return rc;
+}
+
+static int write_profile_blocks(run_state *s, hsbd_error *err) {
+    const int reflect = s->cfg->system.contact_rule == HSBD_CONTACT_REFLECT;
+    const char *unit =
+        s->cfg->sample.blocking == HSBD_BLOCKS_SPACE ? "segment of the line" : "block of time";
+    char what[256];
+    snprintf(what, sizeof what,
+             "density profile of each %s (the estimates behind rho_err; their covariance "
+             "gives correlated errors)",
+             unit);
+    int rc = write_blocks_table(s, "density_blocks.tsv", what, hsbd_profile_density_blocks, err);
+    snprintf(what, sizeof what, "default contact density estimator (%s) of each %s",
+             reflect ? "rho2_extrap" : "rho2_theorem", unit);
+    if (rc == HSBD_OK && s->cfg->system.hard_core)
+        rc = write_blocks_table(
+            s, "contact_blocks.tsv", what,
+            reflect ? hsbd_profile_contact_extrapolated_blocks : hsbd_profile_contact_blocks, err);
+    return rc;
+}
+
 static int write_msd(run_state *s, hsbd_error *err) {
     hsbd_outfile o;
     int rc = hsbd_outfile_open(&o, s->cfg->output.dir, "msd.tsv", err);
@@ -597,6 +648,7 @@ static int finish(run_state *s, int run_rc, hsbd_error *err) {
     hsbd_error werr;
     hsbd_error_clear(&werr);
     int rc = write_profiles(s, &werr);
+    if (rc == HSBD_OK) rc = write_profile_blocks(s, &werr);
     if (rc == HSBD_OK) rc = write_msd(s, &werr);
     if (rc == HSBD_OK && s->cfg->system.hard_core) rc = write_clusters(s, &werr);
     if (rc == HSBD_OK) rc = hsbd_outfile_commit(&s->trajectory, &werr);

@@ -132,3 +132,27 @@ size_t hsbd_blocks_result_shape(const hsbd_blocks *b, double *mean, double *err)
         err[j] = sqrt(err[j] / ((double)used * (double)(used - 1)));
     return used;
 }
+
+size_t hsbd_blocks_block_means(const hsbd_blocks *b, int shape, double *out) {
+    const size_t cur = b->spatial ? b->nblocks : block_of(b, b->nsamples);
+    double total = 0;
+    uint64_t count = 0;
+    for (size_t k = 0; k < b->nblocks; ++k) {
+        count += b->block_n[k];
+        for (size_t j = 0; j < b->nvalues; ++j)
+            total += b->block_sum[k * b->nvalues + j] + (k == cur ? b->acc[j] : 0.0);
+    }
+    const double mean_total = count ? total / (double)count : 0.0; /* per sample */
+    for (size_t k = 0; k < b->nblocks; ++k) {
+        double *row = out + k * b->nvalues, sk = 0;
+        for (size_t j = 0; j < b->nvalues; ++j) {
+            const double s = b->block_sum[k * b->nvalues + j] + (k == cur ? b->acc[j] : 0.0);
+            row[j] = b->block_n[k] ? s / (double)b->block_n[k] : NAN;
+            sk += row[j];
+        }
+        if (shape && b->block_n[k] && sk > 0)
+            for (size_t j = 0; j < b->nvalues; ++j)
+                row[j] *= mean_total / sk;
+    }
+    return b->nblocks;
+}

@@ -12,6 +12,7 @@ struct hsbd_profile {
     size_t nbins;
     double periods;   /* L / period, set from the samples */
     size_t nsegments; /* > 0: spatial error blocks (segments of the ring) */
+    size_t nblocks;   /* error blocks (time or space) */
     double min_gap;
     uint64_t nonfinite;   /* positions that were NaN or infinite (never binned) */
     hsbd_blocks *density; /* counts per bin per sample */
@@ -39,6 +40,7 @@ static hsbd_profile *profile_alloc(double period, double bin_width, double conta
     p->contact_width = contact_width;
     p->min_gap = DBL_MAX;
     p->nsegments = spatial ? nblocks : 0;
+    p->nblocks = nblocks;
     hsbd_blocks **acc[] = {&p->density, &p->contact, &p->impulse, &p->extrap};
     for (int k = 0; k < 4; ++k)
         *acc[k] = spatial ? hsbd_blocks_alloc_spatial(p->nbins, nblocks)
@@ -250,6 +252,32 @@ void hsbd_profile_contact_extrapolated(const hsbd_profile *p, double *x, double 
 
 void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err) {
     finish(p, p->impulse, p->bin_width, x, rho2, err, 0);
+}
+
+size_t hsbd_profile_blocks(const hsbd_profile *p) {
+    return p->nblocks;
+}
+
+/* per-block counts per sample -> densities, normalised as in finish() */
+static void finish_blocks(const hsbd_profile *p, const hsbd_blocks *b, double width, int shape,
+                          double *out) {
+    hsbd_blocks_block_means(b, shape, out);
+    const double periods = p->nsegments ? p->periods / (double)p->nsegments : p->periods;
+    const double norm = 1.0 / (width * periods);
+    for (size_t j = 0; j < p->nblocks * p->nbins; ++j)
+        out[j] *= norm;
+}
+
+void hsbd_profile_density_blocks(const hsbd_profile *p, double *out) {
+    finish_blocks(p, p->density, p->bin_width, p->nsegments > 0, out);
+}
+
+void hsbd_profile_contact_blocks(const hsbd_profile *p, double *out) {
+    finish_blocks(p, p->impulse, p->bin_width, 0, out);
+}
+
+void hsbd_profile_contact_extrapolated_blocks(const hsbd_profile *p, double *out) {
+    finish_blocks(p, p->extrap, p->bin_width, 0, out);
 }
 
 uint64_t hsbd_profile_nonfinite(const hsbd_profile *p) {

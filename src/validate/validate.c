@@ -59,6 +59,27 @@ static int read_table(const char *path, size_t cols, table *t, hsbd_error *err) 
     return t->v ? HSBD_OK : hsbd_error_set(err, HSBD_ENOMEM, "validate: out of memory");
 }
 
+/* A per-block table (x, block_1 .. block_n; written by hsbd run since the blocks
+ * output exists): the number of columns from its header. Missing file: rows = 0. */
+static void read_blocks_table(const char *path, table *t) {
+    FILE *f = fopen(path, "r");
+    t->rows = 0;
+    t->v = NULL;
+    if (!f) return;
+    char line[4096];
+    size_t cols = 0;
+    while (fgets(line, sizeof line, f))
+        if (line[0] == 'x') {
+            cols = 1;
+            for (const char *c = line; *c; ++c)
+                cols += *c == '\t';
+            break;
+        }
+    fclose(f);
+    hsbd_error ignored;
+    if (cols >= 4 && read_table(path, cols, t, &ignored) != HSBD_OK) t->rows = 0;
+}
+
 static double cell(const table *t, size_t r, size_t c) {
     return t->v[r * t->cols + c];
 }
@@ -256,18 +277,59 @@ static int run_all(const hsbd_validate_options *opt, const vcase *cases, size_t 
 typedef struct verdict {
     char observable[32];
     size_t points;
+    double eff_dof; /* points^2 / tr(R^2), R the correlation of the bins' errors */
     double chi2_dof, max_dev, mean_rel;
     int pass;
 } verdict;
 
-/* chi^2/dof below 1 + 4 sd for `points` dof, and no single point beyond the 4.5-sigma
- * band (a family-wise false alarm rate of ~1e-4 for 50 points). chi^2/dof well below 1
- * means conservative error bars (spatial blocks of a fixed-N ring: the segments'
- * numbers fluctuate, the total does not); it is reported, not failed. */
+/* tr(R^2) over the bins `used` of the correlation matrix R of their errors, estimated
+ * from the per-block profiles (rows: bins, columns 1..nb: blocks). Each off-diagonal r^2
+ * is debiased, (r^2 (nb - 1) - 1) / (nb - 2) floored at 0: uncorrelated bins give
+ * E[r^2] = 1/(nb - 1). Independent bins: tr = points. */
+static double correlation_trace(const table *blk, const size_t *used, size_t n) {
+    const size_t nb = blk->cols - 1;
+    double *z = malloc(n * nb * sizeof *z); /* standardised block values */
+    if (!z || nb < 3) {
+        free(z);
+        return (double)n;
+    }
+    for (size_t a = 0; a < n; ++a) {
+        double m = 0, v = 0;
+        for (size_t b = 0; b < nb; ++b)
+            m += cell(blk, used[a], b + 1) / (double)nb;
+        for (size_t b = 0; b < nb; ++b) {
+            const double d = cell(blk, used[a], b + 1) - m;
+            v += d * d;
+        }
+        const double sd = sqrt(v);
+        for (size_t b = 0; b < nb; ++b)
+            z[a * nb + b] = sd > 0 ? (cell(blk, used[a], b + 1) - m) / sd : 0.0;
+    }
+    double tr = (double)n;
+    for (size_t a = 0; a < n; ++a)
+        for (size_t c = a + 1; c < n; ++c) {
+            double r = 0;
+            for (size_t b = 0; b < nb; ++b)
+                r += z[a * nb + b] * z[c * nb + b];
+            const double rho2 = (r * r * (double)(nb - 1) - 1.0) / (double)(nb - 2);
+            if (rho2 > 0 && isfinite(rho2)) tr += 2.0 * rho2;
+        }
+    free(z);
+    return tr;
+}
+
+/* chi^2/dof below 1 + 4 sd, and no single point beyond the 4.5-sigma band (a family-wise
+ * false alarm rate of ~1e-4 for 50 points). The sd of chi^2/dof is sqrt(2 tr(R^2))/points
+ * with R the correlation of the bins' errors, from the per-block profiles `blk` when
+ * given (neighbouring bins of a profile share fluctuations; for independent bins it is
+ * sqrt(2/points)). chi^2/dof well below 1 means conservative error bars (spatial blocks
+ * of a fixed-N ring: the segments' numbers fluctuate, the total does not); it is
+ * reported, not failed. */
 static void judge(verdict *v, const char *what, const double *sim, const double *err,
-                  const double *theory, size_t n) {
+                  const double *theory, size_t n, const table *blk) {
     double chi2 = 0, maxd = 0, rel = 0, tmax = 0;
     size_t used = 0;
+    size_t *idx = malloc((n ? n : 1) * sizeof *idx);
     for (size_t k = 0; k < n; ++k)
         tmax = fmax(tmax, fabs(theory[k]));
     for (size_t k = 0; k < n; ++k) {
@@ -278,14 +340,19 @@ static void judge(verdict *v, const char *what, const double *sim, const double 
         chi2 += d * d;
         maxd = fmax(maxd, fabs(d));
         rel += theory[k] != 0 ? fabs(sim[k] / theory[k] - 1) : 0;
+        if (idx) idx[used] = k;
         ++used;
     }
+    const double tr =
+        blk && idx && blk->rows == n ? correlation_trace(blk, idx, used) : (double)used;
+    free(idx);
     snprintf(v->observable, sizeof v->observable, "%s", what);
     v->points = used;
+    v->eff_dof = used ? (double)used * (double)used / tr : NAN;
     v->chi2_dof = used ? chi2 / (double)used : NAN;
     v->max_dev = maxd;
     v->mean_rel = used ? rel / (double)used : NAN;
-    v->pass = used > 0 && v->chi2_dof - 1 < 4 * sqrt(2.0 / (double)used) && maxd < 4.5;
+    v->pass = used > 0 && v->chi2_dof - 1 < 4 * sqrt(2.0 * tr) / (double)used && maxd < 4.5;
 }
 
 /* theory averaged over each simulation bin of width w centred at x[k] */
@@ -334,11 +401,16 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
             fprintf(o.f, "%.8g\t%.10g\t%.10g\n", th.x[j], th.rho[j], th.rho2[j]);
         hsbd_outfile_commit(&o, err);
     }
-    table d = {0}, ct = {0};
+    table d = {0}, ct = {0}, db = {0}, cb = {0};
     snprintf(path, sizeof path, "%s/density.tsv", dir);
     int rc = read_table(path, 3, &d, err);
     snprintf(path, sizeof path, "%s/contact.tsv", dir);
     if (rc == HSBD_OK) rc = read_table(path, CONTACT_COLUMNS, &ct, err);
+    snprintf(path, sizeof path, "%s/density_blocks.tsv", dir);
+    read_blocks_table(path, &db);
+    snprintf(path, sizeof path, "%s/contact_blocks.tsv", dir); /* the default estimator's */
+    read_blocks_table(path, &cb);
+    const table *dblk = db.rows ? &db : NULL, *cblk = cb.rows ? &cb : NULL;
     if (rc == HSBD_OK) {
         const size_t n = d.rows;
         double *x = malloc(n * sizeof *x), *s = malloc(n * sizeof *s), *e = malloc(n * sizeof *e),
@@ -346,16 +418,16 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
         for (size_t k = 0; k < n; ++k)
             x[k] = cell(&d, k, 0), s[k] = cell(&d, k, 1), e[k] = cell(&d, k, 2);
         bin_average(&th, th.rho, x, n, c->bin_width, t);
-        judge(&v[(*nv)++], "density", s, e, t, n);
+        judge(&v[(*nv)++], "density", s, e, t, n, dblk);
         if (is_sticky) {
             /* the simulated model against Baxter's limit: how far eps = 0.05 is from it */
             bin_average(&baxter, baxter.rho, x, n, c->bin_width, t);
-            judge(&v[(*nv)++], "density vs Eq. 34", s, e, t, n);
+            judge(&v[(*nv)++], "density vs Eq. 34", s, e, t, n, dblk);
             v[*nv - 1].pass = -1;
             bin_average(&th, th.rho2, x, n, c->bin_width, t);
             for (size_t k = 0; k < n; ++k)
                 s[k] = cell(&ct, k, COL_THEOREM), e[k] = cell(&ct, k, COL_THEOREM + 1);
-            judge(&v[(*nv)++], "contact (theorem)", s, e, t, n);
+            judge(&v[(*nv)++], "contact (theorem)", s, e, t, n, NULL);
             v[*nv - 1].pass = -1; /* info: the O(dt) bias of the impulses near a steep force */
             free(x), free(s), free(e), free(t);
             goto done;
@@ -363,19 +435,19 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
         bin_average(&th, th.rho2, x, n, c->bin_width, t);
         for (size_t k = 0; k < n; ++k)
             s[k] = cell(&ct, k, COL_THEOREM), e[k] = cell(&ct, k, COL_THEOREM + 1);
-        judge(&v[(*nv)++], "contact (theorem)", s, e, t, n);
+        judge(&v[(*nv)++], "contact (theorem)", s, e, t, n, opt->sticky ? cblk : NULL);
         for (size_t k = 0; k < n; ++k)
             s[k] = cell(&ct, k, COL_WINDOW), e[k] = cell(&ct, k, COL_WINDOW + 1);
-        judge(&v[(*nv)++], "contact (window)", s, e, t, n);
+        judge(&v[(*nv)++], "contact (window)", s, e, t, n, NULL);
         v[*nv - 1].pass = -1; /* informative only: the windowed estimator is biased */
         for (size_t k = 0; k < n; ++k)
             s[k] = cell(&ct, k, COL_EXTRAP), e[k] = cell(&ct, k, COL_EXTRAP + 1);
-        judge(&v[(*nv)++], "contact (extrapolated)", s, e, t, n);
+        judge(&v[(*nv)++], "contact (extrapolated)", s, e, t, n, opt->sticky ? NULL : cblk);
         if (opt->sticky) v[*nv - 1].pass = -1; /* sticky: the contact layer spoils it */
         free(x), free(s), free(e), free(t);
     }
 done:
-    free(d.v), free(ct.v);
+    free(d.v), free(ct.v), free(db.v), free(cb.v);
     hsbd_percus_result_free(&th);
     hsbd_percus_result_free(&baxter);
     return rc;
@@ -396,14 +468,14 @@ static int compare_tonks(const hsbd_validate_options *opt, const vcase *c, verdi
         /* the period is one bin: the density is N/L exactly, its error is 0 */
         verdict *vd = &v[(*nv)++];
         snprintf(vd->observable, sizeof vd->observable, "density (= N/L)");
-        vd->points = 1, vd->chi2_dof = NAN, vd->max_dev = NAN;
+        vd->points = 1, vd->eff_dof = 1, vd->chi2_dof = NAN, vd->max_dev = NAN;
         vd->mean_rel = fabs(s / t - 1), vd->pass = vd->mean_rel < 1e-12;
         s = cell(&ct, 0, COL_THEOREM);
         double e = cell(&ct, 0, COL_THEOREM + 1);
         t = hsbd_tonks_ring_contact(n, c->length, c->sigma);
-        judge(&v[(*nv)++], "contact (theorem)", &s, &e, &t, 1);
+        judge(&v[(*nv)++], "contact (theorem)", &s, &e, &t, 1, NULL);
         s = cell(&ct, 0, COL_EXTRAP), e = cell(&ct, 0, COL_EXTRAP + 1);
-        judge(&v[(*nv)++], "contact (extrapolated)", &s, &e, &t, 1);
+        judge(&v[(*nv)++], "contact (extrapolated)", &s, &e, &t, 1, NULL);
         if (opt->sticky) v[*nv - 1].pass = -1; /* sticky: the contact layer spoils it */
     }
     free(d.v), free(ct.v);
@@ -430,7 +502,7 @@ static int compare_single_file(const hsbd_validate_options *opt, const vcase *c,
             t[n] = hsbd_single_file_msd_exact(cell(&m, k, 0), c->rho, c->sigma, 1.0);
             ++n;
         }
-        judge(&v[(*nv)++], "tagged MSD (exact law)", s, e, t, n);
+        judge(&v[(*nv)++], "tagged MSD (exact law)", s, e, t, n, NULL);
     }
     free(m.v);
     return rc;
@@ -452,10 +524,12 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
         hsbd_outfile_discard(&tsv);
         return err->status;
     }
-    fprintf(tsv.f, "case\tobservable\tpoints\tchi2_dof\tmax_dev_sigma\tmean_rel_dev\tpass\n");
-    fprintf(md.f, "| case | dt | t | observable | points | chi^2/dof | max dev / error | mean rel. "
-                  "dev | result |\n"
-                  "|---|---|---|---|---|---|---|---|---|\n");
+    fprintf(tsv.f,
+            "case\tobservable\tpoints\teff_dof\tchi2_dof\tmax_dev_sigma\tmean_rel_dev\tpass\n");
+    fprintf(md.f,
+            "| case | dt | t | observable | points (effective) | chi^2/dof | max dev / error | "
+            "mean rel. dev | result |\n"
+            "|---|---|---|---|---|---|---|---|---|\n");
     fprintf(report, "%-26s %-20s %6s %9s %9s %9s %s\n", "case", "observable", "points", "chi2/dof",
             "max|d|/e", "rel.dev", "result");
     int all_pass = 1;
@@ -477,11 +551,11 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
             if (v[k].pass == 0) all_pass = 0;
             fprintf(report, "%-26s %-20s %6zu %9.3f %9.2f %8.2f%% %s\n", c->name, v[k].observable,
                     v[k].points, v[k].chi2_dof, v[k].max_dev, 100 * v[k].mean_rel, res);
-            fprintf(tsv.f, "%s\t%s\t%zu\t%.4g\t%.4g\t%.4g\t%s\n", c->name, v[k].observable,
-                    v[k].points, v[k].chi2_dof, v[k].max_dev, v[k].mean_rel, res);
-            fprintf(md.f, "| %s | %g | %g | %s | %zu | %.3f | %.2f | %.2f %% | %s |\n", c->name,
-                    c->dt, c->t_total, v[k].observable, v[k].points, v[k].chi2_dof, v[k].max_dev,
-                    100 * v[k].mean_rel, res);
+            fprintf(tsv.f, "%s\t%s\t%zu\t%.4g\t%.4g\t%.4g\t%.4g\t%s\n", c->name, v[k].observable,
+                    v[k].points, v[k].eff_dof, v[k].chi2_dof, v[k].max_dev, v[k].mean_rel, res);
+            fprintf(md.f, "| %s | %g | %g | %s | %zu (%.0f) | %.3f | %.2f | %.2f %% | %s |\n",
+                    c->name, c->dt, c->t_total, v[k].observable, v[k].points, v[k].eff_dof,
+                    v[k].chi2_dof, v[k].max_dev, 100 * v[k].mean_rel, res);
         }
     }
     if (hsbd_outfile_commit(&tsv, err) != HSBD_OK || hsbd_outfile_commit(&md, err) != HSBD_OK)
