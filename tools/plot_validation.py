@@ -5,7 +5,8 @@ usage: tools/plot_validation.py VALIDATE_DIR [--out FIG_DIR]
 
 For every percus-s<sigma>-rho<rho> case: simulated density (Fig. 3) and contact density
 (Fig. 4; the default estimator of the run's contact rule, and the windowed one in grey) as symbols over
-the exact Percus theory (line). Debian's python3-matplotlib only.
+the exact Percus theory (line). For the sticky-g<gamma>-rho<rho> cases: the density (Fig. 6) over the
+exact theory of the delta_eps model. Debian's python3-matplotlib only.
 """
 import argparse
 import os
@@ -32,7 +33,7 @@ def column(rows, k):
     return [r[k] for r in rows]
 
 
-def grid_figure(cases, base, kind, out):
+def grid_figure(cases, base, kind, out, row_label=r"$\sigma$", theory_label="Percus (exact)"):
     sigmas = sorted({s for s, _ in cases})
     rhos = sorted({r for _, r in cases})
     fig, axes = plt.subplots(len(sigmas), len(rhos), figsize=(3.4 * len(rhos), 2.6 * len(sigmas)),
@@ -46,7 +47,7 @@ def grid_figure(cases, base, kind, out):
                 sim = read_rows(os.path.join(d, "density.tsv"))
                 ax.errorbar(column(sim, 0), column(sim, 1), yerr=column(sim, 2), fmt="o", ms=2.5,
                             lw=0.7, label="hsbd")
-                ax.plot(column(th, 0), column(th, 1), "k-", lw=0.9, label="Percus (exact)")
+                ax.plot(column(th, 0), column(th, 1), "k-", lw=0.9, label=theory_label)
                 ax.set_ylabel(r"$\rho(x)$")
             else:
                 sim = read_rows(os.path.join(d, "contact.tsv"))
@@ -57,7 +58,7 @@ def grid_figure(cases, base, kind, out):
                             lw=0.7, label="default estimator")
                 ax.plot(column(th, 0), column(th, 2), "k-", lw=0.9, label="Percus (exact)")
                 ax.set_ylabel(r"$\rho_2(x, x+\sigma)$")
-            ax.set_title(rf"$\sigma$ = {s:g}, $\bar\rho$ = {r:g}", fontsize=9)
+            ax.set_title(rf"{row_label} = {s:g}, $\bar\rho$ = {r:g}", fontsize=9)
             ax.set_xlabel("x")
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
@@ -74,15 +75,24 @@ def main():
     a = ap.parse_args()
     out = a.out or a.dir
     os.makedirs(out, exist_ok=True)
-    cases = {}
-    for name in sorted(os.listdir(a.dir)):
-        m = re.fullmatch(r"percus-s([0-9.]+)-rho([0-9.]+)", name)
-        if m and os.path.exists(os.path.join(a.dir, name, "theory.tsv")):
-            cases[(float(m.group(1)), float(m.group(2)))] = name
-    if not cases:
-        sys.exit(f"plot_validation: no percus-* cases with theory.tsv in {a.dir}")
-    grid_figure(cases, a.dir, "density", os.path.join(out, "validation-density.png"))
-    grid_figure(cases, a.dir, "contact", os.path.join(out, "validation-contact.png"))
+    def find(pattern):
+        found = {}
+        for name in sorted(os.listdir(a.dir)):
+            m = re.fullmatch(pattern, name)
+            if m and os.path.exists(os.path.join(a.dir, name, "theory.tsv")):
+                found[(float(m.group(1)), float(m.group(2)))] = name
+        return found
+
+    cases = find(r"percus-s([0-9.]+)-rho([0-9.]+)")
+    sticky = find(r"sticky-g([0-9.]+)-rho([0-9.]+)")
+    if not cases and not sticky:
+        sys.exit(f"plot_validation: no percus-* or sticky-* cases with theory.tsv in {a.dir}")
+    if cases:
+        grid_figure(cases, a.dir, "density", os.path.join(out, "validation-density.png"))
+        grid_figure(cases, a.dir, "contact", os.path.join(out, "validation-contact.png"))
+    if sticky:
+        grid_figure(sticky, a.dir, "density", os.path.join(out, "validation-sticky.png"),
+                    row_label=r"$\gamma$", theory_label=r"exact ($\delta_\epsilon$, p = 3, $\epsilon$ = 0.05)")
 
 
 if __name__ == "__main__":
