@@ -21,6 +21,8 @@
 enum family { FAMILY_PERCUS, FAMILY_STICKY, FAMILY_TONKS, FAMILY_SINGLE_FILE };
 /* sticky contact representation of the paper's Fig. 6: p = 3, epsilon = 0.05 */
 static const double STICKY_ORDER = 3, STICKY_EPSILON = 0.05;
+/* contact window of the extrapolated estimator under the reflect rule */
+static const double REFLECT_CONTACT_WIDTH = 0.02;
 enum { MAX_CASES = 64, MAX_ROWS = 200000 };
 /* contact.tsv: x, then value and error of rho2 (default), theorem, window, extrapolated */
 enum { CONTACT_COLUMNS = 9, COL_THEOREM = 3, COL_WINDOW = 5, COL_EXTRAP = 7 };
@@ -222,7 +224,7 @@ static int case_config(const vcase *c, int reflect, const char *dir, hsbd_config
     if (profile) {
         /* window: 5 rms steps (sticky); with reflect there is no contact layer and a
          * narrow window serves the extrapolation */
-        SET("sample.contact_width=%.17g", reflect ? 0.02 : 5 * sqrt(4 * c->dt));
+        SET("sample.contact_width=%.17g", reflect ? REFLECT_CONTACT_WIDTH : 5 * sqrt(4 * c->dt));
     }
     SET("sample.msd_max_lag=%.17g", c->family == FAMILY_SINGLE_FILE ? c->t_total / 4 : 1.0);
     SET("output.dir=%s", dir);
@@ -482,6 +484,63 @@ static void judge(verdict *v, const char *what, const double *sim, const double 
               !(v->p_value < 1e-3);
 }
 
+enum { MIN_EVENTS_PER_BLOCK = 25 };
+
+/* Contact densities of dilute profiles rest on few pairs per bin: where a bin sees fewer
+ * than MIN_EVENTS_PER_BLOCK pairs in its window per error block, its block values are
+ * not Gaussian (Poisson counts of a handful, the extrapolated estimator even negative)
+ * and an error bar means little. Such bins are merged with their neighbours, in order,
+ * until every group has that many events per block; a group's value is the mean of its
+ * bins, its block values the means of theirs, so the errors and their correlations come
+ * from the blocks as before. `events` holds each bin's expected pairs per block. On
+ * return sim, err, theory and the block table hold the groups; returns their number. */
+static size_t group_sparse_bins(size_t n, const double *events, double *sim, double *err,
+                                double *theory, table *blk) {
+    const size_t nb = blk->cols - 1, cols = blk->cols;
+    size_t *first = malloc((n + 1) * sizeof *first); /* group g: bins [first[g], first[g+1]) */
+    double *orig = malloc(n * cols * sizeof *orig), *s0 = malloc(2 * n * sizeof *s0);
+    if (!first || !orig || !s0 || nb < 2) {
+        free(first), free(orig), free(s0);
+        return n;
+    }
+    memcpy(orig, blk->v, n * cols * sizeof *orig);
+    memcpy(s0, sim, n * sizeof *s0);
+    memcpy(s0 + n, theory, n * sizeof *s0);
+    size_t groups = 0;
+    double acc = 0;
+    first[0] = 0;
+    for (size_t k = 0; k < n; ++k) {
+        acc += events[k];
+        if (acc >= MIN_EVENTS_PER_BLOCK) first[++groups] = k + 1, acc = 0;
+    }
+    if (groups == 0) groups = 1; /* too few events anywhere: one group */
+    first[groups] = n;           /* a short tail joins the last group */
+    for (size_t g = 0; g < groups; ++g) {
+        const size_t lo = first[g], hi = first[g + 1];
+        const double m = (double)(hi - lo);
+        double ssum = 0, tsum = 0, mean = 0, var = 0;
+        for (size_t q = lo; q < hi; ++q)
+            ssum += s0[q], tsum += s0[n + q];
+        double *row = blk->v + g * cols;
+        row[0] = orig[lo * cols];
+        for (size_t b = 1; b <= nb; ++b) {
+            double v = 0;
+            for (size_t q = lo; q < hi; ++q)
+                v += orig[q * cols + b];
+            row[b] = v / m;
+            mean += row[b] / (double)nb;
+        }
+        for (size_t b = 1; b <= nb; ++b)
+            var += (row[b] - mean) * (row[b] - mean);
+        sim[g] = ssum / m;
+        theory[g] = tsum / m;
+        err[g] = sqrt(var / ((double)nb * (double)(nb - 1)));
+    }
+    blk->rows = groups;
+    free(first), free(orig), free(s0);
+    return groups;
+}
+
 /* theory averaged over each simulation bin of width w centred at x[k] */
 static void bin_average(const hsbd_percus_result *r, const double *f, const double *x, size_t n,
                         double w, double *out) {
@@ -569,7 +628,17 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
         v[*nv - 1].pass = -1; /* informative only: the windowed estimator is biased */
         for (size_t k = 0; k < n; ++k)
             s[k] = cell(&ct, k, COL_EXTRAP), e[k] = cell(&ct, k, COL_EXTRAP + 1);
-        judge(&v[(*nv)++], "contact (extrapolated)", s, e, t, n, opt->sticky ? NULL : cblk);
+        size_t ng = n;
+        if (cblk && !opt->sticky && cb.rows == n) {
+            /* pairs per block in each bin's window: rho2 bw cw (L / period) samples / blocks */
+            const double samples = floor(c->t_total / c->dt / c->every + 1e-9);
+            const double per_block =
+                c->bin_width * REFLECT_CONTACT_WIDTH * c->length * samples / (double)(cb.cols - 1);
+            for (size_t k = 0; k < n; ++k)
+                x[k] = fmax(0.0, cell(&ct, k, COL_WINDOW)) * per_block; /* x reused: events */
+            ng = group_sparse_bins(n, x, s, e, t, &cb);
+        }
+        judge(&v[(*nv)++], "contact (extrapolated)", s, e, t, ng, opt->sticky ? NULL : cblk);
         if (opt->sticky) v[*nv - 1].pass = -1; /* sticky: the contact layer spoils it */
         free(x), free(s), free(e), free(t);
     }
