@@ -1,0 +1,561 @@
+/* Event-driven Brownian dynamics step (Scala 2012 Secs. II-III): fictive velocities from
+ * Gaussian displacements, elastic collisions with masses 1/D_i inside [0, dt), per-
+ * particle neighbour shells (re-centred locally, never a global rebuild). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hsbd/rng.h"
+#include "spheres/internal.h"
+
+/* ---- small vector helpers (3 components; z = 0 in 2D) ---- */
+
+static inline double dot3(const double *a, const double *b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* minimum-image a - b */
+static inline void min_image(const hsbd_spheres *s, const double *a, const double *b, double *r) {
+    for (int k = 0; k < 3; ++k)
+        r[k] = sph_wrap_delta(a[k] - b[k], s->box[k], s->inv_box[k]);
+}
+
+static inline double contact_distance(const hsbd_spheres *s, int32_t i, int32_t j) {
+    return 0.5 * (s->sigma[i] + s->sigma[j]);
+}
+
+/* ---- collision rule and contact time (exposed for tests) ---- */
+
+void hsbd_spheres_collide(double di, double dj, const double n[3], double vi[3], double vj[3]) {
+    const double u = (vj[0] - vi[0]) * n[0] + (vj[1] - vi[1]) * n[1] + (vj[2] - vi[2]) * n[2];
+    const double dsum = di + dj;
+    if (!(u < 0) || !(dsum > 0)) return;
+    const double ai = 2.0 * di / dsum * u, aj = 2.0 * dj / dsum * u; /* masses 1/D: Sec. III */
+    for (int k = 0; k < 3; ++k) {
+        vi[k] += ai * n[k];
+        vj[k] -= aj * n[k];
+    }
+}
+
+double hsbd_spheres_contact_time(const double r[3], const double v[3], double s, double tmax) {
+    const double b = dot3(r, v);
+    if (!(b < 0)) return -1; /* not approaching */
+    const double g = dot3(r, r) - s * s;
+    if (g <= 0) return 0; /* touching (round-off) and approaching */
+    const double vv = dot3(v, v);
+    /* early rejection before the square root: |r + v t|^2 - s^2 = g + 2 b t + vv t^2 */
+    if (-b >= vv * tmax && g + tmax * (2 * b + vv * tmax) > 0) return -1;
+    const double disc = b * b - vv * g;
+    if (disc < 0) return -1;
+    const double t = g / (-b + sqrt(disc));
+    return t <= tmax ? t : -1;
+}
+
+/* ---- parameters and allocation ---- */
+
+static double species_value(const hsbd_spheres_params *p, const double *per_species, double one,
+                            size_t i) {
+    return p->nspecies ? per_species[p->species[i]] : one;
+}
+
+static int check_params(const hsbd_spheres_params *p, hsbd_error *err) {
+    if (p->n < 1)
+        return hsbd_error_set(err, HSBD_EINPUT, "spheres: N = %zu; allowed: N >= 1", p->n);
+    if (p->n > 2147483647u)
+        return hsbd_error_set(err, HSBD_EINPUT, "spheres: N = %zu; allowed: N < 2^31", p->n);
+    if (p->dimension != 2 && p->dimension != 3)
+        return hsbd_error_set(err, HSBD_EINPUT, "spheres: dimension = %d; allowed: 2 or 3",
+                              p->dimension);
+    if (!(p->kT > 0) || !(p->dt > 0) || !isfinite(p->dt))
+        return hsbd_error_set(err, HSBD_EINPUT, "spheres: kT = %g, dt = %g; allowed: both > 0",
+                              p->kT, p->dt);
+    for (int a = 0; a < p->dimension; ++a)
+        if (!(p->box[a] > 0) || !isfinite(p->box[a]))
+            return hsbd_error_set(err, HSBD_EINPUT, "spheres: box[%d] = %g; allowed: > 0", a,
+                                  p->box[a]);
+    if (p->nspecies) {
+        if (!p->species || !p->species_sigma || !p->species_diffusion)
+            return hsbd_error_set(err, HSBD_EINPUT, "spheres: nspecies > 0 needs the arrays");
+        for (size_t i = 0; i < p->n; ++i)
+            if (p->species[i] < 0 || (size_t)p->species[i] >= p->nspecies)
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "spheres: species[%zu] = %d; allowed: 0 <= species < %zu", i,
+                                      p->species[i], p->nspecies);
+    }
+    double dmax = 0;
+    const size_t ns = p->nspecies ? p->nspecies : 1;
+    for (size_t k = 0; k < ns; ++k) {
+        const double sg = p->nspecies ? p->species_sigma[k] : p->sigma;
+        const double d = p->nspecies ? p->species_diffusion[k] : p->diffusion;
+        if (!(sg > 0) || !isfinite(sg))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "spheres: sigma = %g (species %zu); allowed: > 0", sg, k);
+        if (!(d >= 0) || !isfinite(d))
+            return hsbd_error_set(err, HSBD_EINPUT, "spheres: D = %g (species %zu); allowed: >= 0",
+                                  d, k);
+        if (d > dmax) dmax = d;
+    }
+    if (!(dmax > 0))
+        return hsbd_error_set(err, HSBD_EINPUT, "spheres: every D is 0; allowed: some D > 0");
+    const int drift = p->drift[0] != 0 || p->drift[1] != 0 || p->drift[2] != 0;
+    if (drift && p->nspecies)
+        for (size_t k = 0; k < p->nspecies; ++k)
+            if (p->species_diffusion[k] == 0)
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "spheres: a drift with immobile particles (D = 0, species "
+                                      "%zu) is not a common drift; allowed: drift 0",
+                                      k);
+    if (!(p->shell >= 0) || !isfinite(p->shell))
+        return hsbd_error_set(err, HSBD_EINPUT, "spheres: shell = %g; allowed: >= 0", p->shell);
+    return HSBD_OK;
+}
+
+/* Shell radius: re-centring costs ~ (2 d D dt)/shell^2 per particle and step, the pair
+ * predictions grow with (sigma + 2 shell)^d; their balance gives shell ~ (D dt)^(1/3)
+ * (bench/RESULTS.md has the scan behind the factor). */
+static double default_shell(const hsbd_spheres *s, double dmax, double sigma_mean) {
+    const double shell = 1.65 * cbrt(2.0 * s->dim * dmax * s->dt * sigma_mean);
+    const double lo = 0.02 * sigma_mean, hi = 0.5 * s->sigma_max;
+    return shell < lo ? lo : shell > hi ? hi : shell;
+}
+
+void hsbd_spheres_free(hsbd_spheres *s) {
+    if (!s) return;
+    free(s->x);
+    free(s->v);
+    free(s->t_local);
+    free(s->centre);
+    free(s->image);
+    free(s->counter);
+    free(s->sigma);
+    free(s->diffusion);
+    free(s->noise_amp);
+    free(s->species);
+    free(s->sp_sigma);
+    free(s->sp_diffusion);
+    free(s->nb_count);
+    free(s->nb);
+    free(s->normals);
+    sph_cells_free(&s->cells);
+    sph_calendar_free(&s->calendar);
+    free(s);
+}
+
+static void set_noise_amplitudes(hsbd_spheres *s) {
+    for (size_t i = 0; i < s->n; ++i)
+        s->noise_amp[i] = sqrt(2.0 * s->diffusion[i] / s->dt); /* v = dr/dt, <dr^2> = 2 D dt */
+}
+
+hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *err) {
+    hsbd_error_clear(err);
+    if (check_params(params, err) != HSBD_OK) return NULL;
+    hsbd_spheres *s = calloc(1, sizeof *s);
+    if (!s) return hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory"), NULL;
+    s->par = *params;
+    s->dim = params->dimension;
+    s->n = params->n;
+    s->dt = params->dt;
+    const size_t n = s->n;
+    for (int a = 0; a < 3; ++a) {
+        s->box[a] = a < s->dim ? params->box[a] : 1.0;
+        s->inv_box[a] = 1.0 / s->box[a];
+        s->par.box[a] = s->box[a];
+        if (a >= s->dim) s->par.drift[a] = 0;
+    }
+    s->x = calloc(3 * n, sizeof *s->x);
+    s->v = calloc(3 * n, sizeof *s->v);
+    s->t_local = calloc(n, sizeof *s->t_local);
+    s->centre = calloc(3 * n, sizeof *s->centre);
+    s->image = calloc(3 * n, sizeof *s->image);
+    s->counter = calloc(n, sizeof *s->counter);
+    s->sigma = malloc(n * sizeof *s->sigma);
+    s->diffusion = malloc(n * sizeof *s->diffusion);
+    s->noise_amp = malloc(n * sizeof *s->noise_amp);
+    s->species = calloc(n, sizeof *s->species);
+    s->normals = malloc((size_t)s->dim * n * sizeof *s->normals);
+    s->nspecies = params->nspecies ? params->nspecies : 1;
+    s->sp_sigma = malloc(s->nspecies * sizeof *s->sp_sigma);
+    s->sp_diffusion = malloc(s->nspecies * sizeof *s->sp_diffusion);
+    if (!s->x || !s->v || !s->t_local || !s->centre || !s->image || !s->counter || !s->sigma ||
+        !s->diffusion || !s->noise_amp || !s->species || !s->normals || !s->sp_sigma ||
+        !s->sp_diffusion)
+        goto oom;
+    double dmax = 0, sigma_sum = 0;
+    for (size_t k = 0; k < s->nspecies; ++k) {
+        s->sp_sigma[k] = params->nspecies ? params->species_sigma[k] : params->sigma;
+        s->sp_diffusion[k] = params->nspecies ? params->species_diffusion[k] : params->diffusion;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        s->species[i] = params->nspecies ? params->species[i] : 0;
+        s->sigma[i] = species_value(params, params->species_sigma, params->sigma, i);
+        s->diffusion[i] = species_value(params, params->species_diffusion, params->diffusion, i);
+        if (s->sigma[i] > s->sigma_max) s->sigma_max = s->sigma[i];
+        if (s->diffusion[i] > dmax) dmax = s->diffusion[i];
+        sigma_sum += s->sigma[i];
+    }
+    s->par.species = s->species; /* the copies */
+    s->par.species_sigma = s->sp_sigma;
+    s->par.species_diffusion = s->sp_diffusion;
+    set_noise_amplitudes(s);
+    s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
+    const double reach = s->sigma_max + 2 * s->shell;
+    for (int a = 0; a < s->dim; ++a)
+        if (params->hard_core && !(s->box[a] >= 2 * reach)) {
+            hsbd_error_set(err, HSBD_EINPUT,
+                           "spheres: box[%d] = %g is shorter than twice the interaction range "
+                           "plus skin, 2 (sigma_max + 2 shell) = %g (sigma_max %g, shell %g); "
+                           "allowed: a larger box or more particles",
+                           a, s->box[a], 2 * reach, s->sigma_max, s->shell);
+            hsbd_spheres_free(s);
+            return NULL;
+        }
+    s->par.shell = s->shell;
+    if (params->hard_core) {
+        if (sph_cells_init(&s->cells, s->dim, s->box, reach, n)) goto oom;
+        s->nb_cap = 16;
+        s->nb_count = calloc(n, sizeof *s->nb_count);
+        s->nb = malloc(n * s->nb_cap * sizeof *s->nb);
+        if (!s->nb_count || !s->nb) goto oom;
+    }
+    return s;
+oom:
+    hsbd_spheres_free(s);
+    hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory for N = %zu", n);
+    return NULL;
+}
+
+void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
+    s->dt = dt;
+    s->par.dt = dt;
+    set_noise_amplitudes(s);
+}
+
+/* ---- neighbour shells ---- */
+
+static int nb_grow(hsbd_spheres *s) {
+    const uint32_t cap = 2 * s->nb_cap;
+    int32_t *nb = malloc(s->n * cap * sizeof *nb);
+    if (!nb) return -1;
+    for (size_t i = 0; i < s->n; ++i)
+        memcpy(nb + i * cap, s->nb + i * s->nb_cap, s->nb_count[i] * sizeof *nb);
+    free(s->nb);
+    s->nb = nb;
+    s->nb_cap = cap;
+    return 0;
+}
+
+static void nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
+    if (s->nb_count[i] == s->nb_cap && nb_grow(s)) {
+        s->oom = 1;
+        return;
+    }
+    s->nb[(size_t)i * s->nb_cap + s->nb_count[i]++] = j;
+}
+
+static void nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
+    int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    const uint32_t c = s->nb_count[i];
+    for (uint32_t k = 0; k < c; ++k)
+        if (row[k] == j) {
+            row[k] = row[c - 1];
+            s->nb_count[i] = c - 1;
+            return;
+        }
+}
+
+static int shells_overlap(const hsbd_spheres *s, int32_t i, int32_t j) {
+    double r[3];
+    min_image(s, s->centre + 3 * (size_t)j, s->centre + 3 * (size_t)i, r);
+    const double reach = contact_distance(s, i, j) + 2 * s->shell;
+    return dot3(r, r) < reach * reach;
+}
+
+static void set_centre(hsbd_spheres *s, int32_t i) {
+    const double *x = s->x + 3 * (size_t)i;
+    double *c = s->centre + 3 * (size_t)i;
+    for (int a = 0; a < 3; ++a)
+        c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
+}
+
+/* Moves i's shell to its current position and finds its neighbours (only i's pairs). */
+static void recentre(hsbd_spheres *s, int32_t i) {
+    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    for (uint32_t k = 0; k < s->nb_count[i]; ++k)
+        nb_remove(s, row[k], i);
+    s->nb_count[i] = 0;
+    sph_cells_remove(&s->cells, i);
+    set_centre(s, i);
+    int32_t around[27];
+    const int nc = sph_cells_around(&s->cells, s->centre + 3 * (size_t)i, around);
+    for (int q = 0; q < nc; ++q)
+        for (int32_t j = s->cells.head[around[q]]; j >= 0; j = s->cells.next[j])
+            if (shells_overlap(s, i, j)) {
+                nb_add(s, i, j);
+                nb_add(s, j, i);
+            }
+    sph_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i);
+    s->stats.shell_updates++;
+}
+
+int sph_rebuild_neighbours(hsbd_spheres *s) {
+    if (!s->par.hard_core) return HSBD_OK;
+    sph_cells_clear(&s->cells);
+    for (size_t i = 0; i < s->n; ++i) {
+        s->nb_count[i] = 0;
+        s->cells.cell_of[i] = -1;
+    }
+    for (size_t i = 0; i < s->n; ++i) {
+        set_centre(s, (int32_t)i);
+        sph_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i);
+    }
+    for (size_t i = 0; i < s->n; ++i) {
+        int32_t around[27];
+        const int nc = sph_cells_around(&s->cells, s->centre + 3 * i, around);
+        for (int q = 0; q < nc; ++q)
+            for (int32_t j = s->cells.head[around[q]]; j >= 0; j = s->cells.next[j])
+                if (j > (int32_t)i && shells_overlap(s, (int32_t)i, j)) {
+                    nb_add(s, (int32_t)i, j);
+                    nb_add(s, j, (int32_t)i);
+                }
+    }
+    return s->oom ? HSBD_ENOMEM : HSBD_OK;
+}
+
+/* ---- event prediction ---- */
+
+static inline void position_at(const hsbd_spheres *s, int32_t i, double t, double *out) {
+    const double *x = s->x + 3 * (size_t)i, *v = s->v + 3 * (size_t)i;
+    const double h = t - s->t_local[i];
+    for (int a = 0; a < 3; ++a)
+        out[a] = x[a] + v[a] * h;
+}
+
+static inline void advance(hsbd_spheres *s, int32_t i, double t) {
+    double *x = s->x + 3 * (size_t)i;
+    const double *v = s->v + 3 * (size_t)i;
+    const double h = t - s->t_local[i];
+    for (int a = 0; a < 3; ++a)
+        x[a] += v[a] * h;
+    s->t_local[i] = t;
+}
+
+static void push_event(hsbd_spheres *s, double t, int32_t i, int32_t j) {
+    const sph_event e = {t, i, j, s->counter[i], j >= 0 ? s->counter[j] : 0};
+    if (sph_calendar_push(&s->calendar, e)) s->oom = 1;
+}
+
+/* Collision of i (at its local time t) with j inside [t, dt). */
+static void predict_pair(hsbd_spheres *s, int32_t i, int32_t j, double t) {
+    double xi[3], xj[3], r[3], v[3];
+    position_at(s, i, t, xi);
+    position_at(s, j, t, xj);
+    min_image(s, xj, xi, r);
+    const double *vi = s->v + 3 * (size_t)i, *vj = s->v + 3 * (size_t)j;
+    for (int a = 0; a < 3; ++a)
+        v[a] = vj[a] - vi[a];
+    const double tc = hsbd_spheres_contact_time(r, v, contact_distance(s, i, j), s->dt - t);
+    if (tc >= 0) push_event(s, t + tc, i, j);
+}
+
+/* When i (at local time t) would leave its shell before dt: schedule that. */
+static void predict_shell_exit(hsbd_spheres *s, int32_t i, double t) {
+    double d[3];
+    min_image(s, s->x + 3 * (size_t)i, s->centre + 3 * (size_t)i, d);
+    const double *v = s->v + 3 * (size_t)i;
+    const double T = s->dt - t, r2 = s->shell * s->shell;
+    double e[3] = {d[0] + v[0] * T, d[1] + v[1] * T, d[2] + v[2] * T};
+    if (dot3(e, e) <= r2) return; /* the straight path stays inside (the ball is convex) */
+    const double vv = dot3(v, v), b = dot3(d, v), c = dot3(d, d) - r2;
+    double h = (-b + sqrt(b * b - vv * c)) / vv; /* c < 0: one positive root */
+    if (!(h >= 0)) h = 0;
+    push_event(s, t + h, i, SPH_EVENT_SHELL);
+}
+
+static void predict_particle(hsbd_spheres *s, int32_t i, double t) {
+    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    const uint32_t c = s->nb_count[i];
+    for (uint32_t k = 0; k < c; ++k)
+        predict_pair(s, i, row[k], t);
+    predict_shell_exit(s, i, t);
+}
+
+/* ---- the step ---- */
+
+static void draw_velocities(hsbd_spheres *s) {
+    const size_t n = s->n, d = (size_t)s->dim;
+    hsbd_rng_normals(s->par.seed, HSBD_STREAM_NOISE, s->step, 0, d * n, s->normals);
+    const double *g = s->par.drift;
+    for (size_t i = 0; i < n; ++i) {
+        double *v = s->v + 3 * i;
+        const double amp = s->noise_amp[i];
+        for (size_t a = 0; a < d; ++a)
+            v[a] = amp * s->normals[d * i + a] + (amp > 0 ? g[a] : 0.0);
+    }
+}
+
+/* Re-centre the shells of particles whose straight end point would leave them, then
+ * predict every neighbour pair once (half scan) and the rare shell exits. */
+static void start_step_events(hsbd_spheres *s) {
+    const double dt = s->dt, r2 = s->shell * s->shell;
+    const size_t n = s->n;
+    sph_calendar_clear(&s->calendar);
+    for (size_t i = 0; i < n; ++i) {
+        double d[3];
+        min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
+        const double *v = s->v + 3 * i;
+        const double e[3] = {d[0] + v[0] * dt, d[1] + v[1] * dt, d[2] + v[2] * dt};
+        if (dot3(e, e) > r2) {
+            recentre(s, (int32_t)i);
+            predict_shell_exit(s, (int32_t)i, 0.0);
+        }
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const double *xi = s->x + 3 * i, *vi = s->v + 3 * i;
+        const int32_t *row = s->nb + i * s->nb_cap;
+        const uint32_t c = s->nb_count[i];
+        for (uint32_t k = 0; k < c; ++k) {
+            const int32_t j = row[k];
+            if (j < (int32_t)i) continue;
+            const double *xj = s->x + 3 * (size_t)j, *vj = s->v + 3 * (size_t)j;
+            double r[3], v[3];
+            for (int a = 0; a < 3; ++a) {
+                r[a] = sph_wrap_delta(xj[a] - xi[a], s->box[a], s->inv_box[a]);
+                v[a] = vj[a] - vi[a];
+            }
+            const double tc =
+                hsbd_spheres_contact_time(r, v, contact_distance(s, (int32_t)i, j), dt);
+            if (tc >= 0) push_event(s, tc, (int32_t)i, j);
+        }
+    }
+}
+
+static void process_collision(hsbd_spheres *s, const sph_event *e) {
+    const int32_t i = e->i, j = e->j;
+    advance(s, i, e->t);
+    advance(s, j, e->t);
+    double r[3];
+    min_image(s, s->x + 3 * (size_t)j, s->x + 3 * (size_t)i, r);
+    const double dist = sqrt(dot3(r, r));
+    const double nrm[3] = {r[0] / dist, r[1] / dist, r[2] / dist};
+    double *vi = s->v + 3 * (size_t)i, *vj = s->v + 3 * (size_t)j;
+    const double u = (vj[0] - vi[0]) * nrm[0] + (vj[1] - vi[1]) * nrm[1] + (vj[2] - vi[2]) * nrm[2];
+    if (!(u < 0)) return; /* separating already (round-off): nothing to do */
+    const double di = s->diffusion[i], dj = s->diffusion[j];
+    hsbd_spheres_collide(di, dj, nrm, vi, vj);
+    /* sigma_ij times the displacement change of j along n over D_j: impulse / kT */
+    s->stats.virial += contact_distance(s, i, j) * (-2.0 * u / (di + dj)) * (s->dt - e->t);
+    s->stats.collisions++;
+    s->counter[i]++;
+    s->counter[j]++;
+    predict_particle(s, i, e->t);
+    predict_particle(s, j, e->t);
+}
+
+static void run_events(hsbd_spheres *s) {
+    sph_event e;
+    while (sph_calendar_pop(&s->calendar, &e)) {
+        if (s->counter[e.i] != e.ci || (e.j >= 0 && s->counter[e.j] != e.cj)) {
+            s->stats.stale_events++;
+            continue;
+        }
+        if (e.j == SPH_EVENT_SHELL) {
+            advance(s, e.i, e.t);
+            recentre(s, e.i);
+            predict_particle(s, e.i, e.t);
+        } else {
+            process_collision(s, &e);
+        }
+    }
+}
+
+/* Every particle to t = dt, wrapped into the box with image counters. */
+static void finish_step(hsbd_spheres *s) {
+    const double dt = s->dt;
+    for (size_t i = 0; i < s->n; ++i) {
+        double *x = s->x + 3 * i;
+        const double *v = s->v + 3 * i;
+        const double h = dt - s->t_local[i];
+        s->t_local[i] = 0;
+        for (int a = 0; a < s->dim; ++a) {
+            x[a] += v[a] * h;
+            const double w = floor(x[a] * s->inv_box[a]);
+            if (w != 0) {
+                x[a] -= w * s->box[a];
+                if (x[a] >= s->box[a]) x[a] -= s->box[a], s->image[3 * i + a]++; /* round-off */
+                if (x[a] < 0) x[a] += s->box[a], s->image[3 * i + a]--;
+                s->image[3 * i + a] += (int64_t)w;
+            }
+        }
+    }
+}
+
+void hsbd_spheres_step(hsbd_spheres *s) {
+    draw_velocities(s);
+    if (s->par.hard_core) {
+        start_step_events(s);
+        run_events(s);
+    }
+    finish_step(s);
+    s->step++;
+    s->stats.steps++;
+    s->time += s->dt;
+}
+
+/* ---- views and diagnostics ---- */
+
+hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s) {
+    hsbd_spheres_view v = {.n = s->n,
+                           .dimension = s->dim,
+                           .x = s->x,
+                           .image = s->image,
+                           .sigma = s->sigma,
+                           .diffusion = s->diffusion,
+                           .species = s->species,
+                           .nspecies = s->nspecies,
+                           .kT = s->par.kT,
+                           .dt = s->dt,
+                           .time = s->time,
+                           .step = s->step,
+                           .hard_core = s->par.hard_core};
+    for (int a = 0; a < 3; ++a)
+        v.box[a] = s->box[a];
+    return v;
+}
+
+const hsbd_spheres_params *hsbd_spheres_get_params(const hsbd_spheres *s) {
+    return &s->par;
+}
+
+hsbd_spheres_stats hsbd_spheres_get_stats(const hsbd_spheres *s) {
+    return s->stats;
+}
+
+void hsbd_spheres_reset_stats(hsbd_spheres *s) {
+    memset(&s->stats, 0, sizeof s->stats);
+}
+
+double hsbd_spheres_shell(const hsbd_spheres *s) {
+    return s->shell;
+}
+
+double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite) {
+    int finite = 1;
+    for (size_t k = 0; k < 3 * s->n; ++k)
+        finite &= isfinite(s->x[k]) != 0;
+    if (all_finite) *all_finite = finite;
+    double worst = INFINITY;
+    if (!s->par.hard_core || !finite) return worst;
+    for (size_t i = 0; i < s->n; ++i) {
+        const int32_t *row = s->nb + i * s->nb_cap;
+        for (uint32_t k = 0; k < s->nb_count[i]; ++k) {
+            const int32_t j = row[k];
+            if (j < (int32_t)i) continue;
+            double r[3];
+            min_image(s, s->x + 3 * (size_t)j, s->x + 3 * i, r);
+            const double sij = contact_distance(s, (int32_t)i, j);
+            const double gap = (sqrt(dot3(r, r)) - sij) / sij;
+            if (gap < worst) worst = gap;
+        }
+    }
+    return worst;
+}

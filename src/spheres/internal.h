@@ -1,0 +1,42 @@
+/* The EDBD object, shared by the files of src/spheres. */
+#ifndef HSBD_SPHERES_INTERNAL_H
+#define HSBD_SPHERES_INTERNAL_H
+
+#include "hsbd/spheres.h"
+#include "spheres/calendar.h"
+#include "spheres/cells.h"
+
+struct hsbd_spheres {
+    hsbd_spheres_params par;
+    int dim;
+    size_t n;
+    double box[3], inv_box[3];
+    /* per particle (x, v, centre, image: 3 per particle; z = 0 in 2D) */
+    double *x;       /* position at the particle's local time t_local (wrapped at step ends) */
+    double *v;       /* fictive velocity of the current step */
+    double *t_local; /* time within the step of x */
+    double *centre;  /* neighbour-shell centre (wrapped) */
+    int64_t *image;
+    uint32_t *counter;                     /* collisions so far: invalidates older events */
+    double *sigma, *diffusion, *noise_amp; /* sqrt(2 D_i / dt) */
+    int *species;
+    double *sp_sigma, *sp_diffusion;
+    size_t nspecies;
+    double sigma_max, shell;
+    /* neighbours: pairs whose shells overlap, |c_i - c_j| < sigma_ij + 2 shell */
+    uint32_t nb_cap;
+    uint32_t *nb_count;
+    int32_t *nb;     /* n x nb_cap */
+    sph_cells cells; /* of the shell centres, cells >= sigma_max + 2 shell wide */
+    sph_calendar calendar;
+    double *normals; /* dim x n draws of a step */
+    double dt, time;
+    uint64_t step;
+    int oom; /* an allocation failed inside a step (the step is then not exact) */
+    hsbd_spheres_stats stats;
+};
+
+/* Places every particle's shell at its position and builds all neighbour lists. */
+int sph_rebuild_neighbours(hsbd_spheres *s);
+
+#endif
