@@ -6,6 +6,7 @@
 int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, size_t npoints) {
     c->dim = dim;
     c->ncells = 1;
+    c->few = 0;
     for (int a = 0; a < 3; ++a) {
         int n = 1;
         if (a < dim) {
@@ -13,6 +14,7 @@ int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, 
             n = q < 1 ? 1 : q > 1024 ? 1024 : (int)q;
         }
         c->nc[a] = n;
+        if (a < dim && n < 3) c->few = 1;
         c->inv_width[a] = a < dim ? n / box[a] : 0.0;
         c->ncells *= (size_t)n;
     }
@@ -40,7 +42,9 @@ void sph_cells_clear(sph_cells *c) {
 }
 
 static int axis_cell(const sph_cells *c, int a, double x) {
-    int k = (int)floor(x * c->inv_width[a]);
+    const double q = x * c->inv_width[a];
+    int k = (int)q; /* truncation: floor for the wrapped (non-negative) positions */
+    if (q < 0) k = (int)floor(q);
     k %= c->nc[a];
     return k < 0 ? k + c->nc[a] : k;
 }
@@ -84,7 +88,7 @@ int sph_cells_around(const sph_cells *c, const double x[3], int32_t out[27]) {
                 const int kz = (kc[2] + dz + c->nc[2]) % c->nc[2];
                 const int32_t k = (int32_t)((kz * c->nc[1] + ky) * c->nc[0] + kx);
                 int seen = 0;
-                for (int q = 0; q < count && !seen; ++q)
+                for (int q = 0; q < count && c->few && !seen; ++q)
                     seen = out[q] == k;
                 if (!seen) out[count++] = k;
             }

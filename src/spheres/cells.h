@@ -12,6 +12,7 @@ typedef struct sph_cells {
     int nc[3]; /* cells per axis (1 for z in 2D) */
     double inv_width[3];
     size_t ncells;
+    int few;              /* some axis has fewer than 3 cells: neighbour cells repeat */
     int32_t *head;        /* first point of each cell, -1 empty */
     int32_t *next, *prev; /* doubly linked points (O(1) removal) */
     int32_t *cell_of;     /* cell of each point, -1 when not inserted */
@@ -28,9 +29,13 @@ void sph_cells_remove(sph_cells *c, int32_t i);
 /* Distinct cells around the cell of x (itself included); returns their number. */
 int sph_cells_around(const sph_cells *c, const double x[3], int32_t out[27]);
 
-/* Minimum-image difference along one axis. */
+/* Minimum-image difference along one axis, for |d| < 1.5 box (positions wrapped at the
+ * start of a step move far less than half a box within it); branch-free selects. */
 static inline double sph_wrap_delta(double d, double box, double inv_box) {
-    return d - box * __builtin_nearbyint(d * inv_box);
+    (void)inv_box;
+    const double half = 0.5 * box;
+    d = d > half ? d - box : d;
+    return d < -half ? d + box : d;
 }
 
 #endif

@@ -37,18 +37,22 @@ void hsbd_spheres_collide(double di, double dj, const double n[3], double vi[3],
     }
 }
 
-double hsbd_spheres_contact_time(const double r[3], const double v[3], double s, double tmax) {
-    const double b = dot3(r, v);
-    if (!(b < 0)) return -1; /* not approaching */
-    const double g = dot3(r, r) - s * s;
+/* |r + v t|^2 - s^2 = g + 2 b t + vv t^2 has a root in [0, T] iff the pair approaches
+ * (b < 0) and either the value at T is <= 0 or the minimum lies inside [0, T] with a
+ * non-negative discriminant. All tests are evaluated without branches (about half the
+ * neighbour pairs approach: a branch on b alone mispredicts), the root only for hits. */
+static inline double contact_time(const double r[3], const double v[3], double s, double tmax) {
+    const double b = dot3(r, v), g = dot3(r, r) - s * s, vv = dot3(v, v);
+    const double f_end = g + tmax * (2 * b + vv * tmax), disc = b * b - vv * g;
+    const int hit = (b < 0) & ((f_end <= 0) | ((-b < vv * tmax) & (disc >= 0)));
+    if (__builtin_expect(!hit, 1)) return -1;
     if (g <= 0) return 0; /* touching (round-off) and approaching */
-    const double vv = dot3(v, v);
-    /* early rejection before the square root: |r + v t|^2 - s^2 = g + 2 b t + vv t^2 */
-    if (-b >= vv * tmax && g + tmax * (2 * b + vv * tmax) > 0) return -1;
-    const double disc = b * b - vv * g;
-    if (disc < 0) return -1;
-    const double t = g / (-b + sqrt(disc));
-    return t <= tmax ? t : -1;
+    const double t = g / (-b + sqrt(disc > 0 ? disc : 0));
+    return t <= tmax ? t : tmax; /* a root exists in [0, tmax]: round-off only */
+}
+
+double hsbd_spheres_contact_time(const double r[3], const double v[3], double s, double tmax) {
+    return contact_time(r, v, s, tmax);
 }
 
 /* ---- parameters and allocation ---- */
@@ -134,6 +138,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->sp_sigma);
     free(s->sp_diffusion);
     free(s->nb_count);
+    free(s->nb_upper);
     free(s->nb);
     free(s->normals);
     sph_cells_free(&s->cells);
@@ -214,8 +219,9 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         if (sph_cells_init(&s->cells, s->dim, s->box, reach, n)) goto oom;
         s->nb_cap = 16;
         s->nb_count = calloc(n, sizeof *s->nb_count);
+        s->nb_upper = calloc(n, sizeof *s->nb_upper);
         s->nb = malloc(n * s->nb_cap * sizeof *s->nb);
-        if (!s->nb_count || !s->nb) goto oom;
+        if (!s->nb_count || !s->nb_upper || !s->nb) goto oom;
     }
     return s;
 oom:
@@ -244,12 +250,22 @@ static int nb_grow(hsbd_spheres *s) {
     return 0;
 }
 
+/* Row i holds its neighbours j > i first (nb_upper of them), then the others: the
+ * per-step half scan then runs without a branch per entry. */
 static void nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
     if (s->nb_count[i] == s->nb_cap && nb_grow(s)) {
         s->oom = 1;
         return;
     }
-    s->nb[(size_t)i * s->nb_cap + s->nb_count[i]++] = j;
+    int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    const uint32_t c = s->nb_count[i]++;
+    if (j > i) {
+        const uint32_t up = s->nb_upper[i]++;
+        row[c] = row[up];
+        row[up] = j;
+    } else {
+        row[c] = j;
+    }
 }
 
 static void nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
@@ -257,7 +273,13 @@ static void nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
     const uint32_t c = s->nb_count[i];
     for (uint32_t k = 0; k < c; ++k)
         if (row[k] == j) {
-            row[k] = row[c - 1];
+            if (j > i) { /* keep the partition: last upper entry fills the hole */
+                const uint32_t up = --s->nb_upper[i];
+                row[k] = row[up];
+                row[up] = row[c - 1];
+            } else {
+                row[k] = row[c - 1];
+            }
             s->nb_count[i] = c - 1;
             return;
         }
@@ -282,7 +304,7 @@ static void recentre(hsbd_spheres *s, int32_t i) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     for (uint32_t k = 0; k < s->nb_count[i]; ++k)
         nb_remove(s, row[k], i);
-    s->nb_count[i] = 0;
+    s->nb_count[i] = s->nb_upper[i] = 0;
     sph_cells_remove(&s->cells, i);
     set_centre(s, i);
     int32_t around[27];
@@ -301,7 +323,7 @@ int sph_rebuild_neighbours(hsbd_spheres *s) {
     if (!s->par.hard_core) return HSBD_OK;
     sph_cells_clear(&s->cells);
     for (size_t i = 0; i < s->n; ++i) {
-        s->nb_count[i] = 0;
+        s->nb_count[i] = s->nb_upper[i] = 0;
         s->cells.cell_of[i] = -1;
     }
     for (size_t i = 0; i < s->n; ++i) {
@@ -353,7 +375,7 @@ static void predict_pair(hsbd_spheres *s, int32_t i, int32_t j, double t) {
     const double *vi = s->v + 3 * (size_t)i, *vj = s->v + 3 * (size_t)j;
     for (int a = 0; a < 3; ++a)
         v[a] = vj[a] - vi[a];
-    const double tc = hsbd_spheres_contact_time(r, v, contact_distance(s, i, j), s->dt - t);
+    const double tc = contact_time(r, v, contact_distance(s, i, j), s->dt - t);
     if (tc >= 0) push_event(s, t + tc, i, j);
 }
 
@@ -412,10 +434,9 @@ static void start_step_events(hsbd_spheres *s) {
     for (size_t i = 0; i < n; ++i) {
         const double *xi = s->x + 3 * i, *vi = s->v + 3 * i;
         const int32_t *row = s->nb + i * s->nb_cap;
-        const uint32_t c = s->nb_count[i];
+        const uint32_t c = s->nb_upper[i];
         for (uint32_t k = 0; k < c; ++k) {
             const int32_t j = row[k];
-            if (j < (int32_t)i) continue;
             const double *xj = s->x + 3 * (size_t)j, *vj = s->v + 3 * (size_t)j;
             double r[3], v[3];
             for (int a = 0; a < 3; ++a) {
@@ -478,6 +499,7 @@ static void finish_step(hsbd_spheres *s) {
         s->t_local[i] = 0;
         for (int a = 0; a < s->dim; ++a) {
             x[a] += v[a] * h;
+            if (x[a] >= 0 && x[a] < s->box[a]) continue; /* the common case: no floor() */
             const double w = floor(x[a] * s->inv_box[a]);
             if (w != 0) {
                 x[a] -= w * s->box[a];
@@ -547,9 +569,8 @@ double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite) {
     if (!s->par.hard_core || !finite) return worst;
     for (size_t i = 0; i < s->n; ++i) {
         const int32_t *row = s->nb + i * s->nb_cap;
-        for (uint32_t k = 0; k < s->nb_count[i]; ++k) {
+        for (uint32_t k = 0; k < s->nb_upper[i]; ++k) {
             const int32_t j = row[k];
-            if (j < (int32_t)i) continue;
             double r[3];
             min_image(s, s->x + 3 * (size_t)j, s->x + 3 * i, r);
             const double sij = contact_distance(s, (int32_t)i, j);

@@ -25,9 +25,9 @@ struct hsbd_spheres {
     double sigma_max, shell;
     /* neighbours: pairs whose shells overlap, |c_i - c_j| < sigma_ij + 2 shell */
     uint32_t nb_cap;
-    uint32_t *nb_count;
-    int32_t *nb;     /* n x nb_cap */
-    sph_cells cells; /* of the shell centres, cells >= sigma_max + 2 shell wide */
+    uint32_t *nb_count, *nb_upper; /* entries of each row; those with j > i (first) */
+    int32_t *nb;                   /* n x nb_cap */
+    sph_cells cells;               /* of the shell centres, cells >= sigma_max + 2 shell wide */
     sph_calendar calendar;
     double *normals; /* dim x n draws of a step */
     double dt, time;
