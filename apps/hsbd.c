@@ -161,7 +161,8 @@ static int cmd_run(int argc, char **argv) {
 
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
-    const int rc = hsbd_run_rods(&cfg, &opt, &err);
+    const int rc = cfg.system.model == HSBD_MODEL_SPHERES ? hsbd_run_spheres(&cfg, &opt, &err)
+                                                          : hsbd_run_rods(&cfg, &opt, &err);
     if (rc != HSBD_OK) return fail(rc, err.message);
     if (opt.progress) fprintf(stderr, "hsbd: results in %s/\n", cfg.output.dir);
     return 0;

@@ -9,7 +9,8 @@
 
 #include "hsbd/error.h"
 
-enum hsbd_model { HSBD_MODEL_RODS = 0 };
+enum hsbd_model { HSBD_MODEL_RODS = 0, HSBD_MODEL_SPHERES };
+enum hsbd_init_method { HSBD_INIT_AUTO = 0, HSBD_INIT_RANDOM, HSBD_INIT_LATTICE };
 /* field.type is a sum of terms, e.g. "cosine+tilt": one bit per term */
 enum hsbd_field_terms {
     HSBD_FIELD_NONE = 0,
@@ -25,7 +26,7 @@ enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE };
 enum {
     HSBD_PATH_MAX = 1024,
     HSBD_ORIGIN_MAX = 1100,
-    HSBD_CONFIG_MAX_KEYS = 96,
+    HSBD_CONFIG_MAX_KEYS = 128,
     HSBD_MAX_SPECIES = 16,
     HSBD_SPECIES_NAME = 32
 };
@@ -39,6 +40,11 @@ typedef struct hsbd_config {
         int hard_core;
         int contact_rule;
         int boundary;
+        /* spheres */
+        int64_t dimension;
+        char box_text[HSBD_PATH_MAX], drift_text[HSBD_PATH_MAX];
+        double packing_fraction, shell;
+        double box[3], drift[3]; /* parsed by hsbd_config_finalize */
     } system;
     struct {
         double gamma, order, epsilon;
@@ -57,7 +63,7 @@ typedef struct hsbd_config {
     struct {
         /* the keys' texts: whitespace- or comma-separated lists */
         char names_text[HSBD_PATH_MAX], count_text[HSBD_PATH_MAX], sigma_text[HSBD_PATH_MAX],
-            d_text[HSBD_PATH_MAX];
+            d_text[HSBD_PATH_MAX], fraction_text[HSBD_PATH_MAX];
         /* parsed by hsbd_config_finalize; n = 0: one species (system.sigma, system.D) */
         size_t n;
         char name[HSBD_MAX_SPECIES][HSBD_SPECIES_NAME];
@@ -72,6 +78,8 @@ typedef struct hsbd_config {
         int64_t every, blocks, msd_points_per_decade;
         double msd_max_lag, current_every;
         int blocking;
+        int64_t gr_every;
+        double gr_max, gr_bin, contact_fit, fs_k;
     } sample;
     struct {
         char dir[HSBD_PATH_MAX];
@@ -80,6 +88,7 @@ typedef struct hsbd_config {
     } output;
     struct {
         char positions[HSBD_PATH_MAX];
+        int method; /* enum hsbd_init_method */
     } init;
     /* where each schema key got its value: "file:line", "--set", or "default" */
     char origin[HSBD_CONFIG_MAX_KEYS][HSBD_ORIGIN_MAX];

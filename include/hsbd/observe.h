@@ -8,6 +8,7 @@
 
 #include "hsbd/error.h"
 #include "hsbd/rods.h"
+#include "hsbd/spheres.h"
 
 /* ---- block averages of a vector of per-sample quantities ---- */
 typedef struct hsbd_blocks hsbd_blocks;
@@ -100,10 +101,36 @@ int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err);
  * one species of a mixture; call before sampling. */
 int hsbd_msd_set_members(hsbd_msd *m, size_t count, const size_t *members, hsbd_error *err);
 void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v);
+/* Sample from an array of unwrapped coordinates (one per item; members index into it):
+ * for d-dimensional particles allocate n = d N items, one per coordinate; the MSD per
+ * particle is then d times the result. */
+void hsbd_msd_sample_values(hsbd_msd *m, const double *values);
+/* Also accumulate the self-intermediate scattering function: the mean of cos(k dx) per
+ * item (for coordinates: F_s(k, t) with k along the axes, averaged over them). */
+int hsbd_msd_set_wavenumber(hsbd_msd *m, double k, hsbd_error *err);
+void hsbd_msd_fs(const hsbd_msd *m, size_t k, double *fs, double *err);
 size_t hsbd_msd_lags(const hsbd_msd *m);
 /* lag time, MSD, its error (time blocks or rod segments) and number of origins */
 void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double *err,
                      size_t *origins);
+
+/* ---- disks / spheres: radial distribution per species pair, contact values ---- */
+typedef struct hsbd_gr hsbd_gr;
+/* Bins of width `width` up to r_max (<= half the shortest box length); contact values by
+ * a quadratic fit of g over gaps in [0, fit_width) (one size per species only). */
+hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, double fit_width,
+                       size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
+void hsbd_gr_free(hsbd_gr *g);
+void hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v);
+size_t hsbd_gr_bins(const hsbd_gr *g);
+/* unordered species pairs a <= b: nspecies (nspecies + 1) / 2 */
+size_t hsbd_gr_pairs(const hsbd_gr *g);
+void hsbd_gr_pair_species(const hsbd_gr *g, size_t pair, size_t *a, size_t *b);
+/* bin centres, g(r) and its block error (arrays of hsbd_gr_bins) */
+void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double *err);
+/* g_ab(sigma_ab+) extrapolated to contact, with the blocks' scatter as error (NaN for
+ * polydisperse species) */
+void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err);
 
 /* ---- clusters: size histogram, mean size, merge events per step ---- */
 typedef struct hsbd_clusters hsbd_clusters;

@@ -19,5 +19,7 @@ typedef struct hsbd_run_options {
  * (nothing is written then), HSBD_EINTERRUPT when stopped (valid partial results and
  * "completed": false in summary.json). */
 int hsbd_run_rods(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
+/* The same for system.model = spheres (EDBD of disks / spheres). */
+int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
 
 #endif

@@ -104,4 +104,19 @@ double hsbd_single_file_msd_exact(double t, double rho, double sigma, double dif
 /* short-time MSD with the first collision correction (docs/validation.md section 3) */
 double hsbd_short_time_msd(double t, double rho_gap, double diffusion);
 
+/* ---- hard disks and spheres ---- */
+/* Carnahan-Starling: contact value g(sigma+) and Z = P/(rho kT) at packing fraction phi */
+double hsbd_hs_contact_cs(double phi);
+double hsbd_hs_z_cs(double phi);
+/* Henderson's hard-disk equation of state (2D) */
+double hsbd_hd_contact_henderson(double phi);
+double hsbd_hd_z_henderson(double phi);
+/* BMCSL contact value g_ab of a 3D mixture: ns species with number fractions x and
+ * diameters sigma at number density rho */
+double hsbd_hs_contact_bmcsl(size_t ns, const double *x, const double *sigma, double rho, size_t a,
+                             size_t b);
+/* Z from contact values (virial route): contact is ns x ns, g_ab(sigma_ab+) */
+double hsbd_hs_z_from_contacts(int dim, size_t ns, const double *x, const double *sigma, double rho,
+                               const double *contact);
+
 #endif

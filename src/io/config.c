@@ -28,13 +28,28 @@ typedef struct key_spec {
 
 /* The one schema table. Ranges are closed unless flagged open. */
 static const key_spec schema[] = {
-    {"system", "model", K_ENUM, OFF(system.model), 0, 0, 0, "rods", "rods",
-     "particle model (rods: hard rods on a line, Brownian cluster dynamics)"},
+    {"system", "model", K_ENUM, OFF(system.model), 0, 0, 0, "rods", "rods|spheres",
+     "particle model (rods: hard rods on a line, Brownian cluster dynamics; spheres: hard "
+     "disks or spheres in a periodic box, event-driven Brownian dynamics)"},
+    {"system", "dimension", K_INT, OFF(system.dimension), 2, 3, 0, "3", 0,
+     "spheres: 2 (disks) or 3 (spheres)"},
+    {"system", "box", K_STRING, OFF(system.box_text), 0, 0, 0, "", 0,
+     "spheres: periodic box lengths, one value (square / cube) or one per dimension; or set "
+     "system.packing_fraction instead"},
+    {"system", "packing_fraction", K_DOUBLE, OFF(system.packing_fraction), 0, 1,
+     OPEN_MIN | OPEN_MAX, "", 0,
+     "spheres: packing fraction phi (volume of the particles over the box); gives a square / "
+     "cubic box"},
+    {"system", "drift", K_STRING, OFF(system.drift_text), 0, 0, 0, "", 0,
+     "spheres: common drift velocity (one value per dimension, length/time), the same for "
+     "every particle (Scala Sec. IV); empty: none"},
+    {"system", "shell", K_DOUBLE, OFF(system.shell), 0, INF, OPEN_MAX, "0", 0,
+     "spheres: neighbour shell radius (half the skin); 0: chosen from D and dt (docs/spheres.md)"},
     {"system", "N", K_INT, OFF(system.n), 1, 2147483647.0, 0, "50", 0, "number of rods"},
     {"system", "L", K_DOUBLE, OFF(system.length), 0, INF, OPEN_MIN | OPEN_MAX, "100", 0,
      "ring length (periodic line); N*sigma must be < L"},
     {"system", "sigma", K_DOUBLE, OFF(system.sigma), 0, INF, OPEN_MAX, "0.5", 0,
-     "rod length (hard-core diameter)"},
+     "rod length / particle diameter (rods default 0.5; spheres default 1, and > 0)"},
     {"system", "D", K_DOUBLE, OFF(system.diffusion), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
      "diffusion coefficient (length^2/time); mobility mu = D/kT"},
     {"system", "kT", K_DOUBLE, OFF(system.kT), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
@@ -98,12 +113,16 @@ static const key_spec schema[] = {
      "a mixture: species names (letters, digits, '_'), separated by spaces or commas; empty: "
      "one species with system.sigma and system.D"},
     {"species", "count", K_STRING, OFF(species.count_text), 0, 0, 0, "", 0,
-     "rods of each species (whole numbers >= 1), summing to system.N; the order along the "
-     "line is a uniformly random arrangement unless init.positions gives it"},
+     "particles of each species (whole numbers >= 1), summing to system.N; rods: the order "
+     "along the line is a uniformly random arrangement unless init.positions gives it"},
+    {"species", "fraction", K_STRING, OFF(species.fraction_text), 0, 0, 0, "", 0,
+     "spheres: number fraction of each species (> 0, summing to 1), instead of species.count; "
+     "counts are rounded to sum to system.N"},
     {"species", "sigma", K_STRING, OFF(species.sigma_text), 0, 0, 0, "", 0,
      "rod length of each species (>= 0); contact distance (sigma_a + sigma_b)/2"},
     {"species", "D", K_STRING, OFF(species.d_text), 0, 0, 0, "", 0,
-     "diffusion coefficient of each species (> 0); mobility D/kT"},
+     "diffusion coefficient of each species (> 0; spheres also 0: immobile obstacles); "
+     "mobility D/kT"},
     {"run", "dt", K_DOUBLE, OFF(run.dt), 0, INF, OPEN_MIN | OPEN_MAX, "1e-4", 0, "time step"},
     {"run", "t_equil", K_DOUBLE, OFF(run.t_equil), 0, INF, OPEN_MAX, "10", 0,
      "unsampled dynamics after the initial state"},
@@ -122,7 +141,7 @@ static const key_spec schema[] = {
      "error bars of profiles and the MSD from blocks of time, or of space (segments of the "
      "ring, for long rings whose slow modes outlast time blocks; blocks must divide L/period)"},
     {"sample", "every", K_INT, OFF(sample.every), 1, 1e15, 0, "1", 0,
-     "sample every this many steps"},
+     "sample every this many steps (spheres: the MSD and F_s; default 10 there)"},
     {"sample", "blocks", K_INT, OFF(sample.blocks), 2, 10000, 0, "20", 0,
      "number of blocks for block-average error bars"},
     {"sample", "msd_max_lag", K_DOUBLE, OFF(sample.msd_max_lag), 0, INF, OPEN_MAX, "0", 0,
@@ -131,6 +150,19 @@ static const key_spec schema[] = {
      0, "log-spaced MSD lags per decade"},
     {"sample", "current_every", K_DOUBLE, OFF(sample.current_every), 0, INF, OPEN_MAX, "0", 0,
      "write the particle current every this much time to current.tsv (0: off)"},
+    {"sample", "gr_every", K_INT, OFF(sample.gr_every), 0, 1e15, 0, "0", 0,
+     "spheres: sample g(r) every this many steps (a pair search up to sample.gr_max, costly); "
+     "0: every 0.05 time units (sigma^2/D), samples closer in time are strongly correlated"},
+    {"sample", "gr_max", K_DOUBLE, OFF(sample.gr_max), 0, INF, OPEN_MAX, "0", 0,
+     "spheres: largest distance of g(r) (0: 3 sigma_max, at most half the box)"},
+    {"sample", "gr_bin", K_DOUBLE, OFF(sample.gr_bin), 0, INF, OPEN_MIN | OPEN_MAX, "0.02", 0,
+     "spheres: g(r) bin width"},
+    {"sample", "contact_fit", K_DOUBLE, OFF(sample.contact_fit), 0, INF, OPEN_MIN | OPEN_MAX, "0.1",
+     0,
+     "spheres: contact values g_ab(sigma_ab+) by a quadratic fit of g over gaps in [0, "
+     "contact_fit)"},
+    {"sample", "fs_k", K_DOUBLE, OFF(sample.fs_k), 0, INF, OPEN_MAX, "0", 0,
+     "spheres: wavenumber of F_s(k, t) (0: 2 pi / sigma of species 0)"},
     {"output", "dir", K_STRING, OFF(output.dir), 0, 0, 0, "", 0,
      "run directory (default: runs/<config name>); --out overrides"},
     {"output", "trajectory", K_ENUM, OFF(output.trajectory), 0, 0, 0, "none", "none|xyz",
@@ -138,8 +170,13 @@ static const key_spec schema[] = {
     {"output", "trajectory_every", K_DOUBLE, OFF(output.trajectory_every), 0, INF, OPEN_MAX, "0", 0,
      "time between trajectory frames (0: t_total/100)"},
     {"init", "positions", K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
-     "file with initial positions (one per line, '#' comments); default: exact equilibrium "
-     "sample of the field-free ring"},
+     "file with initial positions; rods: one per line ('#' comments), default an exact "
+     "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "
+     "[z] per particle, as hsbd writes it)"},
+    {"init", "method", K_ENUM, OFF(init.method), 0, 0, 0, "auto", "auto|random|lattice",
+     "spheres without init.positions: random sequential insertion (up to phi 0.30 in 3D, 0.45 "
+     "in 2D), or a lattice (fcc / centred rectangular) melted during run.t_equil; auto: random "
+     "when it can reach phi, else lattice"},
 };
 enum { NKEYS = sizeof schema / sizeof schema[0] };
 _Static_assert((int)NKEYS <= (int)HSBD_CONFIG_MAX_KEYS, "raise HSBD_CONFIG_MAX_KEYS");
@@ -648,12 +685,53 @@ static int parse_species_numbers(hsbd_config *cfg, const char *key, const char *
     return HSBD_OK;
 }
 
+/* Spheres: species.fraction (each > 0, summing to 1) into counts summing to system.N
+ * (largest remainders). Setting both fraction and count is an error. */
+static int species_counts_from_fractions(hsbd_config *cfg, double *count, hsbd_error *err) {
+    if (cfg->species.count_text[0])
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: species.count and species.fraction (%s) are both set; allowed: "
+                              "one of them",
+                              origin_of(cfg, "species", "count"),
+                              origin_of(cfg, "species", "fraction"));
+    double frac[HSBD_MAX_SPECIES], total = 0;
+    const int rc =
+        parse_species_numbers(cfg, "fraction", cfg->species.fraction_text, 0, 1, 0, frac, err);
+    if (rc != HSBD_OK) return rc;
+    const size_t ns = cfg->species.n;
+    for (size_t k = 0; k < ns; ++k)
+        total += frac[k];
+    if (fabs(total - 1.0) > 1e-6)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: species.fraction sums to %.9g; allowed: fractions summing to 1",
+                              origin_of(cfg, "species", "fraction"), total);
+    const double n = (double)cfg->system.n;
+    double assigned = 0;
+    for (size_t k = 0; k < ns; ++k)
+        count[k] = floor(frac[k] * n), assigned += count[k];
+    while (assigned < n) { /* largest remainder first */
+        size_t best = 0;
+        double rem = -1;
+        for (size_t k = 0; k < ns; ++k)
+            if (frac[k] * n - count[k] > rem) rem = frac[k] * n - count[k], best = k;
+        count[best] += 1, assigned += 1;
+    }
+    for (size_t k = 0; k < ns; ++k)
+        if (count[k] < 1)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: species.fraction %g of species %s gives no particle of "
+                                  "system.N = %lld; allowed: fraction >= 1/N",
+                                  origin_of(cfg, "species", "fraction"), frac[k],
+                                  cfg->species.name[k], (long long)cfg->system.n);
+    return HSBD_OK;
+}
+
 /* The [species] lists: names, counts summing to system.N, lengths and D. */
 static int parse_species(hsbd_config *cfg, hsbd_error *err) {
     cfg->species.n = 0;
     if (!cfg->species.names_text[0]) {
-        static const char *const lists[] = {"count", "sigma", "D"};
-        for (int k = 0; k < 3; ++k)
+        static const char *const lists[] = {"count", "sigma", "D", "fraction"};
+        for (int k = 0; k < 4; ++k)
             if (!is_default(cfg, "species", lists[k]))
                 return hsbd_error_set(err, HSBD_EINPUT,
                                       "%s: species.%s is set but species.names is empty; name the "
@@ -685,14 +763,19 @@ static int parse_species(hsbd_config *cfg, hsbd_error *err) {
         snprintf(cfg->species.name[k], HSBD_SPECIES_NAME, "%s", words[k]);
     }
     cfg->species.n = ns;
+    const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
     double count[HSBD_MAX_SPECIES];
-    int rc = parse_species_numbers(cfg, "count", cfg->species.count_text, 1, 0, 1, count, err);
+    int rc = HSBD_OK;
+    if (spheres && cfg->species.fraction_text[0])
+        rc = species_counts_from_fractions(cfg, count, err);
+    else
+        rc = parse_species_numbers(cfg, "count", cfg->species.count_text, 1, 0, 1, count, err);
     if (rc == HSBD_OK)
-        rc = parse_species_numbers(cfg, "sigma", cfg->species.sigma_text, 0, 0, 0,
+        rc = parse_species_numbers(cfg, "sigma", cfg->species.sigma_text, 0, spheres, 0,
                                    cfg->species.sigma, err);
     if (rc == HSBD_OK)
-        rc = parse_species_numbers(cfg, "D", cfg->species.d_text, 0, 1, 0, cfg->species.diffusion,
-                                   err);
+        rc = parse_species_numbers(cfg, "D", cfg->species.d_text, 0, !spheres, 0,
+                                   cfg->species.diffusion, err);
     if (rc != HSBD_OK) return rc;
     double total = 0;
     for (size_t k = 0; k < ns; ++k)
@@ -710,7 +793,7 @@ static int parse_species(hsbd_config *cfg, hsbd_error *err) {
                                   "%s: system.%s is set, but with species.names the species.%s "
                                   "list gives it; remove one of them",
                                   origin_of(cfg, "system", single[k]), single[k], single[k]);
-    if (cfg->pair.type != HSBD_PAIR_NONE || cfg->contact.gamma > 0)
+    if (!spheres && (cfg->pair.type != HSBD_PAIR_NONE || cfg->contact.gamma > 0))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: pair forces and sticky contacts need one species (mixtures with "
                               "pair forces are not supported yet)",
@@ -730,8 +813,215 @@ static double rods_length(const hsbd_config *cfg) {
     return total;
 }
 
+static int check_run_keys(hsbd_config *cfg, hsbd_error *err);
+
+/* Keys that only one model reads: setting one for the other model is an error, not a
+ * silent no-op. */
+static const char *const rods_only[][2] = {
+    {"system", "L"},         {"system", "contact_rule"}, {"system", "boundary"},
+    {"contact", "gamma"},    {"contact", "order"},       {"contact", "epsilon"},
+    {"pair", "type"},        {"pair", "strength"},       {"pair", "kappa"},
+    {"pair", "cutoff"},      {"pair", "table"},          {"field", "type"},
+    {"field", "amplitude"},  {"field", "wavelength"},    {"field", "force"},
+    {"field", "stiffness"},  {"field", "center"},        {"field", "table"},
+    {"field", "table_kind"}, {"sample", "bin_width"},    {"sample", "contact_width"},
+    {"sample", "period"},    {"sample", "blocking"},     {"sample", "current_every"},
+    {"run", "dt_equil"}};
+static const char *const spheres_only[][2] = {
+    {"system", "dimension"},   {"system", "box"},    {"system", "packing_fraction"},
+    {"system", "drift"},       {"system", "shell"},  {"species", "fraction"},
+    {"sample", "gr_every"},    {"sample", "gr_max"}, {"sample", "gr_bin"},
+    {"sample", "contact_fit"}, {"sample", "fs_k"},   {"init", "method"}};
+
+static int refuse_keys_of_other_model(const hsbd_config *cfg, hsbd_error *err) {
+    const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
+    const size_t count = spheres ? sizeof rods_only / sizeof rods_only[0]
+                                 : sizeof spheres_only / sizeof spheres_only[0];
+    for (size_t k = 0; k < count; ++k) {
+        const char *const *key = spheres ? rods_only[k] : spheres_only[k];
+        if (!is_default(cfg, key[0], key[1]))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: %s.%s applies to system.model = %s only, but the model "
+                                  "is %s (%s); remove the key",
+                                  origin_of(cfg, key[0], key[1]), key[0], key[1],
+                                  spheres ? "rods" : "spheres", spheres ? "spheres" : "rods",
+                                  origin_of(cfg, "system", "model"));
+    }
+    return HSBD_OK;
+}
+
+/* A list of 1 or `dim` finite numbers (1: repeated) in (min, inf) or any (min = -inf). */
+static int parse_vector(const hsbd_config *cfg, const char *key, const char *text, int dim,
+                        double min, double *out, hsbd_error *err) {
+    char buf[HSBD_PATH_MAX], *words[4];
+    snprintf(buf, sizeof buf, "%s", text);
+    const size_t got = split_list(buf, words, 3);
+    if (got != 1 && got != (size_t)dim)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: system.%s has %zu values; allowed: 1 or %d (system.dimension)",
+                              origin_of(cfg, "system", key), key, got, dim);
+    for (int a = 0; a < dim; ++a) {
+        const char *w = words[got == 1 ? 0 : a];
+        char *end;
+        const double v = strtod(w, &end);
+        if (end == w || *end || !isfinite(v) || !(v > min))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: system.%s value '%s' is out of range; allowed: finite "
+                                  "numbers%s",
+                                  origin_of(cfg, "system", key), key, w, isinf(min) ? "" : " > 0");
+        out[a] = v;
+    }
+    for (int a = dim; a < 3; ++a)
+        out[a] = 0;
+    return HSBD_OK;
+}
+
+/* particle volume (3D) or area (2D) of diameter s */
+static double particle_volume(int dim, double s) {
+    return dim == 3 ? 3.14159265358979323846 / 6 * s * s * s : 3.14159265358979323846 / 4 * s * s;
+}
+
+static int finalize_spheres(hsbd_config *cfg, hsbd_error *err) {
+    if (refuse_keys_of_other_model(cfg, err) != HSBD_OK) return err->status;
+    const int dim = (int)cfg->system.dimension;
+    if (is_default(cfg, "system", "sigma")) {
+        cfg->system.sigma = 1.0;
+        snprintf(cfg->origin[key_index(find_key("system", "sigma"))], HSBD_ORIGIN_MAX,
+                 "default (spheres)");
+    }
+    if (!(cfg->system.sigma > 0))
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: system.sigma = %g; allowed: sigma > 0",
+                              origin_of(cfg, "system", "sigma"), cfg->system.sigma);
+    if (parse_species(cfg, err) != HSBD_OK) return err->status;
+    /* the particles' volume */
+    double vp = 0, sigma_max = cfg->system.sigma;
+    if (cfg->species.n) {
+        sigma_max = 0;
+        for (size_t k = 0; k < cfg->species.n; ++k) {
+            vp += (double)cfg->species.count[k] * particle_volume(dim, cfg->species.sigma[k]);
+            if (cfg->species.sigma[k] > sigma_max) sigma_max = cfg->species.sigma[k];
+        }
+    } else {
+        vp = (double)cfg->system.n * particle_volume(dim, cfg->system.sigma);
+    }
+    const int has_box = cfg->system.box_text[0] != 0,
+              has_phi = !isnan(cfg->system.packing_fraction);
+    if (has_box == has_phi)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: spheres need exactly one of system.box and "
+                              "system.packing_fraction (%s)",
+                              origin_of(cfg, "system", has_box ? "box" : "packing_fraction"),
+                              has_box ? "both are set" : "neither is set");
+    if (has_box) {
+        if (parse_vector(cfg, "box", cfg->system.box_text, dim, 0, cfg->system.box, err))
+            return err->status;
+    } else {
+        const double side = pow(vp / cfg->system.packing_fraction, 1.0 / dim);
+        for (int a = 0; a < 3; ++a)
+            cfg->system.box[a] = a < dim ? side : 0;
+    }
+    double volume = 1;
+    for (int a = 0; a < dim; ++a)
+        volume *= cfg->system.box[a];
+    const double phi = vp / volume;
+    if (!has_phi) cfg->system.packing_fraction = phi;
+    if (phi >= (dim == 3 ? 0.74 : 0.9069))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: packing fraction %g exceeds close packing (%g); allowed: a "
+                              "larger box",
+                              origin_of(cfg, "system", has_box ? "box" : "packing_fraction"), phi,
+                              dim == 3 ? 0.7405 : 0.9069);
+    if (cfg->system.drift_text[0] &&
+        parse_vector(cfg, "drift", cfg->system.drift_text, dim, -INF, cfg->system.drift, err))
+        return err->status;
+    const double phi_random = dim == 3 ? 0.30 : 0.45; /* RSI stalls near 0.38 / 0.547 */
+    if (cfg->init.method == HSBD_INIT_RANDOM && phi > phi_random && !cfg->init.positions[0])
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: init.method = random reaches packing fractions up to %g, but "
+                              "phi = %g; allowed: init.method = lattice or auto",
+                              origin_of(cfg, "init", "method"), phi_random, phi);
+    if (cfg->init.method == HSBD_INIT_AUTO)
+        cfg->init.method = phi <= phi_random ? HSBD_INIT_RANDOM : HSBD_INIT_LATTICE;
+    double half = INF;
+    for (int a = 0; a < dim; ++a)
+        half = fmin(half, 0.5 * cfg->system.box[a]);
+    if (cfg->sample.gr_max == 0) cfg->sample.gr_max = fmin(3.0 * sigma_max, half);
+    if (cfg->sample.gr_max > half)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.gr_max = %g; allowed: at most half the shortest box "
+                              "length, %g",
+                              origin_of(cfg, "sample", "gr_max"), cfg->sample.gr_max, half);
+    if (cfg->sample.gr_bin > cfg->sample.gr_max)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: sample.gr_bin = %g exceeds sample.gr_max = %g",
+                              origin_of(cfg, "sample", "gr_bin"), cfg->sample.gr_bin,
+                              cfg->sample.gr_max);
+    if (is_default(cfg, "sample", "every")) { /* an MSD sample costs d N: every 10 steps */
+        cfg->sample.every = 10;
+        snprintf(cfg->origin[key_index(find_key("sample", "every"))], HSBD_ORIGIN_MAX,
+                 "default (spheres)");
+    }
+    if (cfg->sample.fs_k == 0)
+        cfg->sample.fs_k = 2 * 3.14159265358979323846 /
+                           (cfg->species.n ? cfg->species.sigma[0] : cfg->system.sigma);
+    const int rc = check_run_keys(cfg, err);
+    if (rc != HSBD_OK) return rc;
+    if (cfg->sample.gr_every == 0) {
+        const double steps = hsbd_config_steps(cfg);
+        cfg->sample.gr_every = (int64_t)fmax(1.0, round(0.05 / cfg->run.dt));
+        /* short runs: still at least 10 samples per error block */
+        const double most = floor(steps / (10.0 * (double)cfg->sample.blocks));
+        if ((double)cfg->sample.gr_every > most) cfg->sample.gr_every = (int64_t)fmax(1.0, most);
+        snprintf(cfg->origin[key_index(find_key("sample", "gr_every"))], HSBD_ORIGIN_MAX,
+                 "default (0.05 time units)");
+    }
+    const uint64_t gr_samples = hsbd_config_steps(cfg) / (uint64_t)cfg->sample.gr_every;
+    if (gr_samples < (uint64_t)cfg->sample.blocks)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.gr_every = %lld leaves %llu g(r) samples for "
+                              "sample.blocks = %lld; allowed: at least one per block",
+                              origin_of(cfg, "sample", "gr_every"), (long long)cfg->sample.gr_every,
+                              (unsigned long long)gr_samples, (long long)cfg->sample.blocks);
+    return HSBD_OK;
+}
+
+/* Checks of the run, sampling and output keys shared by every model. */
+static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
+    if (cfg->run.t_total / cfg->run.dt > 9.0e15 || cfg->run.t_equil / cfg->run.dt > 9.0e15)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: run.dt = %g gives more than 9e15 steps",
+                              origin_of(cfg, "run", "dt"), cfg->run.dt);
+    const uint64_t steps = hsbd_config_steps(cfg);
+    if (steps < 1)
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: run.t_total = %g is shorter than run.dt = %g",
+                              origin_of(cfg, "run", "t_total"), cfg->run.t_total, cfg->run.dt);
+    const uint64_t samples = steps / (uint64_t)cfg->sample.every;
+    if (samples < (uint64_t)cfg->sample.blocks)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.blocks = %lld needs at least as many samples, but "
+                              "t_total/(dt*every) = %llu; allowed: 2 <= blocks <= %llu",
+                              origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
+                              (unsigned long long)samples, (unsigned long long)samples);
+    if (cfg->sample.msd_max_lag == 0) cfg->sample.msd_max_lag = cfg->run.t_total / 10;
+    if (cfg->sample.msd_max_lag > cfg->run.t_total)
+        return hsbd_error_set(
+            err, HSBD_EINPUT, "%s: sample.msd_max_lag = %g exceeds run.t_total = %g",
+            origin_of(cfg, "sample", "msd_max_lag"), cfg->sample.msd_max_lag, cfg->run.t_total);
+    if (cfg->output.trajectory_every == 0) cfg->output.trajectory_every = cfg->run.t_total / 100;
+    if (cfg->output.trajectory_every < cfg->run.dt)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: output.trajectory_every = %g is shorter than run.dt = %g",
+                              origin_of(cfg, "output", "trajectory_every"),
+                              cfg->output.trajectory_every, cfg->run.dt);
+    if (cfg->sample.current_every > 0 && cfg->sample.current_every < cfg->run.dt)
+        return hsbd_error_set(
+            err, HSBD_EINPUT, "%s: sample.current_every = %g is shorter than run.dt = %g",
+            origin_of(cfg, "sample", "current_every"), cfg->sample.current_every, cfg->run.dt);
+    return HSBD_OK;
+}
+
 int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
     hsbd_error_clear(err);
+    if (cfg->system.model == HSBD_MODEL_SPHERES) return finalize_spheres(cfg, err);
+    if (refuse_keys_of_other_model(cfg, err) != HSBD_OK) return err->status;
     if (parse_species(cfg, err) != HSBD_OK) return err->status;
     const double L = cfg->system.length, sigma = cfg->system.sigma;
     const double occupied = rods_length(cfg);
@@ -827,20 +1117,6 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               cfg->sample.period / cfg->sample.bin_width, cfg->sample.period,
                               profile_bytes / (1024.0 * 1024 * 1024),
                               (long long)cfg->sample.blocks);
-    if (cfg->run.t_total / cfg->run.dt > 9.0e15 || cfg->run.t_equil / cfg->run.dt > 9.0e15)
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: run.dt = %g gives more than 9e15 steps",
-                              origin_of(cfg, "run", "dt"), cfg->run.dt);
-    const uint64_t steps = hsbd_config_steps(cfg);
-    if (steps < 1)
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: run.t_total = %g is shorter than run.dt = %g",
-                              origin_of(cfg, "run", "t_total"), cfg->run.t_total, cfg->run.dt);
-    const uint64_t samples = steps / (uint64_t)cfg->sample.every;
-    if (samples < (uint64_t)cfg->sample.blocks)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: sample.blocks = %lld needs at least as many samples, but "
-                              "t_total/(dt*every) = %llu; allowed: 2 <= blocks <= %llu",
-                              origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
-                              (unsigned long long)samples, (unsigned long long)samples);
     if (cfg->sample.blocking == HSBD_BLOCKS_SPACE &&
         !divides((double)cfg->sample.blocks * cfg->sample.period, L))
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -848,22 +1124,7 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               "L/period = %g when sample.blocking = space",
                               origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
                               L / cfg->sample.period);
-    if (cfg->sample.msd_max_lag == 0) cfg->sample.msd_max_lag = cfg->run.t_total / 10;
-    if (cfg->sample.msd_max_lag > cfg->run.t_total)
-        return hsbd_error_set(
-            err, HSBD_EINPUT, "%s: sample.msd_max_lag = %g exceeds run.t_total = %g",
-            origin_of(cfg, "sample", "msd_max_lag"), cfg->sample.msd_max_lag, cfg->run.t_total);
-    if (cfg->output.trajectory_every == 0) cfg->output.trajectory_every = cfg->run.t_total / 100;
-    if (cfg->output.trajectory_every < cfg->run.dt)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: output.trajectory_every = %g is shorter than run.dt = %g",
-                              origin_of(cfg, "output", "trajectory_every"),
-                              cfg->output.trajectory_every, cfg->run.dt);
-    if (cfg->sample.current_every > 0 && cfg->sample.current_every < cfg->run.dt)
-        return hsbd_error_set(
-            err, HSBD_EINPUT, "%s: sample.current_every = %g is shorter than run.dt = %g",
-            origin_of(cfg, "sample", "current_every"), cfg->sample.current_every, cfg->run.dt);
-    return HSBD_OK;
+    return check_run_keys(cfg, err);
 }
 
 /* ---- writers ------------------------------------------------------------------------ */
@@ -903,6 +1164,8 @@ void hsbd_config_write_json(const hsbd_config *cfg, FILE *out, int indent) {
         fprintf(out, "\n%*s\"%s\": ", indent + 4, "", k->key);
         if (k->type == K_STRING || k->type == K_ENUM || k->type == K_BOOL || k->type == K_TERMS)
             json_string(out, v);
+        else if (k->type == K_DOUBLE && !isfinite(*(const double *)cslot(cfg, k)))
+            fputs("null", out); /* unset (a key of the other model) */
         else
             fputs(v, out);
         if (!last_in_section)

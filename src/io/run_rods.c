@@ -13,6 +13,7 @@
 #include "hsbd/run.h"
 #include "hsbd/table.h"
 #include "hsbd_version.h"
+#include "io/report.h"
 
 typedef struct run_state {
     const hsbd_config *cfg;
@@ -130,13 +131,6 @@ static double sum_unwrapped(const hsbd_rods *rods) {
     return s;
 }
 
-static void write_table_header(FILE *f, const hsbd_config *cfg, const char *what,
-                               const char *columns) {
-    fprintf(f, "# hsbd %s (git %s): %s\n", HSBD_VERSION_STRING, HSBD_GIT_COMMIT, what);
-    hsbd_config_write_header(cfg, f, "# ");
-    fprintf(f, "%s\n", columns);
-}
-
 /* ---- result tables ------------------------------------------------------------------ */
 
 typedef void (*profile_getter)(const hsbd_profile *p, double *x, double *val, double *err);
@@ -151,7 +145,7 @@ static int write_profile_table(run_state *s, const char *name, const char *what,
     int rc = x && val ? hsbd_outfile_open(&o, s->cfg->output.dir, name, err)
                       : hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing %s", name);
     if (rc == HSBD_OK) {
-        write_table_header(o.f, s->cfg, what, columns);
+        hsbd_write_table_header(o.f, s->cfg, what, columns);
         for (size_t g = 0; g < nget; ++g)
             get[g](s->profile, x, val + 2 * g * nb, val + (2 * g + 1) * nb);
         for (size_t k = 0; k < nb; ++k) {
@@ -257,11 +251,12 @@ static int write_msd(run_state *s, hsbd_error *err) {
         snprintf(columns + strlen(columns), sizeof columns - strlen(columns),
                  "\tmsd_%s\tmsd_%s_err", name, name);
     }
-    write_table_header(o.f, s->cfg,
-                       "tagged-particle mean-squared displacement (unwrapped positions), all rods "
-                       "and, for mixtures, per species; errors from block averages over time "
-                       "origins",
-                       columns);
+    hsbd_write_table_header(
+        o.f, s->cfg,
+        "tagged-particle mean-squared displacement (unwrapped positions), all rods "
+        "and, for mixtures, per species; errors from block averages over time "
+        "origins",
+        columns);
     for (size_t k = 0; k < hsbd_msd_lags(s->msd); ++k) {
         double t, m, e;
         size_t origins;
@@ -281,19 +276,12 @@ static int write_clusters(run_state *s, hsbd_error *err) {
     hsbd_outfile o;
     int rc = hsbd_outfile_open(&o, s->cfg->output.dir, "clusters.tsv", err);
     if (rc != HSBD_OK) return rc;
-    write_table_header(o.f, s->cfg, "sizes of clusters of touching rods at sampled step ends",
-                       "size\tfraction");
+    hsbd_write_table_header(o.f, s->cfg, "sizes of clusters of touching rods at sampled step ends",
+                            "size\tfraction");
     const size_t maxs = hsbd_clusters_max_size(s->clusters);
     for (size_t k = 1; k <= maxs; ++k)
         fprintf(o.f, "%zu\t%.10g\n", k, hsbd_clusters_size_fraction(s->clusters, k));
     return hsbd_outfile_commit(&o, err);
-}
-
-static void json_number(FILE *f, const char *key, double v, int comma) {
-    if (isfinite(v))
-        fprintf(f, "  \"%s\": %.10g%s\n", key, v, comma ? "," : "");
-    else
-        fprintf(f, "  \"%s\": null%s\n", key, comma ? "," : "");
 }
 
 /* "contacts": contact densities per ordered species pair (contact theorem) and, between
@@ -349,21 +337,22 @@ static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err)
             (unsigned long long)s->equil_done);
     fprintf(f, "  \"samples\": %llu,\n",
             (unsigned long long)(s->steps_done / (uint64_t)cfg->sample.every));
-    json_number(f, "time_simulated", t_prod, 1);
-    json_number(f, "wall_seconds", s->wall_prod + s->wall_equil, 1);
-    json_number(f, "wall_seconds_production", s->wall_prod, 1);
-    json_number(f, "particle_steps_per_second",
-                s->wall_prod > 0 ? n * (double)s->steps_done / s->wall_prod : NAN, 1);
+    hsbd_json_number(f, "time_simulated", t_prod, 1);
+    hsbd_json_number(f, "wall_seconds", s->wall_prod + s->wall_equil, 1);
+    hsbd_json_number(f, "wall_seconds_production", s->wall_prod, 1);
+    hsbd_json_number(f, "particle_steps_per_second",
+                     s->wall_prod > 0 ? n * (double)s->steps_done / s->wall_prod : NAN, 1);
     fprintf(f, "  \"vectorised_math\": %s,\n", hsbd_vmath_vectorised() ? "true" : "false");
-    json_number(f, "merge_events_per_step", merges, 1);
-    json_number(f, "merge_events_per_step_err", merges_err, 1);
-    json_number(f, "mean_cluster_size", mean_size, 1);
-    json_number(f, "mean_cluster_size_err", mean_size_err, 1);
-    json_number(f, "sticky_step_ratio", s->sticky_ratio, 1);
-    json_number(f, "min_gap", cfg->system.hard_core ? hsbd_profile_min_gap(s->profile) : NAN, 1);
-    json_number(f, "particle_current", current, 1);
+    hsbd_json_number(f, "merge_events_per_step", merges, 1);
+    hsbd_json_number(f, "merge_events_per_step_err", merges_err, 1);
+    hsbd_json_number(f, "mean_cluster_size", mean_size, 1);
+    hsbd_json_number(f, "mean_cluster_size_err", mean_size_err, 1);
+    hsbd_json_number(f, "sticky_step_ratio", s->sticky_ratio, 1);
+    hsbd_json_number(f, "min_gap", cfg->system.hard_core ? hsbd_profile_min_gap(s->profile) : NAN,
+                     1);
+    hsbd_json_number(f, "particle_current", current, 1);
     if (s->contacts && s->steps_done >= (uint64_t)cfg->sample.every) write_contacts_json(s, f);
-    json_number(f, "final_time", v.time, 1);
+    hsbd_json_number(f, "final_time", v.time, 1);
     fprintf(f, "  \"parameters\": ");
     hsbd_config_write_json(cfg, f, 2);
     fprintf(f, "\n}\n");
@@ -635,10 +624,10 @@ static int open_streams(run_state *s, hsbd_error *err) {
     if (rc == HSBD_OK && cfg->sample.current_every > 0) {
         rc = hsbd_outfile_open(&s->current, cfg->output.dir, "current.tsv", err);
         if (rc == HSBD_OK)
-            write_table_header(s->current.f, cfg,
-                               "particle current J = sum of displacements / (L interval), per "
-                               "interval ending at t",
-                               "t\tJ");
+            hsbd_write_table_header(s->current.f, cfg,
+                                    "particle current J = sum of displacements / (L interval), per "
+                                    "interval ending at t",
+                                    "t\tJ");
     }
     return rc;
 }

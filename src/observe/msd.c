@@ -24,6 +24,8 @@ struct hsbd_msd {
     size_t *members;   /* the rods averaged over (NULL: all n) */
     size_t nseg;       /* rod segments for the error (0: time blocks) */
     double *seg_sum;   /* nlags x nseg sums of squared displacements */
+    double wavenumber; /* > 0: also the self-intermediate scattering function */
+    double *fs_value;  /* nlags x max_origins means of cos(k displacement) */
 };
 
 void hsbd_msd_free(hsbd_msd *m) {
@@ -36,6 +38,7 @@ void hsbd_msd_free(hsbd_msd *m) {
     free(m->count);
     free(m->seg_sum);
     free(m->members);
+    free(m->fs_value);
     free(m);
 }
 
@@ -93,16 +96,44 @@ static size_t rod_of(const hsbd_msd *m, size_t k) {
     return m->members ? m->members[k] : k;
 }
 
-/* sum of squared displacements of averaged rods [lo, hi) from the origin snapshot x0 */
-static double squared_displacements(const hsbd_msd *m, const hsbd_rods_view *v, const double *x0,
+/* Unwrapped coordinate of item i: from a value array, or from the rods' view. */
+typedef struct msd_source {
+    const double *values;
+    const hsbd_rods_view *rods;
+} msd_source;
+
+static inline double coordinate(const msd_source *src, size_t i) {
+    if (src->values) return src->values[i];
+    return src->rods->z[i] + src->rods->offset[i] + src->rods->unwrap;
+}
+
+/* sum of squared displacements of averaged items [lo, hi) from the origin snapshot x0 */
+static double squared_displacements(const hsbd_msd *m, const msd_source *src, const double *x0,
                                     size_t lo, size_t hi) {
     double sum = 0;
     for (size_t k = lo; k < hi; ++k) {
-        const size_t i = rod_of(m, k);
-        const double d = v->z[i] + v->offset[i] + v->unwrap - x0[k];
+        const double d = coordinate(src, rod_of(m, k)) - x0[k];
         sum += d * d;
     }
     return sum;
+}
+
+static double mean_cosine(const hsbd_msd *m, const msd_source *src, const double *x0) {
+    double sum = 0;
+    for (size_t k = 0; k < m->n; ++k)
+        sum += cos(m->wavenumber * (coordinate(src, rod_of(m, k)) - x0[k]));
+    return sum / (double)m->n;
+}
+
+int hsbd_msd_set_wavenumber(hsbd_msd *m, double k, hsbd_error *err) {
+    if (!(k > 0) || !isfinite(k) || m->sample > 0)
+        return hsbd_error_set(err, HSBD_EINPUT, "msd: wavenumber %g (need > 0, before sampling)",
+                              k);
+    free(m->fs_value);
+    m->fs_value = malloc(m->nlags * m->max_origins * sizeof *m->fs_value);
+    if (!m->fs_value) return hsbd_error_set(err, HSBD_ENOMEM, "msd: out of memory");
+    m->wavenumber = k;
+    return HSBD_OK;
 }
 
 int hsbd_msd_set_members(hsbd_msd *m, size_t count, const size_t *members, hsbd_error *err) {
@@ -120,7 +151,7 @@ int hsbd_msd_set_members(hsbd_msd *m, size_t count, const size_t *members, hsbd_
     return HSBD_OK;
 }
 
-void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
+static void msd_sample(hsbd_msd *m, const msd_source *v) {
     const uint64_t k = m->sample++;
     const size_t n = m->n;
     /* displacements from every live origin whose lag is on the grid */
@@ -142,18 +173,29 @@ void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
             sum = squared_displacements(m, v, x0, 0, n);
         }
         const size_t c = m->count[j];
-        if (c < m->max_origins)
-            m->value[(size_t)j * m->max_origins + c] = sum / (double)n, m->count[j] = c + 1;
+        if (c < m->max_origins) {
+            m->value[(size_t)j * m->max_origins + c] = sum / (double)n;
+            if (m->fs_value) m->fs_value[(size_t)j * m->max_origins + c] = mean_cosine(m, v, x0);
+            m->count[j] = c + 1;
+        }
     }
     if (k % m->origin_every == 0) {
         const size_t s = (size_t)((k / m->origin_every) % m->slots);
         double *x0 = m->snap + s * n;
-        for (size_t q = 0; q < n; ++q) {
-            const size_t i = rod_of(m, q);
-            x0[q] = v->z[i] + v->offset[i] + v->unwrap;
-        }
+        for (size_t q = 0; q < n; ++q)
+            x0[q] = coordinate(v, rod_of(m, q));
         m->snap_at[s] = k;
     }
+}
+
+void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v) {
+    const msd_source src = {NULL, v};
+    msd_sample(m, &src);
+}
+
+void hsbd_msd_sample_values(hsbd_msd *m, const double *values) {
+    const msd_source src = {values, NULL};
+    msd_sample(m, &src);
 }
 
 int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err) {
@@ -169,6 +211,37 @@ int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err) {
 
 size_t hsbd_msd_lags(const hsbd_msd *m) {
     return m->nlags;
+}
+
+/* mean of c per-origin values and its block-average error over origins in time order */
+static void origin_blocks(const double *val, size_t c, size_t nblocks, double *mean, double *err) {
+    double sum = 0;
+    for (size_t i = 0; i < c; ++i)
+        sum += val[i];
+    *mean = c ? sum / (double)c : NAN;
+    const size_t nb = c < nblocks ? c : nblocks;
+    if (nb < 2) {
+        *err = NAN;
+        return;
+    }
+    double var = 0;
+    for (size_t b = 0; b < nb; ++b) {
+        const size_t lo = b * c / nb, hi = (b + 1) * c / nb;
+        double s = 0;
+        for (size_t i = lo; i < hi; ++i)
+            s += val[i];
+        const double d = s / (double)(hi - lo) - *mean;
+        var += d * d;
+    }
+    *err = sqrt(var / ((double)nb * (double)(nb - 1)));
+}
+
+void hsbd_msd_fs(const hsbd_msd *m, size_t k, double *fs, double *err) {
+    if (!m->fs_value) {
+        *fs = *err = NAN;
+        return;
+    }
+    origin_blocks(m->fs_value + k * m->max_origins, m->count[k], m->nblocks, fs, err);
 }
 
 void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double *err,
@@ -191,20 +264,5 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
         *err = c ? sqrt(var / ((double)m->nseg * (double)(m->nseg - 1))) : NAN;
         return;
     }
-    /* block average over origins in time order */
-    const size_t nb = c < m->nblocks ? c : m->nblocks;
-    if (nb < 2) {
-        *err = NAN;
-        return;
-    }
-    double var = 0;
-    for (size_t b = 0; b < nb; ++b) {
-        const size_t lo = b * c / nb, hi = (b + 1) * c / nb;
-        double s = 0;
-        for (size_t i = lo; i < hi; ++i)
-            s += val[i];
-        const double d = s / (double)(hi - lo) - *msd;
-        var += d * d;
-    }
-    *err = sqrt(var / ((double)nb * (double)(nb - 1)));
+    origin_blocks(val, c, m->nblocks, msd, err);
 }

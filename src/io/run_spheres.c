@@ -1,0 +1,635 @@
+/* Run driver for hard disks / spheres (EDBD): builds the system from a finalized
+ * configuration, runs equilibration and production, feeds the observers (g(r) and contact
+ * values, MSD and F_s(k, t) per species, the collisional virial) and writes the results. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/progress.h"
+#include "hsbd/io.h"
+#include "hsbd/observe.h"
+#include "hsbd/run.h"
+#include "hsbd/spheres.h"
+#include "hsbd/theory.h"
+#include "hsbd_version.h"
+#include "io/report.h"
+
+typedef struct sphere_run {
+    const hsbd_config *cfg;
+    const hsbd_run_options *opt;
+    hsbd_spheres *sys;
+    int *species;
+    size_t ns;         /* species (1 for one species) */
+    double *unwrapped; /* d N unwrapped coordinates for the MSD */
+    hsbd_gr *gr;
+    hsbd_msd *msd;
+    hsbd_msd *msd_species[HSBD_MAX_SPECIES];
+    hsbd_blocks *virial; /* collisional virial per sampled interval */
+    double virial_last;
+    hsbd_outfile trajectory;
+    uint64_t steps_done, equil_done;
+    double cpu_prod, cpu_equil, wall_prod;
+    int completed;
+    hsbd_spheres_stats prod_stats;
+} sphere_run;
+
+static double cpu_seconds(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static const char *species_name(const sphere_run *s, size_t k) {
+    return s->cfg->species.n ? s->cfg->species.name[k] : "S";
+}
+
+/* ---- set-up ---- */
+
+/* init.positions for spheres: extended XYZ, first line N, second a comment (hsbd writes
+ * the lattice there), then "name x y [z] ..." per particle. Species come from the names. */
+static int read_xyz(sphere_run *s, double *x, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const char *path = cfg->init.positions;
+    FILE *f = fopen(path, "r");
+    if (!f) return hsbd_error_set(err, HSBD_EINPUT, "init.positions: cannot read '%s'", path);
+    char line[4096];
+    size_t lineno = 0, n = (size_t)cfg->system.n;
+    int rc = HSBD_OK;
+    long long count = -1;
+    if (fgets(line, sizeof line, f)) ++lineno, count = strtoll(line, NULL, 10);
+    if (count != (long long)n) {
+        fclose(f);
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:%zu: the XYZ file has %lld particles; allowed: system.N = %zu",
+                              path, lineno, count, n);
+    }
+    if (fgets(line, sizeof line, f)) ++lineno; /* comment line */
+    size_t have[HSBD_MAX_SPECIES] = {0};
+    for (size_t i = 0; i < n && rc == HSBD_OK; ++i) {
+        if (!fgets(line, sizeof line, f)) {
+            rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%zu: file ends after %zu of %zu particles",
+                                path, lineno, i, n);
+            break;
+        }
+        ++lineno;
+        char name[64];
+        double c[3] = {0, 0, 0};
+        const int got = sscanf(line, "%63s %lf %lf %lf", name, &c[0], &c[1], &c[2]);
+        const int dim = (int)cfg->system.dimension;
+        if (got < 1 + dim || !isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2])) {
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s:%zu: expected 'name x y%s' with finite coordinates", path,
+                                lineno, dim == 3 ? " z" : "");
+            break;
+        }
+        int sp = 0;
+        if (cfg->species.n) {
+            sp = -1;
+            for (size_t k = 0; k < cfg->species.n; ++k)
+                if (!strcmp(name, cfg->species.name[k])) sp = (int)k;
+            if (sp < 0) {
+                rc = hsbd_error_set(err, HSBD_EINPUT,
+                                    "%s:%zu: unknown species name '%s'; allowed: the names of "
+                                    "species.names",
+                                    path, lineno, name);
+                break;
+            }
+        }
+        s->species[i] = sp;
+        have[sp]++;
+        memcpy(x + 3 * i, c, sizeof c);
+    }
+    fclose(f);
+    for (size_t k = 0; rc == HSBD_OK && k < cfg->species.n; ++k)
+        if (have[k] != (size_t)cfg->species.count[k])
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s: the file has %zu particles of species %s, species.count / "
+                                "fraction asks for %lld",
+                                path, have[k], cfg->species.name[k],
+                                (long long)cfg->species.count[k]);
+    return rc;
+}
+
+static int build_system(sphere_run *s, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const size_t n = (size_t)cfg->system.n;
+    s->ns = cfg->species.n ? cfg->species.n : 1;
+    s->species = calloc(n, sizeof *s->species);
+    double *x = NULL;
+    if (!s->species) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    size_t i = 0; /* species in blocks: initial states place particles randomly */
+    for (size_t k = 0; k < cfg->species.n; ++k)
+        for (int64_t c = 0; c < cfg->species.count[k]; ++c)
+            s->species[i++] = (int)k;
+    if (cfg->init.positions[0]) {
+        x = malloc(3 * n * sizeof *x);
+        if (!x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        if (read_xyz(s, x, err) != HSBD_OK) return free(x), err->status;
+    }
+    hsbd_spheres_params p = {.n = n,
+                             .dimension = (int)cfg->system.dimension,
+                             .sigma = cfg->system.sigma,
+                             .diffusion = cfg->system.diffusion,
+                             .kT = cfg->system.kT,
+                             .dt = cfg->run.dt,
+                             .seed = cfg->system.seed,
+                             .hard_core = cfg->system.hard_core,
+                             .shell = cfg->system.shell,
+                             .nspecies = cfg->species.n,
+                             .species = s->species,
+                             .species_sigma = cfg->species.sigma,
+                             .species_diffusion = cfg->species.diffusion};
+    for (int a = 0; a < 3; ++a)
+        p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a];
+    s->sys = hsbd_spheres_alloc(&p, err);
+    if (!s->sys) {
+        free(x);
+        /* name the keys behind the library's message */
+        return hsbd_error_set(
+            err, err->status,
+            "%s (system.box / packing_fraction: %s; "
+            "system.shell: %s)",
+            err->message,
+            hsbd_config_origin(cfg, "system", cfg->system.box_text[0] ? "box" : "packing_fraction"),
+            hsbd_config_origin(cfg, "system", "shell"));
+    }
+    int rc;
+    if (x) {
+        rc = hsbd_spheres_set_positions(s->sys, x, err);
+        if (rc != HSBD_OK)
+            hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, err->message);
+        free(x);
+    } else if (cfg->init.method == HSBD_INIT_LATTICE) {
+        rc = hsbd_spheres_init_lattice(s->sys, err);
+    } else {
+        rc = hsbd_spheres_init_random(s->sys, err);
+    }
+    if (rc != HSBD_OK && rc == HSBD_EINPUT && !x)
+        hsbd_error_set(err, rc, "%s: %s", hsbd_config_origin(cfg, "init", "method"), err->message);
+    return rc;
+}
+
+static int build_observers(sphere_run *s, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const uint64_t steps = hsbd_config_steps(cfg), every = (uint64_t)cfg->sample.every;
+    const size_t blocks = (size_t)cfg->sample.blocks, n = (size_t)cfg->system.n;
+    const size_t d = (size_t)cfg->system.dimension;
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
+    if (cfg->system.hard_core) {
+        s->gr = hsbd_gr_alloc(&v, cfg->sample.gr_max, cfg->sample.gr_bin, cfg->sample.contact_fit,
+                              blocks, steps / (uint64_t)cfg->sample.gr_every, err);
+        if (!s->gr) return err->status;
+    }
+    s->virial = hsbd_blocks_alloc(1, blocks, steps / every);
+    s->unwrapped = malloc(d * n * sizeof *s->unwrapped);
+    if (!s->virial || !s->unwrapped) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    const double dt_sample = cfg->run.dt * (double)every;
+    s->msd = hsbd_msd_alloc(d * n, dt_sample, steps / every, cfg->sample.msd_max_lag,
+                            (int)cfg->sample.msd_points_per_decade, blocks, err);
+    if (!s->msd || hsbd_msd_set_wavenumber(s->msd, cfg->sample.fs_k, err) != HSBD_OK)
+        return err->status;
+    if (cfg->species.n < 2) return HSBD_OK;
+    size_t *idx = malloc(d * n * sizeof *idx);
+    if (!idx) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    for (size_t k = 0; k < cfg->species.n; ++k) {
+        size_t m = 0;
+        for (size_t i = 0; i < n; ++i)
+            if ((size_t)s->species[i] == k)
+                for (size_t a = 0; a < d; ++a)
+                    idx[m++] = d * i + a;
+        s->msd_species[k] = hsbd_msd_alloc(d * n, dt_sample, steps / every, cfg->sample.msd_max_lag,
+                                           (int)cfg->sample.msd_points_per_decade, blocks, err);
+        if (!s->msd_species[k] || hsbd_msd_set_members(s->msd_species[k], m, idx, err) ||
+            hsbd_msd_set_wavenumber(s->msd_species[k], cfg->sample.fs_k, err)) {
+            free(idx);
+            return err->status;
+        }
+    }
+    free(idx);
+    return HSBD_OK;
+}
+
+/* ---- the run ---- */
+
+static int stop_requested(const sphere_run *s) {
+    return s->opt->stop && *s->opt->stop;
+}
+
+static int check_state(sphere_run *s, int overlap_too, hsbd_error *err) {
+    int finite;
+    const double g = hsbd_spheres_min_gap(s->sys, &finite);
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
+    if (!finite)
+        return hsbd_error_set(err, HSBD_ENUMERIC,
+                              "non-finite position after step %llu (time %g); results up to "
+                              "here are written",
+                              (unsigned long long)v.step, v.time);
+    if (overlap_too && g < -1e-9)
+        return hsbd_error_set(err, HSBD_ENUMERIC,
+                              "--check: overlap %.3g (relative) after step %llu", g,
+                              (unsigned long long)v.step);
+    return HSBD_OK;
+}
+
+static void write_xyz_frame(sphere_run *s) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
+    FILE *f = s->trajectory.f;
+    fprintf(f, "%zu\n", v.n);
+    const int three = v.dimension == 3;
+    fprintf(f,
+            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T T %s\" Time=%.17g Step=%llu "
+            "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
+            v.box[0], v.box[1], three ? v.box[2] : 1.0, three ? "T" : "F", v.time,
+            (unsigned long long)v.step);
+    for (size_t i = 0; i < v.n; ++i)
+        fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n",
+                species_name(s, (size_t)v.species[i]), v.x[3 * i], v.x[3 * i + 1], v.x[3 * i + 2],
+                0.5 * v.sigma[i], (long long)v.image[3 * i], (long long)v.image[3 * i + 1],
+                (long long)v.image[3 * i + 2], i + 1);
+}
+
+static void sample_msd(sphere_run *s) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
+    const size_t d = (size_t)v.dimension;
+    for (size_t i = 0; i < v.n; ++i)
+        for (size_t a = 0; a < d; ++a)
+            s->unwrapped[d * i + a] = v.x[3 * i + a] + (double)v.image[3 * i + a] * v.box[a];
+    hsbd_msd_sample_values(s->msd, s->unwrapped);
+    for (size_t k = 0; k < s->cfg->species.n && s->msd_species[k]; ++k)
+        hsbd_msd_sample_values(s->msd_species[k], s->unwrapped);
+}
+
+static int equilibrate(sphere_run *s, hsbd_error *err) {
+    const uint64_t n = hsbd_config_equil_steps(s->cfg);
+    hsbd_progress pr;
+    hsbd_progress_start(&pr, s->opt->progress, "equilibrating", (double)s->cfg->system.n);
+    const double c0 = cpu_seconds();
+    int rc = HSBD_OK;
+    for (uint64_t k = 0; k < n; ++k) {
+        hsbd_spheres_step(s->sys);
+        s->equil_done = k + 1;
+        if (s->opt->check && (rc = check_state(s, 1, err)) != HSBD_OK) break;
+        if ((k & 255) == 0) {
+            hsbd_progress_update(&pr, k, n);
+            if (stop_requested(s) || (rc = check_state(s, 0, err)) != HSBD_OK) break;
+        }
+    }
+    s->cpu_equil = cpu_seconds() - c0;
+    hsbd_progress_end(&pr);
+    return rc;
+}
+
+static int produce(sphere_run *s, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    const uint64_t n = hsbd_config_steps(cfg), every = (uint64_t)cfg->sample.every;
+    const uint64_t gr_every = (uint64_t)cfg->sample.gr_every;
+    const uint64_t traj_every =
+        cfg->output.trajectory == HSBD_TRAJ_XYZ
+            ? (uint64_t)fmax(1.0, round(cfg->output.trajectory_every / cfg->run.dt))
+            : 0;
+    hsbd_progress pr;
+    hsbd_progress_start(&pr, s->opt->progress, "running", (double)cfg->system.n);
+    hsbd_spheres_reset_stats(s->sys);
+    s->virial_last = 0;
+    const double c0 = cpu_seconds(), w0 = hsbd_wall_seconds();
+    int rc = HSBD_OK;
+    for (uint64_t k = 0; k < n; ++k) {
+        hsbd_spheres_step(s->sys);
+        s->steps_done = k + 1;
+        if (s->opt->check && (rc = check_state(s, 1, err)) != HSBD_OK) break;
+        if ((k + 1) % every == 0) {
+            const double vir = hsbd_spheres_get_stats(s->sys).virial;
+            hsbd_blocks_acc(s->virial)[0] += vir - s->virial_last;
+            hsbd_blocks_end_sample(s->virial);
+            s->virial_last = vir;
+            sample_msd(s);
+        }
+        if (s->gr && (k + 1) % gr_every == 0) {
+            const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
+            hsbd_gr_sample(s->gr, &v);
+        }
+        if (traj_every && (k + 1) % traj_every == 0) write_xyz_frame(s);
+        if ((k & 255) == 0) {
+            hsbd_progress_update(&pr, k, n);
+            if (stop_requested(s) || (rc = check_state(s, 0, err)) != HSBD_OK) break;
+        }
+    }
+    if (rc == HSBD_OK) rc = check_state(s, 0, err);
+    s->cpu_prod = cpu_seconds() - c0;
+    s->wall_prod = hsbd_wall_seconds() - w0;
+    s->prod_stats = hsbd_spheres_get_stats(s->sys);
+    hsbd_progress_end(&pr);
+    s->completed = rc == HSBD_OK && s->steps_done == n;
+    return rc;
+}
+
+/* ---- results ---- */
+
+static int write_gr(sphere_run *s, hsbd_error *err) {
+    const size_t nb = hsbd_gr_bins(s->gr), np = hsbd_gr_pairs(s->gr);
+    double *r = malloc(nb * sizeof *r), *val = malloc(2 * np * nb * sizeof *val);
+    hsbd_outfile o;
+    int rc = r && val ? hsbd_outfile_open(&o, s->cfg->output.dir, "gr.tsv", err)
+                      : hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing gr.tsv");
+    if (rc == HSBD_OK) {
+        char columns[64 + HSBD_MAX_SPECIES * HSBD_MAX_SPECIES * (2 * HSBD_SPECIES_NAME + 16)] = "r";
+        for (size_t p = 0; p < np; ++p) {
+            size_t a, b;
+            hsbd_gr_pair_species(s->gr, p, &a, &b);
+            const size_t len = strlen(columns);
+            snprintf(columns + len, sizeof columns - len, "\tg_%s_%s\tg_%s_%s_err",
+                     species_name(s, a), species_name(s, b), species_name(s, a),
+                     species_name(s, b));
+            hsbd_gr_result(s->gr, p, r, val + 2 * p * nb, val + (2 * p + 1) * nb);
+        }
+        hsbd_write_table_header(o.f, s->cfg,
+                                "radial distribution function per species pair (bin centres); "
+                                "errors from time blocks",
+                                columns);
+        for (size_t k = 0; k < nb; ++k) {
+            fprintf(o.f, "%.10g", r[k]);
+            for (size_t p = 0; p < np; ++p)
+                fprintf(o.f, "\t%.10g\t%.4g", val[2 * p * nb + k], val[(2 * p + 1) * nb + k]);
+            fputc('\n', o.f);
+        }
+        rc = hsbd_outfile_commit(&o, err);
+    }
+    free(r), free(val);
+    return rc;
+}
+
+/* msd.tsv (scale = dimension: per-particle MSD) or fs.tsv (scale = 0: F_s) */
+static int write_time_table(sphere_run *s, const char *name, int fs, hsbd_error *err) {
+    const size_t d = (size_t)s->cfg->system.dimension, ns = s->cfg->species.n;
+    hsbd_outfile o;
+    int rc = hsbd_outfile_open(&o, s->cfg->output.dir, name, err);
+    if (rc != HSBD_OK) return rc;
+    const char *what = fs ? "fs" : "msd";
+    char columns[64 + HSBD_MAX_SPECIES * (2 * HSBD_SPECIES_NAME + 16)];
+    snprintf(columns, sizeof columns, "t\t%s\t%s_err\torigins", what, what);
+    for (size_t q = 0; q < ns && ns > 1; ++q) {
+        const size_t len = strlen(columns);
+        snprintf(columns + len, sizeof columns - len, "\t%s_%s\t%s_%s_err", what,
+                 s->cfg->species.name[q], what, s->cfg->species.name[q]);
+    }
+    char title[256];
+    if (fs)
+        snprintf(title, sizeof title,
+                 "self-intermediate scattering function F_s(k, t) at k = %g (k along each axis, "
+                 "averaged), all particles and per species; errors from blocks of time origins",
+                 s->cfg->sample.fs_k);
+    else
+        snprintf(title, sizeof title,
+                 "mean-squared displacement per particle (unwrapped, summed over the %zu "
+                 "dimensions), all particles and per species; errors from blocks of time origins",
+                 d);
+    hsbd_write_table_header(o.f, s->cfg, title, columns);
+    const double scale = fs ? 1.0 : (double)d;
+    for (size_t k = 0; k < hsbd_msd_lags(s->msd); ++k) {
+        double t, m, e;
+        size_t origins;
+        hsbd_msd_result(s->msd, k, &t, &m, &e, &origins);
+        if (!origins) continue;
+        if (fs) hsbd_msd_fs(s->msd, k, &m, &e);
+        fprintf(o.f, "%.10g\t%.10g\t%.4g\t%zu", t, scale * m, scale * e, origins);
+        for (size_t q = 0; q < ns && ns > 1; ++q) {
+            hsbd_msd_result(s->msd_species[q], k, &t, &m, &e, &origins);
+            if (fs) hsbd_msd_fs(s->msd_species[q], k, &m, &e);
+            fprintf(o.f, "\t%.10g\t%.4g", scale * m, scale * e);
+        }
+        fputc('\n', o.f);
+    }
+    return hsbd_outfile_commit(&o, err);
+}
+
+/* D_L from the MSD: slope between the largest lag and a tenth of it, over 2 d; the two
+ * errors are combined in quadrature (they are positively correlated: conservative). */
+static void long_time_diffusion(const sphere_run *s, const hsbd_msd *m, double *dl, double *err) {
+    *dl = *err = NAN;
+    const size_t nl = hsbd_msd_lags(m);
+    const double d = (double)s->cfg->system.dimension;
+    double t1, m1, e1;
+    size_t o1, last = nl;
+    for (size_t k = nl; k-- > 0;) {
+        hsbd_msd_result(m, k, &t1, &m1, &e1, &o1);
+        if (o1 >= 2) {
+            last = k;
+            break;
+        }
+    }
+    if (last == nl) return;
+    for (size_t k = 0; k < last; ++k) {
+        double t0, m0, e0;
+        size_t o0;
+        hsbd_msd_result(m, k, &t0, &m0, &e0, &o0);
+        if (t0 >= 0.1 * t1) {
+            *dl = d * (m1 - m0) / (2 * d * (t1 - t0));
+            *err = d * sqrt(e1 * e1 + e0 * e0) / (2 * d * (t1 - t0));
+            return;
+        }
+    }
+}
+
+static double species_fraction(const sphere_run *s, size_t k) {
+    return s->cfg->species.n ? (double)s->cfg->species.count[k] / (double)s->cfg->system.n : 1.0;
+}
+
+static double species_sigma(const sphere_run *s, size_t k) {
+    return s->cfg->species.n ? s->cfg->species.sigma[k] : s->cfg->system.sigma;
+}
+
+/* "contacts": g_ab(sigma_ab+) per pair with the equation of state's value; Z from them */
+static void write_contacts_json(sphere_run *s, FILE *f) {
+    const hsbd_config *cfg = s->cfg;
+    const size_t ns = s->ns;
+    const int dim = (int)cfg->system.dimension;
+    double x[HSBD_MAX_SPECIES], sg[HSBD_MAX_SPECIES];
+    double g[HSBD_MAX_SPECIES * HSBD_MAX_SPECIES], ge[HSBD_MAX_SPECIES * HSBD_MAX_SPECIES];
+    double vol = 1;
+    for (int a = 0; a < dim; ++a)
+        vol *= cfg->system.box[a];
+    const double rho = (double)cfg->system.n / vol;
+    for (size_t k = 0; k < ns; ++k)
+        x[k] = species_fraction(s, k), sg[k] = species_sigma(s, k);
+    fprintf(f, "  \"contacts\": [");
+    for (size_t p = 0; p < hsbd_gr_pairs(s->gr); ++p) {
+        size_t a, b;
+        hsbd_gr_pair_species(s->gr, p, &a, &b);
+        double val, err;
+        hsbd_gr_contact(s->gr, p, &val, &err);
+        g[a * ns + b] = g[b * ns + a] = val;
+        ge[a * ns + b] = ge[b * ns + a] = err;
+        double theory = NAN;
+        const char *eos = "none";
+        if (dim == 3) {
+            theory = ns == 1 ? hsbd_hs_contact_cs(cfg->system.packing_fraction)
+                             : hsbd_hs_contact_bmcsl(ns, x, sg, rho, a, b);
+            eos = ns == 1 ? "Carnahan-Starling" : "BMCSL";
+        } else if (ns == 1) {
+            theory = hsbd_hd_contact_henderson(cfg->system.packing_fraction);
+            eos = "Henderson";
+        }
+        fprintf(f,
+                "%s\n    {\"a\": \"%s\", \"b\": \"%s\", \"g_contact\": %.10g, \"g_contact_err\": "
+                "%.4g, \"theory\": %.10g, \"theory_eos\": \"%s\"}",
+                p ? "," : "", species_name(s, a), species_name(s, b), val, isfinite(err) ? err : 0,
+                isfinite(theory) ? theory : 0, eos);
+    }
+    fprintf(f, "\n  ],\n");
+    /* Z from the contact values, error by linear propagation (pairs treated independent) */
+    const double z = hsbd_hs_z_from_contacts(dim, ns, x, sg, rho, g);
+    double var = 0;
+    for (size_t a = 0; a < ns; ++a)
+        for (size_t b = 0; b < ns; ++b) {
+            double unit[HSBD_MAX_SPECIES * HSBD_MAX_SPECIES] = {0};
+            unit[a * ns + b] = 1;
+            const double dz = hsbd_hs_z_from_contacts(dim, ns, x, sg, rho, unit) - 1.0;
+            var += dz * dz * ge[a * ns + b] * ge[a * ns + b];
+        }
+    hsbd_json_number(f, "Z_contact", z, 1);
+    hsbd_json_number(f, "Z_contact_err", sqrt(var), 1);
+}
+
+static int write_summary(sphere_run *s, const char *reason, hsbd_error *err) {
+    const hsbd_config *cfg = s->cfg;
+    hsbd_outfile o;
+    int rc = hsbd_outfile_open(&o, cfg->output.dir, "summary.json", err);
+    if (rc != HSBD_OK) return rc;
+    FILE *f = o.f;
+    const double n = (double)cfg->system.n, steps = (double)s->steps_done;
+    const int dim = (int)cfg->system.dimension;
+    const hsbd_spheres_stats st = s->prod_stats;
+    const double t_prod = steps * cfg->run.dt;
+    fprintf(f, "{\n  \"program\": \"hsbd\",\n  \"version\": \"%s\",\n  \"git\": \"%s\",\n",
+            HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
+    fprintf(f, "  \"model\": \"spheres\",\n  \"dimension\": %d,\n  \"seed\": %llu,\n", dim,
+            (unsigned long long)cfg->system.seed);
+    fprintf(f, "  \"completed\": %s,\n  \"stop_reason\": \"%s\",\n",
+            s->completed ? "true" : "false", reason);
+    fprintf(f, "  \"steps\": %llu,\n  \"steps_planned\": %llu,\n  \"equilibration_steps\": %llu,\n",
+            (unsigned long long)s->steps_done, (unsigned long long)hsbd_config_steps(cfg),
+            (unsigned long long)s->equil_done);
+    hsbd_json_number(f, "packing_fraction", cfg->system.packing_fraction, 1);
+    fprintf(f, "  \"box\": [%.17g, %.17g, %.17g],\n", cfg->system.box[0], cfg->system.box[1],
+            cfg->system.box[2]);
+    hsbd_json_number(f, "shell", hsbd_spheres_shell(s->sys), 1);
+    hsbd_json_number(f, "time_simulated", t_prod, 1);
+    hsbd_json_number(f, "cpu_seconds", s->cpu_prod + s->cpu_equil, 1);
+    hsbd_json_number(f, "cpu_seconds_production", s->cpu_prod, 1);
+    hsbd_json_number(f, "wall_seconds_production", s->wall_prod, 1);
+    hsbd_json_number(f, "particle_steps_per_second",
+                     s->cpu_prod > 0 ? n * steps / s->cpu_prod : NAN, 1);
+    hsbd_json_number(f, "collisions_per_second",
+                     s->cpu_prod > 0 ? (double)st.collisions / s->cpu_prod : NAN, 1);
+    hsbd_json_number(f, "time_per_cpu_second", s->cpu_prod > 0 ? t_prod / s->cpu_prod : NAN, 1);
+    /* diagnostics: the scheme's assumptions (Scala Eqs. 3 and 6) */
+    double dmax = cfg->system.diffusion, smin = cfg->system.sigma;
+    for (size_t k = 0; k < cfg->species.n; ++k) {
+        if (k == 0 || cfg->species.diffusion[k] > dmax) dmax = cfg->species.diffusion[k];
+        if (k == 0 || cfg->species.sigma[k] < smin) smin = cfg->species.sigma[k];
+    }
+    const double chi_mean = dim == 3 ? 1.5957691216057308 : 1.2533141373155003; /* E|N_d| */
+    const double mean_dr = chi_mean * sqrt(2 * dmax * cfg->run.dt);
+    double vol = 1;
+    for (int a = 0; a < dim; ++a)
+        vol *= cfg->system.box[a];
+    const double mean_gap = pow(vol / n, 1.0 / dim) - smin;
+    const double cpp = steps > 0 ? (double)st.collisions / (n * steps) : NAN;
+    hsbd_json_number(f, "collisions_per_particle_step", cpp, 1);
+    hsbd_json_number(f, "mean_step_over_sigma", mean_dr / smin, 1);
+    hsbd_json_number(f, "mean_step_over_mean_gap", mean_gap > 0 ? mean_dr / mean_gap : INFINITY, 1);
+    fprintf(f, "  \"warnings\": [");
+    int nw = 0;
+    if (cpp > 0.5)
+        fprintf(f,
+                "%s\"%.3g collisions per particle and step: the binary-collision picture "
+                "needs well below one (smaller run.dt)\"",
+                nw++ ? ", " : "", cpp);
+    if (mean_dr / smin > 0.1)
+        fprintf(f, "%s\"mean step %.3g sigma: Scala Eq. 6 needs << 1 (smaller run.dt)\"",
+                nw++ ? ", " : "", mean_dr / smin);
+    fprintf(f, "],\n");
+    hsbd_json_number(f, "shell_updates_per_particle_step",
+                     steps > 0 ? (double)st.shell_updates / (n * steps) : NAN, 1);
+    /* the collisional virial: Z = 1 + <sum sigma_ij n . F_j> / (d N kT) */
+    double vm = NAN, ve = NAN;
+    hsbd_blocks_result(s->virial, &vm, &ve);
+    const double per = cfg->run.dt * (double)cfg->sample.every * (double)dim * n;
+    if (cfg->system.hard_core) {
+        hsbd_json_number(f, "Z_virial", 1 + vm / per, 1);
+        hsbd_json_number(f, "Z_virial_err", ve / per, 1);
+        write_contacts_json(s, f);
+    }
+    double dl, dle;
+    long_time_diffusion(s, s->msd, &dl, &dle);
+    hsbd_json_number(f, "D_long", dl, 1);
+    hsbd_json_number(f, "D_long_err", dle, 1);
+    if (cfg->species.n > 1) {
+        fprintf(f, "  \"D_long_species\": {");
+        for (size_t k = 0; k < cfg->species.n; ++k) {
+            long_time_diffusion(s, s->msd_species[k], &dl, &dle);
+            fprintf(f, "%s\"%s\": [%.10g, %.4g]", k ? ", " : "", cfg->species.name[k],
+                    isfinite(dl) ? dl : 0, isfinite(dle) ? dle : 0);
+        }
+        fprintf(f, "},\n");
+    }
+    int finite;
+    hsbd_json_number(f, "min_gap", hsbd_spheres_min_gap(s->sys, &finite), 1);
+    fprintf(f, "  \"parameters\": ");
+    hsbd_config_write_json(cfg, f, 2);
+    fprintf(f, "\n}\n");
+    return hsbd_outfile_commit(&o, err);
+}
+
+static int finish(sphere_run *s, int run_rc, hsbd_error *err) {
+    const char *reason = run_rc == HSBD_OK ? (s->completed ? "completed" : "interrupted") : "error";
+    hsbd_error werr;
+    hsbd_error_clear(&werr);
+    int rc = s->gr ? write_gr(s, &werr) : HSBD_OK;
+    if (rc == HSBD_OK) rc = write_time_table(s, "msd.tsv", 0, &werr);
+    if (rc == HSBD_OK) rc = write_time_table(s, "fs.tsv", 1, &werr);
+    if (rc == HSBD_OK) rc = hsbd_outfile_commit(&s->trajectory, &werr);
+    if (rc == HSBD_OK) rc = write_summary(s, reason, &werr);
+    if (run_rc != HSBD_OK) return run_rc;
+    if (rc != HSBD_OK) return hsbd_error_set(err, rc, "%s", werr.message);
+    if (!s->completed)
+        return hsbd_error_set(err, HSBD_EINTERRUPT,
+                              "stopped after %llu of %llu steps; results so far are in '%s' "
+                              "(summary.json says \"completed\": false)",
+                              (unsigned long long)s->steps_done,
+                              (unsigned long long)hsbd_config_steps(s->cfg), s->cfg->output.dir);
+    return HSBD_OK;
+}
+
+static void release(sphere_run *s) {
+    hsbd_outfile_discard(&s->trajectory);
+    hsbd_spheres_free(s->sys);
+    hsbd_gr_free(s->gr);
+    hsbd_msd_free(s->msd);
+    for (size_t k = 0; k < HSBD_MAX_SPECIES; ++k)
+        hsbd_msd_free(s->msd_species[k]);
+    hsbd_blocks_free(s->virial);
+    free(s->unwrapped);
+    free(s->species);
+}
+
+int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err) {
+    hsbd_error_clear(err);
+    sphere_run s = {.cfg = cfg, .opt = opt};
+    /* everything that can reject the input happens before the directory is touched */
+    int rc = build_system(&s, err);
+    if (rc == HSBD_OK) rc = build_observers(&s, err);
+    if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(cfg->output.dir, opt->force, err);
+    if (rc == HSBD_OK && cfg->output.trajectory == HSBD_TRAJ_XYZ)
+        rc = hsbd_outfile_open(&s.trajectory, cfg->output.dir, "trajectory.xyz", err);
+    if (rc != HSBD_OK) {
+        release(&s);
+        return rc;
+    }
+    rc = equilibrate(&s, err);
+    if (rc == HSBD_OK && !stop_requested(&s)) rc = produce(&s, err);
+    rc = finish(&s, rc, err);
+    release(&s);
+    return rc;
+}

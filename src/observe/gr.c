@@ -1,0 +1,241 @@
+/* Radial distribution functions g_ab(r) of disks / spheres per unordered species pair,
+ * and their contact values g_ab(sigma_ab+) extrapolated from a fine histogram of the
+ * surface gaps r - sigma_ab in [0, contact_fit): a least-squares quadratic in the gap,
+ * evaluated at zero gap. Errors from block averages (time blocks); the extrapolation is
+ * linear in the counts, so it is applied to every block's histogram and the blocks'
+ * scatter gives its error. Pairs are found with a cell grid of width >= r_max. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hsbd/observe.h"
+#include "spheres/cells.h"
+
+enum { GR_FIT_BINS = 10 };
+static const double HSBD_PI = 3.14159265358979323846;
+
+struct hsbd_gr {
+    size_t n, nspecies, npairs, bins;
+    int dim;
+    double box[3], volume, r_max, width, fit_width;
+    double *sp_sigma; /* contact distance per species from the view (sigma of a member) */
+    double *expected; /* npairs x (bins + GR_FIT_BINS): ideal-gas counts per sample */
+    int polydisperse; /* sizes differ within a species: no contact fit */
+    hsbd_blocks *blocks;
+    size_t nblocks;
+    sph_cells cells;
+    double *acc; /* counts of the current sample */
+};
+
+static size_t pair_index(size_t ns, size_t a, size_t b) {
+    if (a > b) {
+        const size_t t = a;
+        a = b, b = t;
+    }
+    return a * ns - a * (a - 1) / 2 + (b - a); /* row a of the upper triangle */
+}
+
+void hsbd_gr_pair_species(const hsbd_gr *g, size_t pair, size_t *a, size_t *b) {
+    for (size_t p = 0; p < g->nspecies; ++p)
+        for (size_t q = p; q < g->nspecies; ++q)
+            if (pair_index(g->nspecies, p, q) == pair) {
+                *a = p, *b = q;
+                return;
+            }
+}
+
+/* volume (3D) or area (2D) of the shell r0 < r < r1 */
+static double shell_volume(int dim, double r0, double r1) {
+    if (dim == 3) return 4.0 / 3.0 * HSBD_PI * (r1 * r1 * r1 - r0 * r0 * r0);
+    return HSBD_PI * (r1 * r1 - r0 * r0);
+}
+
+void hsbd_gr_free(hsbd_gr *g) {
+    if (!g) return;
+    free(g->sp_sigma);
+    free(g->expected);
+    free(g->acc);
+    hsbd_blocks_free(g->blocks);
+    sph_cells_free(&g->cells);
+    free(g);
+}
+
+hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, double fit_width,
+                       size_t nblocks, uint64_t nsamples_total, hsbd_error *err) {
+    double half_box = INFINITY;
+    for (int a = 0; a < v->dimension; ++a)
+        half_box = fmin(half_box, 0.5 * v->box[a]);
+    if (!(r_max > 0) || r_max > half_box || !(width > 0) || width > r_max || !(fit_width > 0))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "g(r): r_max = %g, bin %g, contact fit %g; allowed: 0 < bin <= "
+                              "r_max <= half the shortest box length (%g), fit > 0",
+                              r_max, width, fit_width, half_box),
+               NULL;
+    hsbd_gr *g = calloc(1, sizeof *g);
+    if (!g) return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
+    g->n = v->n;
+    g->dim = v->dimension;
+    g->nspecies = v->nspecies;
+    g->npairs = g->nspecies * (g->nspecies + 1) / 2;
+    g->bins = (size_t)ceil(r_max / width - 1e-9);
+    g->width = width;
+    g->r_max = (double)g->bins * width;
+    if (g->r_max > half_box) g->bins--, g->r_max -= width;
+    g->fit_width = fit_width;
+    g->volume = 1;
+    for (int a = 0; a < 3; ++a)
+        g->box[a] = v->box[a], g->volume *= a < g->dim ? v->box[a] : 1.0;
+    const size_t row = g->bins + GR_FIT_BINS;
+    g->sp_sigma = calloc(g->nspecies, sizeof *g->sp_sigma);
+    g->expected = calloc(g->npairs * row, sizeof *g->expected);
+    g->acc = calloc(g->npairs * row, sizeof *g->acc);
+    g->blocks = hsbd_blocks_alloc(g->npairs * row, nblocks, nsamples_total);
+    g->nblocks = nblocks;
+    if (!g->sp_sigma || !g->expected || !g->acc || !g->blocks ||
+        sph_cells_init(&g->cells, g->dim, g->box, g->r_max, g->n)) {
+        hsbd_gr_free(g);
+        return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
+    }
+    if (g->nspecies > 64) {
+        hsbd_gr_free(g);
+        return hsbd_error_set(err, HSBD_EINPUT, "g(r): at most 64 species"), NULL;
+    }
+    double count[64] = {0};
+    for (size_t i = 0; i < v->n; ++i) {
+        const int sp = v->species[i];
+        count[sp] += 1;
+        if (count[sp] == 1) g->sp_sigma[sp] = v->sigma[i];
+        if (v->sigma[i] != g->sp_sigma[sp]) g->polydisperse = 1;
+    }
+    for (size_t a = 0; a < g->nspecies; ++a)
+        for (size_t b = a; b < g->nspecies; ++b) {
+            const double pairs = a == b ? 0.5 * count[a] * (count[a] - 1) : count[a] * count[b];
+            const double density = pairs / g->volume; /* pairs per volume of separation */
+            double *e = g->expected + pair_index(g->nspecies, a, b) * row;
+            for (size_t k = 0; k < g->bins; ++k)
+                e[k] = density * shell_volume(g->dim, (double)k * width, (double)(k + 1) * width);
+            const double s = 0.5 * (g->sp_sigma[a] + g->sp_sigma[b]), h = fit_width / GR_FIT_BINS;
+            for (size_t k = 0; k < GR_FIT_BINS; ++k)
+                e[g->bins + k] =
+                    density * shell_volume(g->dim, s + (double)k * h, s + (double)(k + 1) * h);
+        }
+    return g;
+}
+
+void hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
+    const size_t row = g->bins + GR_FIT_BINS;
+    memset(g->acc, 0, g->npairs * row * sizeof *g->acc);
+    sph_cells_clear(&g->cells);
+    for (size_t i = 0; i < g->n; ++i)
+        sph_cells_insert(&g->cells, (int32_t)i, v->x + 3 * i);
+    const double rmax2 = g->r_max * g->r_max, inv_w = 1.0 / g->width;
+    const double h_inv = GR_FIT_BINS / g->fit_width;
+    for (size_t i = 0; i < g->n; ++i) {
+        int32_t around[27];
+        const int nc = sph_cells_around(&g->cells, v->x + 3 * i, around);
+        const double *xi = v->x + 3 * i;
+        for (int q = 0; q < nc; ++q)
+            for (int32_t j = g->cells.head[around[q]]; j >= 0; j = g->cells.next[j]) {
+                if (j <= (int32_t)i) continue;
+                double r2 = 0;
+                for (int a = 0; a < g->dim; ++a) {
+                    const double d = sph_wrap_delta(v->x[3 * (size_t)j + a] - xi[a], g->box[a], 0);
+                    r2 += d * d;
+                }
+                if (r2 >= rmax2) continue;
+                const double r = sqrt(r2);
+                double *acc =
+                    g->acc +
+                    pair_index(g->nspecies, (size_t)v->species[i], (size_t)v->species[j]) * row;
+                const size_t k = (size_t)(r * inv_w);
+                if (k < g->bins) acc[k] += 1;
+                const double gap = r - 0.5 * (v->sigma[i] + v->sigma[j]);
+                if (gap >= 0 && gap < g->fit_width) {
+                    const size_t f = (size_t)(gap * h_inv);
+                    acc[g->bins + (f < GR_FIT_BINS ? f : GR_FIT_BINS - 1)] += 1;
+                }
+            }
+    }
+    double *b = hsbd_blocks_acc(g->blocks);
+    for (size_t k = 0; k < g->npairs * row; ++k)
+        b[k] += g->acc[k];
+    hsbd_blocks_end_sample(g->blocks);
+}
+
+size_t hsbd_gr_bins(const hsbd_gr *g) {
+    return g->bins;
+}
+
+size_t hsbd_gr_pairs(const hsbd_gr *g) {
+    return g->npairs;
+}
+
+/* g(r) of a pair and the contact value by the quadratic fit, from a per-sample count row */
+static double fit_contact(const hsbd_gr *g, const double *counts, const double *expected) {
+    /* least squares of y_k = g at gap centre x_k by c0 + c1 x + c2 x^2; returns c0 */
+    double m[3][4] = {{0}};
+    const double h = g->fit_width / GR_FIT_BINS;
+    for (size_t k = 0; k < GR_FIT_BINS; ++k) {
+        const double x = ((double)k + 0.5) * h, y = counts[k] / expected[k];
+        const double p[3] = {1, x, x * x};
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c)
+                m[r][c] += p[r] * p[c];
+            m[r][3] += p[r] * y;
+        }
+    }
+    for (int c = 0; c < 3; ++c) /* Gauss-Jordan, well conditioned for 10 points */
+        for (int r = 0; r < 3; ++r) {
+            if (r == c) continue;
+            const double f = m[r][c] / m[c][c];
+            for (int q = 0; q < 4; ++q)
+                m[r][q] -= f * m[c][q];
+        }
+    return m[0][3] / m[0][0];
+}
+
+void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double *err) {
+    const size_t row = g->bins + GR_FIT_BINS, nv = g->npairs * row;
+    double *mean = malloc(nv * sizeof *mean), *e = malloc(nv * sizeof *e);
+    if (!mean || !e) {
+        free(mean);
+        free(e);
+        for (size_t k = 0; k < g->bins; ++k)
+            r[k] = gr[k] = err[k] = NAN;
+        return;
+    }
+    hsbd_blocks_result(g->blocks, mean, e);
+    const double *ex = g->expected + pair * row;
+    for (size_t k = 0; k < g->bins; ++k) {
+        r[k] = ((double)k + 0.5) * g->width;
+        gr[k] = ex[k] > 0 ? mean[pair * row + k] / ex[k] : NAN;
+        err[k] = ex[k] > 0 ? e[pair * row + k] / ex[k] : NAN;
+    }
+    free(mean);
+    free(e);
+}
+
+void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) {
+    *value = *err = NAN;
+    const size_t row = g->bins + GR_FIT_BINS, nv = g->npairs * row;
+    if (g->polydisperse || g->expected[pair * row + g->bins] <= 0) return;
+    double *all = malloc(g->nblocks * nv * sizeof *all);
+    if (!all) return;
+    hsbd_blocks_block_means(g->blocks, 0, all);
+    /* the value from all samples (block means weighted by their samples: equal blocks),
+     * the error from the scatter of the blocks' extrapolations */
+    const double *ex = g->expected + pair * row + g->bins;
+    double sum = 0, sum2 = 0;
+    size_t used = 0;
+    for (size_t b = 0; b < g->nblocks; ++b) {
+        const double *c = all + b * nv + pair * row + g->bins;
+        if (isnan(c[0])) continue;
+        const double val = fit_contact(g, c, ex);
+        sum += val, sum2 += val * val, ++used;
+    }
+    free(all);
+    if (!used) return;
+    const double m = sum / (double)used;
+    *value = m;
+    if (used >= 2) *err = sqrt(fmax(0.0, (sum2 / (double)used - m * m) / (double)(used - 1)));
+}
