@@ -143,30 +143,33 @@ static int build_system(sphere_run *s, hsbd_error *err) {
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a];
     s->sys = hsbd_spheres_alloc(&p, err);
+    char why[sizeof err->message];
     if (!s->sys) {
         free(x);
-        /* name the keys behind the library's message */
+        snprintf(why, sizeof why, "%s", err->message); /* name the keys behind the message */
         return hsbd_error_set(
-            err, err->status,
-            "%s (system.box / packing_fraction: %s; "
-            "system.shell: %s)",
-            err->message,
+            err, err->status, "%s: %s (system.shell: %s)",
             hsbd_config_origin(cfg, "system", cfg->system.box_text[0] ? "box" : "packing_fraction"),
-            hsbd_config_origin(cfg, "system", "shell"));
+            why, hsbd_config_origin(cfg, "system", "shell"));
     }
     int rc;
     if (x) {
         rc = hsbd_spheres_set_positions(s->sys, x, err);
-        if (rc != HSBD_OK)
-            hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, err->message);
         free(x);
-    } else if (cfg->init.method == HSBD_INIT_LATTICE) {
-        rc = hsbd_spheres_init_lattice(s->sys, err);
-    } else {
-        rc = hsbd_spheres_init_random(s->sys, err);
+        if (rc != HSBD_OK) {
+            snprintf(why, sizeof why, "%s", err->message);
+            hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
+        }
+        return rc;
     }
-    if (rc != HSBD_OK && rc == HSBD_EINPUT && !x)
-        hsbd_error_set(err, rc, "%s: %s", hsbd_config_origin(cfg, "init", "method"), err->message);
+    rc = cfg->init.method == HSBD_INIT_LATTICE ? hsbd_spheres_init_lattice(s->sys, err)
+                                               : hsbd_spheres_init_random(s->sys, err);
+    if (rc == HSBD_EINPUT) {
+        snprintf(why, sizeof why, "%s", err->message);
+        hsbd_error_set(err, rc, "%s: init.method = %s: %s",
+                       hsbd_config_origin(cfg, "init", "method"),
+                       cfg->init.method == HSBD_INIT_LATTICE ? "lattice" : "random", why);
+    }
     return rc;
 }
 
