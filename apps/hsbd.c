@@ -10,6 +10,7 @@
 
 #include "hsbd/config.h"
 #include "hsbd/io.h"
+#include "hsbd/spheres.h"
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
 #include "hsbd/theory.h"
@@ -224,6 +225,81 @@ static double bench_rate(const bench_case *c, int hard_core, double seconds) {
     return (double)n * (double)steps / (t - t0);
 }
 
+/* EDBD of monodisperse spheres (issue 5): 3D, D = sigma = 1, from an fcc lattice. */
+typedef struct sphere_bench_case {
+    const char *name;
+    size_t n;
+    double phi, dt;
+} sphere_bench_case;
+
+static const sphere_bench_case sphere_bench_cases[] = {
+    {"spheres-N4000-phi0.3-dt1e-3", 4000, 0.3, 1e-3},
+    {"spheres-N4000-phi0.3-dt1e-4", 4000, 0.3, 1e-4},
+    {"spheres-N4000-phi0.5-dt1e-3", 4000, 0.5, 1e-3},
+    {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4},
+    {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3},
+    {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4},
+};
+
+/* steps per second; *coll: collisions per step */
+static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, double seconds,
+                                double *coll) {
+    const double side = cbrt((double)c->n * 3.14159265358979323846 / 6 / c->phi);
+    const hsbd_spheres_params p = {.n = c->n,
+                                   .dimension = 3,
+                                   .box = {side, side, side},
+                                   .sigma = 1,
+                                   .diffusion = 1,
+                                   .kT = 1,
+                                   .dt = c->dt,
+                                   .seed = 1,
+                                   .hard_core = hard_core};
+    hsbd_error err;
+    hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+    if (!s || hsbd_spheres_init_lattice(s, &err) != HSBD_OK) {
+        hsbd_spheres_free(s);
+        return NAN;
+    }
+    const uint64_t batch = 1 + (uint64_t)(1e6 / (double)c->n);
+    for (uint64_t k = 0; k < 5 * batch; ++k)
+        hsbd_spheres_step(s); /* warm-up: the lattice starts to melt */
+    hsbd_spheres_reset_stats(s);
+    uint64_t steps = 0;
+    const double t0 = now_seconds();
+    double t = t0;
+    while (t - t0 < seconds) {
+        for (uint64_t k = 0; k < batch; ++k)
+            hsbd_spheres_step(s);
+        steps += batch;
+        t = now_seconds();
+    }
+    *coll = (double)hsbd_spheres_get_stats(s).collisions / (double)steps;
+    hsbd_spheres_free(s);
+    return (double)steps / (t - t0);
+}
+
+static void sphere_bench(const char *only, double seconds, int *found) {
+    int header = 0;
+    for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0]; ++k) {
+        const sphere_bench_case *c = &sphere_bench_cases[k];
+        if (only && strcmp(only, c->name)) continue;
+        if (!header++)
+            printf("# EDBD, 3D monodisperse spheres, D = sigma = 1; BT/s = Brownian times "
+                   "(sigma^2/D) simulated per second; free = hard core off\n"
+                   "%-30s %7s %9s %9s %10s %9s %9s %7s\n",
+                   "case", "N", "BT/s", "ns/p-step", "ns/coll", "coll/p-st", "free BT/s", "ratio");
+        *found = 1;
+        double coll = 0, coll_free = 0;
+        const double hard = sphere_bench_rate(c, 1, seconds, &coll);
+        const double free_ = sphere_bench_rate(c, 0, seconds, &coll_free);
+        const double n = (double)c->n;
+        printf("%-30s %7zu %9.3f %9.1f %10.1f %9.4f %9.3f %7.2f\n", c->name, c->n, hard * c->dt,
+               1e9 / (hard * n), coll > 0 ? 1e9 / (hard * coll) : NAN, coll / n, free_ * c->dt,
+               free_ / hard);
+        fflush(stdout);
+    }
+}
+
 static int cmd_bench(int argc, char **argv) {
     double seconds = 2.0;
     const char *only = NULL;
@@ -257,6 +333,7 @@ static int cmd_bench(int argc, char **argv) {
                free_ / hard);
         fflush(stdout);
     }
+    sphere_bench(only, seconds, &found);
     if (!found) {
         fprintf(stderr, "hsbd bench: no case named '%s'\n", only);
         return EXIT_INPUT;
