@@ -17,3 +17,15 @@ void hsbd_json_number(FILE *f, const char *key, double v, int comma) {
     else
         fprintf(f, "  \"%s\": null%s\n", key, comma ? "," : "");
 }
+
+int hsbd_run_outcome(const hsbd_config *cfg, int write_rc, const hsbd_error *werr, int completed,
+                     uint64_t steps_done, hsbd_error *err) {
+    if (write_rc != HSBD_OK) return hsbd_error_set(err, write_rc, "%s", werr->message);
+    if (!completed)
+        return hsbd_error_set(err, HSBD_EINTERRUPT,
+                              "stopped after %llu of %llu steps; results so far are in '%s' "
+                              "(summary.json says \"completed\": false)",
+                              (unsigned long long)steps_done,
+                              (unsigned long long)hsbd_config_steps(cfg), cfg->output.dir);
+    return HSBD_OK;
+}

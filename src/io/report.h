@@ -4,12 +4,20 @@
 
 #include <stdio.h>
 
+#include <stdint.h>
+
 #include "hsbd/config.h"
+#include "hsbd/error.h"
 
 /* "# hsbd <version> (git ...): what", every configuration key, then the column names. */
 void hsbd_write_table_header(FILE *f, const hsbd_config *cfg, const char *what,
                              const char *columns);
 /* "  "key": value," at the summary's indent; non-finite values as null. */
 void hsbd_json_number(FILE *f, const char *key, double v, int comma);
+
+/* The status of a run whose own steps succeeded: the writers' error (write_rc, werr), or
+ * HSBD_EINTERRUPT naming how far it got when it did not complete, else HSBD_OK. */
+int hsbd_run_outcome(const hsbd_config *cfg, int write_rc, const hsbd_error *werr, int completed,
+                     uint64_t steps_done, hsbd_error *err);
 
 #endif

@@ -644,14 +644,7 @@ static int finish(run_state *s, int run_rc, hsbd_error *err) {
     if (rc == HSBD_OK) rc = hsbd_outfile_commit(&s->current, &werr);
     if (rc == HSBD_OK) rc = write_summary(s, reason, &werr);
     if (run_rc != HSBD_OK) return run_rc; /* the run's own error message stays in err */
-    if (rc != HSBD_OK) return hsbd_error_set(err, rc, "%s", werr.message);
-    if (!s->completed)
-        return hsbd_error_set(err, HSBD_EINTERRUPT,
-                              "stopped after %llu of %llu steps; results so far are in '%s' "
-                              "(summary.json says \"completed\": false)",
-                              (unsigned long long)s->steps_done,
-                              (unsigned long long)hsbd_config_steps(s->cfg), s->cfg->output.dir);
-    return HSBD_OK;
+    return hsbd_run_outcome(s->cfg, rc, &werr, s->completed, s->steps_done, err);
 }
 
 static void release(run_state *s) {
