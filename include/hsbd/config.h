@@ -10,7 +10,13 @@
 #include "hsbd/error.h"
 
 enum hsbd_model { HSBD_MODEL_RODS = 0, HSBD_MODEL_SPHERES };
-enum hsbd_init_method { HSBD_INIT_AUTO = 0, HSBD_INIT_RANDOM, HSBD_INIT_LATTICE };
+enum hsbd_init_method {
+    HSBD_INIT_AUTO = 0,
+    HSBD_INIT_RANDOM,
+    HSBD_INIT_LATTICE,
+    HSBD_INIT_COMPRESS
+};
+enum hsbd_d_law { HSBD_D_GIVEN = 0, HSBD_D_STOKES_EINSTEIN };
 /* field.type is a sum of terms, e.g. "cosine+tilt": one bit per term */
 enum hsbd_field_terms {
     HSBD_FIELD_NONE = 0,
@@ -69,6 +75,10 @@ typedef struct hsbd_config {
         char name[HSBD_MAX_SPECIES][HSBD_SPECIES_NAME];
         int64_t count[HSBD_MAX_SPECIES];
         double sigma[HSBD_MAX_SPECIES], diffusion[HSBD_MAX_SPECIES];
+        /* spheres: relative width of the diameters about each species' sigma, its
+         * distribution (enum hsbd_size_distribution), and the law for D (enum hsbd_d_law) */
+        double polydispersity;
+        int distribution, d_law;
     } species;
     struct {
         double dt, t_equil, t_total, dt_equil;
@@ -110,6 +120,13 @@ const char *hsbd_config_origin(const hsbd_config *cfg, const char *section, cons
 
 /* Number of production / equilibration steps. */
 uint64_t hsbd_config_steps(const hsbd_config *cfg);
+
+/* Spheres: every particle's species (in blocks of species.count), diameter (drawn with
+ * species.polydispersity from the seed) and D (species.D, or Stokes-Einstein from the
+ * nominal values: D_i = D_k sigma_k / sigma_i), for a finalized configuration. Any of the
+ * arrays (N values) may be NULL. */
+int hsbd_config_particles(const hsbd_config *cfg, int *species, double *sigma, double *diffusion,
+                          hsbd_error *err);
 uint64_t hsbd_config_equil_steps(const hsbd_config *cfg);
 /* Time step of the equilibration (run.dt_equil, or run.dt when that is 0). */
 double hsbd_config_dt_equil(const hsbd_config *cfg);

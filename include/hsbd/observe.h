@@ -117,7 +117,7 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
 /* ---- disks / spheres: radial distribution per species pair, contact values ---- */
 typedef struct hsbd_gr hsbd_gr;
 /* Bins of width `width` up to r_max (<= half the shortest box length); contact values by
- * a quadratic fit of g over gaps in [0, fit_width) (one size per species only). */
+ * a quadratic fit of g over gaps in [0, fit_width). */
 hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, double fit_width,
                        size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
 void hsbd_gr_free(hsbd_gr *g);
@@ -128,9 +128,13 @@ size_t hsbd_gr_pairs(const hsbd_gr *g);
 void hsbd_gr_pair_species(const hsbd_gr *g, size_t pair, size_t *a, size_t *b);
 /* bin centres, g(r) and its block error (arrays of hsbd_gr_bins) */
 void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double *err);
-/* g_ab(sigma_ab+) extrapolated to contact, with the blocks' scatter as error (NaN for
- * polydisperse species) */
+/* g_ab(sigma_ab+) extrapolated to contact, with the blocks' scatter as error; with sizes
+ * that vary within a species, the mean of the pairs' contact values weighted by
+ * sigma_ij^d (exact for the pressure) */
 void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err);
+/* C_ab of the virial route Z = 1 + sum over pairs C_ab g_ab(sigma_ab+): the sum over the
+ * pairs of species a, b of S_d sigma_ij^d / (V d N), S_d = 4 pi (3D) or 2 pi (2D) */
+double hsbd_gr_contact_weight(const hsbd_gr *g, size_t pair);
 
 /* ---- clusters: size histogram, mean size, merge events per step ---- */
 typedef struct hsbd_clusters hsbd_clusters;

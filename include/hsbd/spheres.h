@@ -36,6 +36,9 @@ typedef struct hsbd_spheres_params {
     size_t nspecies;
     const int *species;
     const double *species_sigma, *species_diffusion;
+    /* Optional per-particle values (N each, copied at alloc) that replace the species'
+     * (or sigma / diffusion) ones: continuous polydispersity, Stokes-Einstein D. */
+    const double *particle_sigma, *particle_diffusion;
 } hsbd_spheres_params;
 
 /* Collision statistics accumulated since the last reset. */
@@ -81,6 +84,20 @@ int hsbd_spheres_init_lattice(hsbd_spheres *s, hsbd_error *err);
 /* Positions (3 N values; z ignored in 2D), any values (wrapped into the box). Refuses
  * overlaps (gap < -1e-9 sigma_ij, naming the pair) and non-finite values. */
 int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err);
+
+/* Dense initial states: random insertion at reduced diameters, then Brownian steps in
+ * which every particle grows into a fraction of its smallest gap until all have their
+ * final diameters (docs/spheres.md). HSBD_EINPUT when growth stalls (a packing near
+ * jamming); the positions are then overlapping and need another init. The compression's
+ * noise has its own stream; the clock and statistics start from zero afterwards. */
+int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err);
+
+/* Continuous polydispersity: sigma_i = mean[i] (1 + width xi_i), xi of zero mean and unit
+ * variance, Gaussian (truncated beyond about 3 widths, rescaled to keep unit variance) or
+ * uniform, from the seed's initial-state stream. width in [0, 0.3]. */
+typedef enum { HSBD_SIZES_GAUSSIAN = 0, HSBD_SIZES_UNIFORM = 1 } hsbd_size_distribution;
+int hsbd_spheres_draw_diameters(uint64_t seed, size_t n, const double *mean, double width,
+                                hsbd_size_distribution dist, double *sigma, hsbd_error *err);
 
 /* One EDBD step of length dt. */
 void hsbd_spheres_step(hsbd_spheres *s);

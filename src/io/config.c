@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hsbd/spheres.h"
+
 typedef enum { K_INT, K_UINT64, K_DOUBLE, K_STRING, K_ENUM, K_BOOL, K_TERMS } key_type;
 
 enum { OPEN_MIN = 1, OPEN_MAX = 2 };
@@ -123,6 +125,17 @@ static const key_spec schema[] = {
     {"species", "D", K_STRING, OFF(species.d_text), 0, 0, 0, "", 0,
      "diffusion coefficient of each species (> 0; spheres also 0: immobile obstacles); "
      "mobility D/kT"},
+    {"species", "polydispersity", K_DOUBLE, OFF(species.polydispersity), 0, 0.3, 0, "0", 0,
+     "spheres: continuous polydispersity, the relative standard deviation of the diameters "
+     "about each species' sigma (or system.sigma); 0: monodisperse species"},
+    {"species", "distribution", K_ENUM, OFF(species.distribution), 0, 0, 0, "gaussian",
+     "gaussian|uniform",
+     "spheres: distribution of the diameters with species.polydispersity (gaussian: truncated "
+     "beyond 3.04 widths, variance kept; uniform: a flat band of that standard deviation)"},
+    {"species", "D_law", K_ENUM, OFF(species.d_law), 0, 0, 0, "given", "given|stokes-einstein",
+     "spheres: given: D of the species (or system.D) for every particle; stokes-einstein: "
+     "D_i = D_0 sigma_0 / sigma_i with D_0 = system.D at sigma_0 = system.sigma (then no "
+     "species.D)"},
     {"run", "dt", K_DOUBLE, OFF(run.dt), 0, INF, OPEN_MIN | OPEN_MAX, "1e-4", 0, "time step"},
     {"run", "t_equil", K_DOUBLE, OFF(run.t_equil), 0, INF, OPEN_MAX, "10", 0,
      "unsampled dynamics after the initial state"},
@@ -173,10 +186,12 @@ static const key_spec schema[] = {
      "file with initial positions; rods: one per line ('#' comments), default an exact "
      "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "
      "[z] per particle, as hsbd writes it)"},
-    {"init", "method", K_ENUM, OFF(init.method), 0, 0, 0, "auto", "auto|random|lattice",
+    {"init", "method", K_ENUM, OFF(init.method), 0, 0, 0, "auto", "auto|random|lattice|compress",
      "spheres without init.positions: random sequential insertion (up to phi 0.30 in 3D, 0.45 "
-     "in 2D), or a lattice (fcc / centred rectangular) melted during run.t_equil; auto: random "
-     "when it can reach phi, else lattice"},
+     "in 2D); compress: insertion at smaller diameters, then Brownian steps with growth into "
+     "the gaps (a fluid up to phi 0.58 in 3D, 0.72 in 2D); or a lattice (fcc / centred "
+     "rectangular, up to close packing of the largest diameter) melted during run.t_equil; "
+     "auto: random, else compress, else lattice"},
 };
 enum { NKEYS = sizeof schema / sizeof schema[0] };
 _Static_assert((int)NKEYS <= (int)HSBD_CONFIG_MAX_KEYS, "raise HSBD_CONFIG_MAX_KEYS");
@@ -773,7 +788,17 @@ static int parse_species(hsbd_config *cfg, hsbd_error *err) {
     if (rc == HSBD_OK)
         rc = parse_species_numbers(cfg, "sigma", cfg->species.sigma_text, 0, spheres, 0,
                                    cfg->species.sigma, err);
-    if (rc == HSBD_OK)
+    const int stokes = spheres && cfg->species.d_law == HSBD_D_STOKES_EINSTEIN;
+    if (rc == HSBD_OK && stokes && cfg->species.d_text[0])
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: species.D is set, but species.D_law = stokes-einstein (%s) "
+                              "derives D from system.D and system.sigma; remove one of them",
+                              origin_of(cfg, "species", "D"), origin_of(cfg, "species", "D_law"));
+    if (rc == HSBD_OK && stokes)
+        for (size_t k = 0; k < ns; ++k) /* D_k = D_0 sigma_0 / sigma_k (Stokes-Einstein) */
+            cfg->species.diffusion[k] =
+                cfg->system.diffusion * cfg->system.sigma / cfg->species.sigma[k];
+    else if (rc == HSBD_OK)
         rc = parse_species_numbers(cfg, "D", cfg->species.d_text, 0, !spheres, 0,
                                    cfg->species.diffusion, err);
     if (rc != HSBD_OK) return rc;
@@ -787,7 +812,7 @@ static int parse_species(hsbd_config *cfg, hsbd_error *err) {
                               origin_of(cfg, "species", "count"), total, (long long)cfg->system.n,
                               origin_of(cfg, "system", "N"));
     static const char *const single[] = {"sigma", "D"};
-    for (int k = 0; k < 2; ++k)
+    for (int k = 0; k < 2 && !stokes; ++k) /* Stokes-Einstein: the reference D_0, sigma_0 */
         if (!is_default(cfg, "system", single[k]))
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "%s: system.%s is set, but with species.names the species.%s "
@@ -828,10 +853,11 @@ static const char *const rods_only[][2] = {
     {"sample", "period"},    {"sample", "blocking"},     {"sample", "current_every"},
     {"run", "dt_equil"}};
 static const char *const spheres_only[][2] = {
-    {"system", "dimension"},   {"system", "box"},    {"system", "packing_fraction"},
-    {"system", "drift"},       {"system", "shell"},  {"species", "fraction"},
-    {"sample", "gr_every"},    {"sample", "gr_max"}, {"sample", "gr_bin"},
-    {"sample", "contact_fit"}, {"sample", "fs_k"},   {"init", "method"}};
+    {"system", "dimension"},       {"system", "box"},           {"system", "packing_fraction"},
+    {"system", "drift"},           {"system", "shell"},         {"species", "fraction"},
+    {"sample", "gr_every"},        {"sample", "gr_max"},        {"sample", "gr_bin"},
+    {"sample", "contact_fit"},     {"sample", "fs_k"},          {"init", "method"},
+    {"species", "polydispersity"}, {"species", "distribution"}, {"species", "D_law"}};
 
 static int refuse_keys_of_other_model(const hsbd_config *cfg, hsbd_error *err) {
     const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
@@ -893,17 +919,16 @@ static int finalize_spheres(hsbd_config *cfg, hsbd_error *err) {
         return hsbd_error_set(err, HSBD_EINPUT, "%s: system.sigma = %g; allowed: sigma > 0",
                               origin_of(cfg, "system", "sigma"), cfg->system.sigma);
     if (parse_species(cfg, err) != HSBD_OK) return err->status;
-    /* the particles' volume */
-    double vp = 0, sigma_max = cfg->system.sigma;
-    if (cfg->species.n) {
-        sigma_max = 0;
-        for (size_t k = 0; k < cfg->species.n; ++k) {
-            vp += (double)cfg->species.count[k] * particle_volume(dim, cfg->species.sigma[k]);
-            if (cfg->species.sigma[k] > sigma_max) sigma_max = cfg->species.sigma[k];
-        }
-    } else {
-        vp = (double)cfg->system.n * particle_volume(dim, cfg->system.sigma);
-    }
+    /* the particles' volume, from the diameters drawn with the seed when polydisperse */
+    double vp = 0, sigma_max = 0;
+    const size_t n = (size_t)cfg->system.n;
+    double *sigma = malloc(n * sizeof *sigma);
+    if (!sigma) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory for N = %zu", n);
+    if (hsbd_config_particles(cfg, NULL, sigma, NULL, err) != HSBD_OK)
+        return free(sigma), err->status;
+    for (size_t i = 0; i < n; ++i)
+        vp += particle_volume(dim, sigma[i]), sigma_max = fmax(sigma_max, sigma[i]);
+    free(sigma);
     const int has_box = cfg->system.box_text[0] != 0,
               has_phi = !isnan(cfg->system.packing_fraction);
     if (has_box == has_phi)
@@ -934,14 +959,23 @@ static int finalize_spheres(hsbd_config *cfg, hsbd_error *err) {
     if (cfg->system.drift_text[0] &&
         parse_vector(cfg, "drift", cfg->system.drift_text, dim, -INF, cfg->system.drift, err))
         return err->status;
-    const double phi_random = dim == 3 ? 0.30 : 0.45; /* RSI stalls near 0.38 / 0.547 */
-    if (cfg->init.method == HSBD_INIT_RANDOM && phi > phi_random && !cfg->init.positions[0])
+    /* what each initial state reaches: RSI stalls near 0.38 / 0.547; the compression
+     * was measured to reach 0.60 / 0.72 at N = 4000 (docs/spheres.md) */
+    const double phi_random = dim == 3 ? 0.30 : 0.45, phi_compress = dim == 3 ? 0.58 : 0.72;
+    const double reach = cfg->init.method == HSBD_INIT_RANDOM     ? phi_random
+                         : cfg->init.method == HSBD_INIT_COMPRESS ? phi_compress
+                                                                  : 1;
+    if (phi > reach && !cfg->init.positions[0])
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: init.method = random reaches packing fractions up to %g, but "
-                              "phi = %g; allowed: init.method = lattice or auto",
-                              origin_of(cfg, "init", "method"), phi_random, phi);
+                              "%s: init.method = %s reaches packing fractions up to %g, but "
+                              "phi = %g; allowed: init.method = %s, or init.positions",
+                              origin_of(cfg, "init", "method"),
+                              cfg->init.method == HSBD_INIT_RANDOM ? "random" : "compress", reach,
+                              phi, phi > phi_compress ? "lattice" : "compress or auto");
     if (cfg->init.method == HSBD_INIT_AUTO)
-        cfg->init.method = phi <= phi_random ? HSBD_INIT_RANDOM : HSBD_INIT_LATTICE;
+        cfg->init.method = phi <= phi_random     ? HSBD_INIT_RANDOM
+                           : phi <= phi_compress ? HSBD_INIT_COMPRESS
+                                                 : HSBD_INIT_LATTICE;
     double half = INF;
     for (int a = 0; a < dim; ++a)
         half = fmin(half, 0.5 * cfg->system.box[a]);
@@ -1216,4 +1250,32 @@ void hsbd_config_write_reference(FILE *out, int markdown) {
             fprintf(out, "| `%s` | `%s.%s` |\n", authors_keys[i].name, authors_keys[i].section,
                     authors_keys[i].key);
     }
+}
+
+int hsbd_config_particles(const hsbd_config *cfg, int *species, double *sigma, double *diffusion,
+                          hsbd_error *err) {
+    const size_t n = (size_t)cfg->system.n;
+    double *mean = malloc(n * sizeof *mean);
+    if (!mean) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory for N = %zu", n);
+    size_t i = 0;
+    for (size_t k = 0; k < (cfg->species.n ? cfg->species.n : 1); ++k) {
+        const size_t count = cfg->species.n ? (size_t)cfg->species.count[k] : n;
+        for (size_t c = 0; c < count && i < n; ++c, ++i) {
+            mean[i] = cfg->species.n ? cfg->species.sigma[k] : cfg->system.sigma;
+            if (species) species[i] = (int)k;
+            if (diffusion)
+                diffusion[i] = cfg->species.n ? cfg->species.diffusion[k] : cfg->system.diffusion;
+        }
+    }
+    double *out = sigma ? sigma : malloc(n * sizeof *out);
+    int rc = out ? HSBD_OK : hsbd_error_set(err, HSBD_ENOMEM, "out of memory for N = %zu", n);
+    if (rc == HSBD_OK)
+        rc = hsbd_spheres_draw_diameters(cfg->system.seed, n, mean, cfg->species.polydispersity,
+                                         (hsbd_size_distribution)cfg->species.distribution, out,
+                                         err);
+    for (size_t q = 0; rc == HSBD_OK && diffusion && q < n; ++q)
+        if (cfg->species.d_law == HSBD_D_STOKES_EINSTEIN) diffusion[q] *= mean[q] / out[q];
+    if (!sigma) free(out);
+    free(mean);
+    return rc;
 }

@@ -48,7 +48,7 @@ static const char *species_name(const sphere_run *s, size_t k) {
 
 /* init.positions for spheres: extended XYZ, first line N, second a comment (hsbd writes
  * the lattice there), then "name x y [z] ..." per particle. Species come from the names. */
-static int read_xyz(sphere_run *s, double *x, hsbd_error *err) {
+static int read_xyz(sphere_run *s, double *x, double *sigma, hsbd_error *err) {
     const hsbd_config *cfg = s->cfg;
     const char *path = cfg->init.positions;
     FILE *f = fopen(path, "r");
@@ -74,14 +74,26 @@ static int read_xyz(sphere_run *s, double *x, hsbd_error *err) {
         }
         ++lineno;
         char name[64];
-        double c[3] = {0, 0, 0};
-        const int got = sscanf(line, "%63s %lf %lf %lf", name, &c[0], &c[1], &c[2]);
+        double c[3] = {0, 0, 0}, radius = NAN;
+        const int got = sscanf(line, "%63s %lf %lf %lf %lf", name, &c[0], &c[1], &c[2], &radius);
         const int dim = (int)cfg->system.dimension;
         if (got < 1 + dim || !isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2])) {
             rc = hsbd_error_set(err, HSBD_EINPUT,
                                 "%s:%zu: expected 'name x y%s' with finite coordinates", path,
                                 lineno, dim == 3 ? " z" : "");
             break;
+        }
+        if (cfg->species.polydispersity > 0) { /* the diameters come with the positions */
+            if (got < 5 || !(radius > 0) || !isfinite(radius)) {
+                rc = hsbd_error_set(err, HSBD_EINPUT,
+                                    "%s:%zu: species.polydispersity > 0 (%s) reads each "
+                                    "diameter from the file: expected 'name x y z radius' with "
+                                    "radius > 0, as hsbd writes trajectories",
+                                    path, lineno,
+                                    hsbd_config_origin(cfg, "species", "polydispersity"));
+                break;
+            }
+            sigma[i] = 2 * radius;
         }
         int sp = 0;
         if (cfg->species.n) {
@@ -116,16 +128,23 @@ static int build_system(sphere_run *s, hsbd_error *err) {
     const size_t n = (size_t)cfg->system.n;
     s->ns = cfg->species.n ? cfg->species.n : 1;
     s->species = calloc(n, sizeof *s->species);
-    double *x = NULL;
-    if (!s->species) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-    size_t i = 0; /* species in blocks: initial states place particles randomly */
-    for (size_t k = 0; k < cfg->species.n; ++k)
-        for (int64_t c = 0; c < cfg->species.count[k]; ++c)
-            s->species[i++] = (int)k;
+    double *x = NULL, *sigma = malloc(2 * n * sizeof *sigma), *diffusion = sigma + n;
+    if (!s->species || !sigma)
+        return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    /* species in blocks (initial states place particles randomly), sizes and D */
+    if (hsbd_config_particles(cfg, s->species, sigma, diffusion, err) != HSBD_OK)
+        return free(sigma), err->status;
     if (cfg->init.positions[0]) {
         x = malloc(3 * n * sizeof *x);
-        if (!x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-        if (read_xyz(s, x, err) != HSBD_OK) return free(x), err->status;
+        if (!x) return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        if (read_xyz(s, x, sigma, err) != HSBD_OK) return free(x), free(sigma), err->status;
+        for (size_t i = 0; i < n; ++i) { /* the file's species (and diameters) */
+            const size_t k = (size_t)s->species[i];
+            const double sk = cfg->species.n ? cfg->species.sigma[k] : cfg->system.sigma;
+            if (!(cfg->species.polydispersity > 0)) sigma[i] = sk;
+            diffusion[i] = cfg->species.n ? cfg->species.diffusion[k] : cfg->system.diffusion;
+            if (cfg->species.d_law == HSBD_D_STOKES_EINSTEIN) diffusion[i] *= sk / sigma[i];
+        }
     }
     hsbd_spheres_params p = {.n = n,
                              .dimension = (int)cfg->system.dimension,
@@ -139,10 +158,13 @@ static int build_system(sphere_run *s, hsbd_error *err) {
                              .nspecies = cfg->species.n,
                              .species = s->species,
                              .species_sigma = cfg->species.sigma,
-                             .species_diffusion = cfg->species.diffusion};
+                             .species_diffusion = cfg->species.diffusion,
+                             .particle_sigma = sigma,
+                             .particle_diffusion = diffusion};
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a];
     s->sys = hsbd_spheres_alloc(&p, err);
+    free(sigma);
     char why[sizeof err->message];
     if (!s->sys) {
         free(x);
@@ -162,13 +184,14 @@ static int build_system(sphere_run *s, hsbd_error *err) {
         }
         return rc;
     }
-    rc = cfg->init.method == HSBD_INIT_LATTICE ? hsbd_spheres_init_lattice(s->sys, err)
-                                               : hsbd_spheres_init_random(s->sys, err);
+    static const char *const method[] = {"auto", "random", "lattice", "compress"};
+    rc = cfg->init.method == HSBD_INIT_LATTICE    ? hsbd_spheres_init_lattice(s->sys, err)
+         : cfg->init.method == HSBD_INIT_COMPRESS ? hsbd_spheres_init_compress(s->sys, err)
+                                                  : hsbd_spheres_init_random(s->sys, err);
     if (rc == HSBD_EINPUT) {
         snprintf(why, sizeof why, "%s", err->message);
         hsbd_error_set(err, rc, "%s: init.method = %s: %s",
-                       hsbd_config_origin(cfg, "init", "method"),
-                       cfg->init.method == HSBD_INIT_LATTICE ? "lattice" : "random", why);
+                       hsbd_config_origin(cfg, "init", "method"), method[cfg->init.method], why);
     }
     return rc;
 }
@@ -434,64 +457,114 @@ static void long_time_diffusion(const sphere_run *s, const hsbd_msd *m, double *
     }
 }
 
-static double species_fraction(const sphere_run *s, size_t k) {
-    return s->cfg->species.n ? (double)s->cfg->species.count[k] / (double)s->cfg->system.n : 1.0;
+/* Size classes for the equations of state: per species, CLASSES bins of its diameters
+ * (one class when monodisperse), each with its members' mean diameter and number
+ * fraction of all particles. */
+enum { CLASSES = 64 };
+typedef struct {
+    size_t n, first[HSBD_MAX_SPECIES + 1]; /* classes of species k: first[k] .. first[k+1] */
+    double x[HSBD_MAX_SPECIES * CLASSES], sigma[HSBD_MAX_SPECIES * CLASSES];
+    int polydisperse;
+} size_classes;
+
+static void build_size_classes(const sphere_run *s, size_classes *c) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
+    double lo[HSBD_MAX_SPECIES], hi[HSBD_MAX_SPECIES];
+    for (size_t k = 0; k < s->ns; ++k)
+        lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (size_t i = 0; i < v.n; ++i)
+        lo[s->species[i]] = fmin(lo[s->species[i]], v.sigma[i]),
+        hi[s->species[i]] = fmax(hi[s->species[i]], v.sigma[i]);
+    memset(c, 0, sizeof *c);
+    double sum[HSBD_MAX_SPECIES * CLASSES] = {0};
+    for (size_t k = 0; k < s->ns; ++k) {
+        c->first[k] = k * CLASSES;
+        if (hi[k] > lo[k]) c->polydisperse = 1;
+    }
+    for (size_t i = 0; i < v.n; ++i) {
+        const size_t k = (size_t)s->species[i];
+        const double w = hi[k] > lo[k] ? (v.sigma[i] - lo[k]) / (hi[k] - lo[k]) : 0;
+        const size_t b = k * CLASSES + (size_t)fmin(CLASSES - 1, floor(w * CLASSES));
+        c->x[b] += 1.0 / (double)v.n, sum[b] += v.sigma[i];
+    }
+    for (size_t b = 0; b < s->ns * CLASSES; ++b)
+        c->sigma[b] = c->x[b] > 0 ? sum[b] / (c->x[b] * (double)v.n) : 1.0;
+    c->first[s->ns] = c->n = s->ns * CLASSES;
 }
 
-static double species_sigma(const sphere_run *s, size_t k) {
-    return s->cfg->species.n ? s->cfg->species.sigma[k] : s->cfg->system.sigma;
+/* The 3D BMCSL contact value of species a, b: over their size classes, weighted by
+ * x x' sigma_cc'^3 as the simulation's contact value is (hsbd_gr_contact) */
+static double bmcsl_species_contact(const size_classes *c, double rho, size_t a, size_t b) {
+    double num = 0, den = 0;
+    for (size_t p = c->first[a]; p < c->first[a + 1]; ++p)
+        for (size_t q = c->first[b]; q < c->first[b + 1]; ++q) {
+            if (c->x[p] == 0 || c->x[q] == 0) continue;
+            const double sij = 0.5 * (c->sigma[p] + c->sigma[q]);
+            const double w = c->x[p] * c->x[q] * sij * sij * sij;
+            num += w * hsbd_hs_contact_bmcsl(c->n, c->x, c->sigma, rho, p, q), den += w;
+        }
+    return num / den;
 }
 
-/* "contacts": g_ab(sigma_ab+) per pair with the equation of state's value; Z from them */
+/* "contacts": g_ab(sigma_ab+) per pair with the equation of state's value; Z from them by
+ * the virial route, Z = 1 + sum_ab C_ab g_ab, beside the equation of state's Z */
 static void write_contacts_json(sphere_run *s, FILE *f) {
     const hsbd_config *cfg = s->cfg;
-    const size_t ns = s->ns;
     const int dim = (int)cfg->system.dimension;
-    double x[HSBD_MAX_SPECIES], sg[HSBD_MAX_SPECIES];
-    double g[HSBD_MAX_SPECIES * HSBD_MAX_SPECIES], ge[HSBD_MAX_SPECIES * HSBD_MAX_SPECIES];
     double vol = 1;
     for (int a = 0; a < dim; ++a)
         vol *= cfg->system.box[a];
     const double rho = (double)cfg->system.n / vol;
-    for (size_t k = 0; k < ns; ++k)
-        x[k] = species_fraction(s, k), sg[k] = species_sigma(s, k);
+    size_classes classes;
+    build_size_classes(s, &classes);
+    double z = 1, var = 0, z_theory = 1;
+    const char *eos = dim == 3
+                          ? (s->ns == 1 && !classes.polydisperse ? "Carnahan-Starling" : "BMCSL")
+                          : (s->ns == 1 && !classes.polydisperse ? "Henderson" : "none");
     fprintf(f, "  \"contacts\": [");
     for (size_t p = 0; p < hsbd_gr_pairs(s->gr); ++p) {
         size_t a, b;
         hsbd_gr_pair_species(s->gr, p, &a, &b);
         double val, err;
         hsbd_gr_contact(s->gr, p, &val, &err);
-        g[a * ns + b] = g[b * ns + a] = val;
-        ge[a * ns + b] = ge[b * ns + a] = err;
+        const double weight = hsbd_gr_contact_weight(s->gr, p);
+        z += weight * val, var += weight * weight * err * err;
         double theory = NAN;
-        const char *eos = "none";
-        if (dim == 3) {
-            theory = ns == 1 ? hsbd_hs_contact_cs(cfg->system.packing_fraction)
-                             : hsbd_hs_contact_bmcsl(ns, x, sg, rho, a, b);
-            eos = ns == 1 ? "Carnahan-Starling" : "BMCSL";
-        } else if (ns == 1) {
+        if (dim == 3)
+            theory = s->ns == 1 && !classes.polydisperse
+                         ? hsbd_hs_contact_cs(cfg->system.packing_fraction)
+                         : bmcsl_species_contact(&classes, rho, a, b);
+        else if (s->ns == 1 && !classes.polydisperse)
             theory = hsbd_hd_contact_henderson(cfg->system.packing_fraction);
-            eos = "Henderson";
-        }
+        z_theory += weight * theory;
         fprintf(f,
                 "%s\n    {\"a\": \"%s\", \"b\": \"%s\", \"g_contact\": %.10g, \"g_contact_err\": "
-                "%.4g, \"theory\": %.10g, \"theory_eos\": \"%s\"}",
+                "%.4g, \"theory\": %.10g, \"theory_eos\": \"%s\", \"Z_weight\": %.10g}",
                 p ? "," : "", species_name(s, a), species_name(s, b), val, isfinite(err) ? err : 0,
-                isfinite(theory) ? theory : 0, eos);
+                isfinite(theory) ? theory : 0, eos, weight);
     }
     fprintf(f, "\n  ],\n");
-    /* Z from the contact values, error by linear propagation (pairs treated independent) */
-    const double z = hsbd_hs_z_from_contacts(dim, ns, x, sg, rho, g);
-    double var = 0;
-    for (size_t a = 0; a < ns; ++a)
-        for (size_t b = 0; b < ns; ++b) {
-            double unit[HSBD_MAX_SPECIES * HSBD_MAX_SPECIES] = {0};
-            unit[a * ns + b] = 1;
-            const double dz = hsbd_hs_z_from_contacts(dim, ns, x, sg, rho, unit) - 1.0;
-            var += dz * dz * ge[a * ns + b] * ge[a * ns + b];
-        }
     hsbd_json_number(f, "Z_contact", z, 1);
-    hsbd_json_number(f, "Z_contact_err", sqrt(var), 1);
+    hsbd_json_number(f, "Z_contact_err", sqrt(var), 1); /* pairs treated as independent */
+    hsbd_json_number(f, "Z_theory", z_theory, 1);
+    fprintf(f, "  \"Z_theory_eos\": \"%s\",\n", eos);
+}
+
+/* "sizes": the diameters as simulated (drawn, or read with the positions) */
+static void write_sizes_json(const sphere_run *s, FILE *f) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
+    double mean = 0, var = 0, lo = INFINITY, hi = 0;
+    for (size_t i = 0; i < v.n; ++i)
+        mean += v.sigma[i] / (double)v.n, lo = fmin(lo, v.sigma[i]), hi = fmax(hi, v.sigma[i]);
+    for (size_t i = 0; i < v.n; ++i)
+        var += (v.sigma[i] - mean) * (v.sigma[i] - mean) / (double)v.n;
+    static const char *const dist[] = {"gaussian", "uniform"}, *const law[] = {"given",
+                                                                               "stokes-einstein"};
+    fprintf(f,
+            "  \"sizes\": {\"mean\": %.10g, \"relative_width\": %.6g, \"min\": %.10g, \"max\": "
+            "%.10g, \"polydispersity\": %g, \"distribution\": \"%s\", \"D_law\": \"%s\"},\n",
+            mean, sqrt(var) / mean, lo, hi, s->cfg->species.polydispersity,
+            dist[s->cfg->species.distribution], law[s->cfg->species.d_law]);
 }
 
 static int write_summary(sphere_run *s, const char *reason, hsbd_error *err) {
@@ -516,6 +589,7 @@ static int write_summary(sphere_run *s, const char *reason, hsbd_error *err) {
     hsbd_json_number(f, "packing_fraction", cfg->system.packing_fraction, 1);
     fprintf(f, "  \"box\": [%.17g, %.17g, %.17g],\n", cfg->system.box[0], cfg->system.box[1],
             cfg->system.box[2]);
+    write_sizes_json(s, f);
     hsbd_json_number(f, "shell", hsbd_spheres_shell(s->sys), 1);
     hsbd_json_number(f, "time_simulated", t_prod, 1);
     hsbd_json_number(f, "cpu_seconds", s->cpu_prod + s->cpu_equil, 1);

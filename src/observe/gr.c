@@ -1,9 +1,13 @@
 /* Radial distribution functions g_ab(r) of disks / spheres per unordered species pair,
  * and their contact values g_ab(sigma_ab+) extrapolated from a fine histogram of the
- * surface gaps r - sigma_ab in [0, contact_fit): a least-squares quadratic in the gap,
- * evaluated at zero gap. Errors from block averages (time blocks); the extrapolation is
- * linear in the counts, so it is applied to every block's histogram and the blocks'
- * scatter gives its error. Pairs are found with a cell grid of width >= r_max. */
+ * surface gaps r - sigma_ij in [0, contact_fit): a least-squares quadratic in the gap,
+ * evaluated at zero gap. Each pair enters the gap histogram with weight sigma_ij, so the
+ * extrapolated value is exact for the virial route even when sizes vary within a species
+ * (polydispersity): Z = 1 + sum_ab C_ab g_ab (hsbd_gr_contact_weight), and g_ab is the
+ * mean of the pairs' contact values weighted by sigma_ij^d. Errors from block averages
+ * (time blocks); the extrapolation is linear in the counts, so it is applied to every
+ * block's histogram and the blocks' scatter gives its error. Pairs are found with a cell
+ * grid of width >= r_max. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,9 +22,8 @@ struct hsbd_gr {
     size_t n, nspecies, npairs, bins;
     int dim;
     double box[3], volume, r_max, width, fit_width;
-    double *sp_sigma; /* contact distance per species from the view (sigma of a member) */
     double *expected; /* npairs x (bins + GR_FIT_BINS): ideal-gas counts per sample */
-    int polydisperse; /* sizes differ within a species: no contact fit */
+    double *weight;   /* npairs: C_ab of Z = 1 + sum_ab C_ab g_ab */
     hsbd_blocks *blocks;
     size_t nblocks;
     sph_cells cells;
@@ -52,12 +55,50 @@ static double shell_volume(int dim, double r0, double r1) {
 
 void hsbd_gr_free(hsbd_gr *g) {
     if (!g) return;
-    free(g->sp_sigma);
+    free(g->weight);
     free(g->expected);
     free(g->acc);
     hsbd_blocks_free(g->blocks);
     sph_cells_free(&g->cells);
     free(g);
+}
+
+/* Sum of s_ij^m over the pairs of species a and b, s_ij = (sigma_i + sigma_j)/2, from the
+ * species' power sums pa[k] = sum sigma^k: binomial expansion over ordered pairs, halved
+ * without the self pairs when a = b. */
+static double pair_power_sum(int m, const double *pa, const double *pb, int same) {
+    static const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    double ordered = 0;
+    for (int k = 0; k <= m; ++k)
+        ordered += binom[m][k] * pa[k] * pb[m - k];
+    ordered /= (double)(1 << m);
+    return same ? 0.5 * (ordered - pa[m]) : ordered;
+}
+
+/* Ideal-gas counts of pair (a, b) per sample: r bins, and the sigma_ij-weighted gap bins
+ * (shell of gaps [lo, hi) at contact distance s: 3D (4 pi/3)(3 s^2 D1 + 3 s D2 + D3),
+ * 2D pi (2 s D1 + D2), D_m = hi^m - lo^m); the Z weight C_ab = S_d sum s^d / (V d N). */
+static void expect_pairs(hsbd_gr *g, size_t a, size_t b, const double *pa, const double *pb) {
+    const size_t row = g->bins + GR_FIT_BINS;
+    double *e = g->expected + pair_index(g->nspecies, a, b) * row;
+    const int same = a == b;
+    const double pairs = pair_power_sum(0, pa, pb, same) / g->volume;
+    for (size_t k = 0; k < g->bins; ++k)
+        e[k] = pairs * shell_volume(g->dim, (double)k * g->width, (double)(k + 1) * g->width);
+    double sm[4];
+    for (int m = 0; m < 4; ++m)
+        sm[m] = pair_power_sum(m, pa, pb, same) / g->volume;
+    const double h = g->fit_width / GR_FIT_BINS;
+    for (size_t k = 0; k < GR_FIT_BINS; ++k) {
+        const double lo = (double)k * h, hi = lo + h, d1 = hi - lo, d2 = hi * hi - lo * lo,
+                     d3 = hi * hi * hi - lo * lo * lo;
+        e[g->bins + k] = g->dim == 3
+                             ? 4.0 / 3.0 * HSBD_PI * (3 * sm[3] * d1 + 3 * sm[2] * d2 + sm[1] * d3)
+                             : HSBD_PI * (2 * sm[2] * d1 + sm[1] * d2);
+    }
+    const double surface = g->dim == 3 ? 4 * HSBD_PI : 2 * HSBD_PI;
+    g->weight[pair_index(g->nspecies, a, b)] =
+        surface * sm[g->dim] / ((double)g->dim * (double)g->n);
 }
 
 hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, double fit_width,
@@ -86,12 +127,12 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
     for (int a = 0; a < 3; ++a)
         g->box[a] = v->box[a], g->volume *= a < g->dim ? v->box[a] : 1.0;
     const size_t row = g->bins + GR_FIT_BINS;
-    g->sp_sigma = calloc(g->nspecies, sizeof *g->sp_sigma);
+    g->weight = calloc(g->npairs, sizeof *g->weight);
     g->expected = calloc(g->npairs * row, sizeof *g->expected);
     g->acc = calloc(g->npairs * row, sizeof *g->acc);
     g->blocks = hsbd_blocks_alloc(g->npairs * row, nblocks, nsamples_total);
     g->nblocks = nblocks;
-    if (!g->sp_sigma || !g->expected || !g->acc || !g->blocks ||
+    if (!g->weight || !g->expected || !g->acc || !g->blocks ||
         sph_cells_init(&g->cells, g->dim, g->box, g->r_max, g->n)) {
         hsbd_gr_free(g);
         return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
@@ -100,25 +141,13 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
         hsbd_gr_free(g);
         return hsbd_error_set(err, HSBD_EINPUT, "g(r): at most 64 species"), NULL;
     }
-    double count[64] = {0};
-    for (size_t i = 0; i < v->n; ++i) {
-        const int sp = v->species[i];
-        count[sp] += 1;
-        if (count[sp] == 1) g->sp_sigma[sp] = v->sigma[i];
-        if (v->sigma[i] != g->sp_sigma[sp]) g->polydisperse = 1;
-    }
+    double power[64][4] = {{0}}; /* sum over the members of sigma^m, m = 0..3 */
+    for (size_t i = 0; i < v->n; ++i)
+        for (int m = 0, sp = v->species[i]; m < 4; ++m)
+            power[sp][m] += pow(v->sigma[i], m);
     for (size_t a = 0; a < g->nspecies; ++a)
-        for (size_t b = a; b < g->nspecies; ++b) {
-            const double pairs = a == b ? 0.5 * count[a] * (count[a] - 1) : count[a] * count[b];
-            const double density = pairs / g->volume; /* pairs per volume of separation */
-            double *e = g->expected + pair_index(g->nspecies, a, b) * row;
-            for (size_t k = 0; k < g->bins; ++k)
-                e[k] = density * shell_volume(g->dim, (double)k * width, (double)(k + 1) * width);
-            const double s = 0.5 * (g->sp_sigma[a] + g->sp_sigma[b]), h = fit_width / GR_FIT_BINS;
-            for (size_t k = 0; k < GR_FIT_BINS; ++k)
-                e[g->bins + k] =
-                    density * shell_volume(g->dim, s + (double)k * h, s + (double)(k + 1) * h);
-        }
+        for (size_t b = a; b < g->nspecies; ++b)
+            expect_pairs(g, a, b, power[a], power[b]);
     return g;
 }
 
@@ -149,10 +178,10 @@ void hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
                     pair_index(g->nspecies, (size_t)v->species[i], (size_t)v->species[j]) * row;
                 const size_t k = (size_t)(r * inv_w);
                 if (k < g->bins) acc[k] += 1;
-                const double gap = r - 0.5 * (v->sigma[i] + v->sigma[j]);
+                const double sij = 0.5 * (v->sigma[i] + v->sigma[j]), gap = r - sij;
                 if (gap >= 0 && gap < g->fit_width) {
                     const size_t f = (size_t)(gap * h_inv);
-                    acc[g->bins + (f < GR_FIT_BINS ? f : GR_FIT_BINS - 1)] += 1;
+                    acc[g->bins + (f < GR_FIT_BINS ? f : GR_FIT_BINS - 1)] += sij;
                 }
             }
     }
@@ -218,7 +247,7 @@ void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double
 void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) {
     *value = *err = NAN;
     const size_t row = g->bins + GR_FIT_BINS, nv = g->npairs * row;
-    if (g->polydisperse || g->expected[pair * row + g->bins] <= 0) return;
+    if (g->expected[pair * row + g->bins] <= 0) return;
     double *all = malloc(g->nblocks * nv * sizeof *all);
     if (!all) return;
     hsbd_blocks_block_means(g->blocks, 0, all);
@@ -238,4 +267,8 @@ void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) 
     const double m = sum / (double)used;
     *value = m;
     if (used >= 2) *err = sqrt(fmax(0.0, (sum2 / (double)used - m * m) / (double)(used - 1)));
+}
+
+double hsbd_gr_contact_weight(const hsbd_gr *g, size_t pair) {
+    return g->weight[pair];
 }

@@ -57,8 +57,9 @@ double hsbd_spheres_contact_time(const double r[3], const double v[3], double s,
 
 /* ---- parameters and allocation ---- */
 
-static double species_value(const hsbd_spheres_params *p, const double *per_species, double one,
-                            size_t i) {
+static double species_value(const hsbd_spheres_params *p, const double *per_particle,
+                            const double *per_species, double one, size_t i) {
+    if (per_particle) return per_particle[i];
     return p->nspecies ? per_species[p->species[i]] : one;
 }
 
@@ -91,17 +92,34 @@ static int check_params(const hsbd_spheres_params *p, hsbd_error *err) {
     for (size_t k = 0; k < ns; ++k) {
         const double sg = p->nspecies ? p->species_sigma[k] : p->sigma;
         const double d = p->nspecies ? p->species_diffusion[k] : p->diffusion;
-        if (!(sg > 0) || !isfinite(sg))
+        if (!p->particle_sigma && (!(sg > 0) || !isfinite(sg)))
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "spheres: sigma = %g (species %zu); allowed: > 0", sg, k);
-        if (!(d >= 0) || !isfinite(d))
+        if (!p->particle_diffusion && (!(d >= 0) || !isfinite(d)))
             return hsbd_error_set(err, HSBD_EINPUT, "spheres: D = %g (species %zu); allowed: >= 0",
                                   d, k);
         if (d > dmax) dmax = d;
     }
+    if (p->particle_diffusion) dmax = 0; /* they replace the species' values */
+    for (size_t i = 0; i < p->n && (p->particle_sigma || p->particle_diffusion); ++i) {
+        const double sg = p->particle_sigma ? p->particle_sigma[i] : 1.0;
+        const double d = p->particle_diffusion ? p->particle_diffusion[i] : 0.0;
+        if (!(sg > 0) || !isfinite(sg) || !(d >= 0) || !isfinite(d))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "spheres: particle %zu has sigma = %g, D = %g; allowed: sigma > "
+                                  "0, D >= 0",
+                                  i, sg, d);
+        if (p->particle_diffusion && d > dmax) dmax = d;
+    }
     if (!(dmax > 0))
         return hsbd_error_set(err, HSBD_EINPUT, "spheres: every D is 0; allowed: some D > 0");
     const int drift = p->drift[0] != 0 || p->drift[1] != 0 || p->drift[2] != 0;
+    for (size_t i = 0; drift && p->particle_diffusion && i < p->n; ++i)
+        if (p->particle_diffusion[i] == 0)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "spheres: a drift with immobile particles (D = 0, particle %zu) "
+                                  "is not a common drift; allowed: drift 0",
+                                  i);
     if (drift && p->nspecies)
         for (size_t k = 0; k < p->nspecies; ++k)
             if (p->species_diffusion[k] == 0)
@@ -146,7 +164,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s);
 }
 
-static void set_noise_amplitudes(hsbd_spheres *s) {
+void sph_set_noise_amplitudes(hsbd_spheres *s) {
     for (size_t i = 0; i < s->n; ++i)
         s->noise_amp[i] = sqrt(2.0 * s->diffusion[i] / s->dt); /* v = dr/dt, <dr^2> = 2 D dt */
 }
@@ -160,6 +178,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->dim = params->dimension;
     s->n = params->n;
     s->dt = params->dt;
+    s->noise_stream = HSBD_STREAM_NOISE;
     const size_t n = s->n;
     for (int a = 0; a < 3; ++a) {
         s->box[a] = a < s->dim ? params->box[a] : 1.0;
@@ -192,8 +211,10 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     }
     for (size_t i = 0; i < n; ++i) {
         s->species[i] = params->nspecies ? params->species[i] : 0;
-        s->sigma[i] = species_value(params, params->species_sigma, params->sigma, i);
-        s->diffusion[i] = species_value(params, params->species_diffusion, params->diffusion, i);
+        s->sigma[i] =
+            species_value(params, params->particle_sigma, params->species_sigma, params->sigma, i);
+        s->diffusion[i] = species_value(params, params->particle_diffusion,
+                                        params->species_diffusion, params->diffusion, i);
         if (s->sigma[i] > s->sigma_max) s->sigma_max = s->sigma[i];
         if (s->diffusion[i] > dmax) dmax = s->diffusion[i];
         sigma_sum += s->sigma[i];
@@ -201,7 +222,8 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->par.species = s->species; /* the copies */
     s->par.species_sigma = s->sp_sigma;
     s->par.species_diffusion = s->sp_diffusion;
-    set_noise_amplitudes(s);
+    s->par.particle_sigma = s->par.particle_diffusion = NULL; /* s->sigma, s->diffusion hold them */
+    sph_set_noise_amplitudes(s);
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
     const double reach = s->sigma_max + 2 * s->shell;
     for (int a = 0; a < s->dim; ++a)
@@ -233,7 +255,7 @@ oom:
 void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
     s->dt = dt;
     s->par.dt = dt;
-    set_noise_amplitudes(s);
+    sph_set_noise_amplitudes(s);
 }
 
 /* ---- neighbour shells ---- */
@@ -405,7 +427,7 @@ static void predict_particle(hsbd_spheres *s, int32_t i, double t) {
 
 static void draw_velocities(hsbd_spheres *s) {
     const size_t n = s->n, d = (size_t)s->dim;
-    hsbd_rng_normals(s->par.seed, HSBD_STREAM_NOISE, s->step, 0, d * n, s->normals);
+    hsbd_rng_normals(s->par.seed, s->noise_stream, s->step, 0, d * n, s->normals);
     const double *g = s->par.drift;
     for (size_t i = 0; i < n; ++i) {
         double *v = s->v + 3 * i;

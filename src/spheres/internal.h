@@ -29,12 +29,16 @@ struct hsbd_spheres {
     int32_t *nb;                   /* n x nb_cap */
     sph_cells cells;               /* of the shell centres, cells >= sigma_max + 2 shell wide */
     sph_calendar calendar;
-    double *normals; /* dim x n draws of a step */
+    double *normals;       /* dim x n draws of a step */
+    uint32_t noise_stream; /* HSBD_STREAM_NOISE; the compression uses its own */
     double dt, time;
     uint64_t step;
     int oom; /* an allocation failed inside a step (the step is then not exact) */
     hsbd_spheres_stats stats;
 };
+
+/* The cached per-particle quantities that follow from dt and D: the noise amplitudes. */
+void sph_set_noise_amplitudes(hsbd_spheres *s);
 
 /* Places every particle's shell at its position and builds all neighbour lists. */
 int sph_rebuild_neighbours(hsbd_spheres *s);

@@ -301,6 +301,23 @@ expect_fail sph-box "twice the interaction range" "system.packing_fraction" -- r
 expect_fail sph-rods-key "field.type applies to system.model = rods only" -- run sph.ini --set field.type=tilt
 expect_fail sph-both "exactly one of system.box and system.packing_fraction" -- run sph.ini --set system.box=20
 expect_fail sph-lattice-dense "init.method = lattice" "spacing" -- run disk.ini --set system.packing_fraction=0.85 --set init.method=lattice
+# continuous polydispersity with Stokes-Einstein D, compressed to a dense fluid; its frame
+# (with radii) read back; the diameters' moments come out in summary.json
+sph_ini | sed 's/packing_fraction = 0.2/packing_fraction = 0.5/' >poly.ini
+printf '[species]\npolydispersity = 0.1\nD_law = stokes-einstein\n[output]\ntrajectory = xyz\n' >>poly.ini
+if "$HSBD" run poly.ini --out poly --quiet && grep -q '"method": "compress"' poly/summary.json &&
+    grep -q '"Z_theory_eos": "BMCSL"' poly/summary.json &&
+    python3 -c "
+import json; d = json.load(open('poly/summary.json'))
+assert d['min_gap'] >= 0 and d['contacts'][0]['g_contact'] > 1
+assert abs(d['sizes']['relative_width'] - 0.1) < 0.02" 2>/dev/null; then ok; else bad "polydisperse run"; fi
+tail -n 202 poly/trajectory.xyz >pframe.xyz
+if "$HSBD" run poly.ini --set init.positions=pframe.xyz --set output.trajectory=none --out poly2 --quiet; then ok; else bad "polydisperse XYZ input"; fi
+awk '{print $1, $2, $3, $4}' pframe.xyz >noradius.xyz
+expect_fail sph-poly-radius "noradius.xyz:" "radius" -- run poly.ini --set init.positions=noradius.xyz --set output.trajectory=none
+expect_fail sph-poly-width "species.polydispersity = 0.5" "0 <= polydispersity <= 0.3" -- run poly.ini --set species.polydispersity=0.5
+expect_fail sph-se-d "species.D is set, but species.D_law = stokes-einstein" -- run disk.ini --set species.D_law=stokes-einstein
+expect_fail sph-compress-dense "init.method = compress reaches" "init.method = lattice" -- run sph.ini --set system.packing_fraction=0.62 --set init.method=compress
 
 # the configuration reference in docs/ is the one the schema generates
 if "$HSBD" config-doc | diff -q - "$SRC/docs/config.md" >/dev/null; then ok; else bad "docs/config.md is stale: run 'build/hsbd config-doc > docs/config.md'"; fi

@@ -2,13 +2,16 @@
  * of sum v_i / D_i and of sum v_i^2 / D_i, reversal of the normal relative velocity, an
  * immobile partner acting as a wall), contact times against brute-force integration, no
  * overlap after any step (O(N^2) check, 2D and 3D, mixtures with immobile obstacles),
- * bit-identical reruns of one seed by two objects in one process, and the free-particle
- * mode. */
+ * bit-identical reruns of one seed by two objects in one process, the free-particle
+ * mode, polydisperse diameters (moments within their sampling error), the compression to
+ * dense states without overlaps (and its refusal near jamming), and the g(r) weights of
+ * the virial route. */
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
 
 #include "../test_util.h"
+#include "hsbd/observe.h"
 #include "hsbd/rng.h"
 #include "hsbd/spheres.h"
 
@@ -271,11 +274,121 @@ static void test_bad_params(void) {
     hsbd_spheres_free(s);
 }
 
+/* Sample mean and standard deviation of the drawn diameters against mean 1 and width w,
+ * within 4 standard errors (var of the sample variance: (kurtosis - 1) w^4 / n). */
+static void check_diameters(hsbd_size_distribution dist, double kurtosis, double bound) {
+    enum { N = 200000 };
+    static double mean[N], sg[N], again[N];
+    const double w = 0.1;
+    for (size_t i = 0; i < N; ++i)
+        mean[i] = 1.0;
+    hsbd_error err;
+    CHECK(hsbd_spheres_draw_diameters(77, N, mean, w, dist, sg, &err) == HSBD_OK, "draw: %s",
+          err.message);
+    hsbd_spheres_draw_diameters(77, N, mean, w, dist, again, &err);
+    double m = 0, m2 = 0, lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < N; ++i)
+        m += sg[i] / N, lo = fmin(lo, sg[i]), hi = fmax(hi, sg[i]);
+    for (size_t i = 0; i < N; ++i)
+        m2 += (sg[i] - m) * (sg[i] - m) / (N - 1);
+    const double sd = sqrt(m2), sd_err = 0.5 * w * sqrt((kurtosis - 1) / N);
+    printf("diameters (%s): mean %.5f (+- %.5f), sd %.5f (+- %.5f), range [%.4f, %.4f]\n",
+           dist == HSBD_SIZES_UNIFORM ? "uniform" : "gaussian", m, w / sqrt(N), sd, sd_err, lo, hi);
+    CHECK(fabs(m - 1) < 4 * w / sqrt(N), "mean diameter %g", m);
+    CHECK(fabs(sd - w) < 4 * sd_err, "width %g, asked %g", sd, w);
+    CHECK(lo >= 1 - bound * w - 1e-12 && hi <= 1 + bound * w + 1e-12, "range [%g, %g]", lo, hi);
+    CHECK(!memcmp(sg, again, sizeof sg), "the same seed gives other diameters");
+    CHECK(hsbd_spheres_draw_diameters(77, N, mean, 0.31, dist, sg, &err) == HSBD_EINPUT,
+          "width 0.31 accepted");
+}
+
+static void test_diameters(void) {
+    /* the truncated normal (|z| <= 3) has kurtosis 2.8; rescaled, it ends at 3.0407 widths */
+    check_diameters(HSBD_SIZES_GAUSSIAN, 2.8, 3.0 / sqrt(0.9733369246625415));
+    check_diameters(HSBD_SIZES_UNIFORM, 1.8, sqrt(3.0));
+}
+
+static void compress_case(const char *name, int dim, size_t n, double phi, double width,
+                          int expect) {
+    static double mean[1000], sg[1000];
+    for (size_t i = 0; i < n; ++i)
+        mean[i] = 1.0;
+    hsbd_error err;
+    hsbd_spheres_draw_diameters(3, n, mean, width, HSBD_SIZES_GAUSSIAN, sg, &err);
+    double vp = 0;
+    for (size_t i = 0; i < n; ++i)
+        vp += dim == 3 ? PI / 6 * sg[i] * sg[i] * sg[i] : PI / 4 * sg[i] * sg[i];
+    const double side = pow(vp / phi, 1.0 / dim);
+    const hsbd_spheres_params p = {.n = n,
+                                   .dimension = dim,
+                                   .box = {side, side, side},
+                                   .diffusion = 1,
+                                   .kT = 1,
+                                   .dt = 1e-3,
+                                   .seed = 4,
+                                   .hard_core = 1,
+                                   .particle_sigma = sg};
+    hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+    CHECK(s != NULL, "%s: alloc: %s", name, err.message);
+    if (!s) return;
+    const int rc = hsbd_spheres_init_compress(s, &err);
+    printf("%s: %s\n", name, rc == HSBD_OK ? "compressed" : err.message);
+    CHECK(rc == expect, "%s: compression returned %d, expected %d", name, rc, expect);
+    if (rc == HSBD_OK) {
+        hsbd_spheres_view v = hsbd_spheres_get_view(s);
+        CHECK(!memcmp(v.sigma, sg, n * sizeof *sg), "%s: diameters changed", name);
+        CHECK(v.step == 0 && v.time == 0 && v.dt == 1e-3, "%s: clock or dt not reset", name);
+        CHECK(brute_min_gap(&v) >= -1e-9, "%s: overlap %g", name, brute_min_gap(&v));
+        for (int k = 0; k < 50; ++k)
+            hsbd_spheres_step(s);
+        v = hsbd_spheres_get_view(s);
+        CHECK(brute_min_gap(&v) >= -1e-9, "%s: overlap %g after 50 steps", name, brute_min_gap(&v));
+    }
+    hsbd_spheres_free(s);
+}
+
+static void test_compress(void) {
+    compress_case("compress 3D phi 0.55, polydispersity 0.1", 3, 500, 0.55, 0.1, HSBD_OK);
+    compress_case("compress 2D phi 0.70", 2, 400, 0.70, 0.0, HSBD_OK);
+    compress_case("compress 3D phi 0.68 (beyond reach)", 3, 200, 0.68, 0.0, HSBD_EINPUT);
+}
+
+/* Z = 1 + sum C_ab g_ab: one species C = S_d sigma^d (N - 1) / (2 d V), i.e. 4 phi (N-1)/N
+ * in 3D and 2 phi (N-1)/N in 2D; a mixture's weights add up to the moment sum. */
+static void test_gr_weights(void) {
+    for (int dim = 2; dim <= 3; ++dim) {
+        const size_t n = 300;
+        const double phi = 0.2, side = pow(n * (dim == 3 ? PI / 6 : PI / 4) / phi, 1.0 / dim);
+        const hsbd_spheres_params p = {.n = n,
+                                       .dimension = dim,
+                                       .box = {side, side, side},
+                                       .sigma = 1,
+                                       .diffusion = 1,
+                                       .kT = 1,
+                                       .dt = 1e-3,
+                                       .seed = 4,
+                                       .hard_core = 1};
+        hsbd_error err;
+        hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+        const hsbd_spheres_view v = hsbd_spheres_get_view(s);
+        hsbd_gr *g = hsbd_gr_alloc(&v, 2.0, 0.05, 0.1, 2, 2, &err);
+        const double expect = (dim == 3 ? 4 : 2) * phi * (double)(n - 1) / (double)n;
+        CHECK(g && fabs(hsbd_gr_contact_weight(g, 0) - expect) < 1e-12 * expect,
+              "%dD: Z weight %.15g, expected %.15g", dim, g ? hsbd_gr_contact_weight(g, 0) : 0,
+              expect);
+        hsbd_gr_free(g);
+        hsbd_spheres_free(s);
+    }
+}
+
 int main(void) {
     test_collision_rule();
     test_contact_time();
     test_no_overlap();
     test_reproducible();
     test_bad_params();
+    test_diameters();
+    test_compress();
+    test_gr_weights();
     return test_finish("test_spheres");
 }
