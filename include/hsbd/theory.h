@@ -108,6 +108,9 @@ double hsbd_short_time_msd(double t, double rho_gap, double diffusion);
 /* Carnahan-Starling: contact value g(sigma+) and Z = P/(rho kT) at packing fraction phi */
 double hsbd_hs_contact_cs(double phi);
 double hsbd_hs_z_cs(double phi);
+/* Kolafa-Labik-Malijevsky: the more accurate fluid equation of state (3D, one size) */
+double hsbd_hs_z_klm(double phi);
+double hsbd_hs_contact_klm(double phi);
 /* Henderson's hard-disk equation of state (2D) */
 double hsbd_hd_contact_henderson(double phi);
 double hsbd_hd_z_henderson(double phi);

@@ -17,6 +17,18 @@ double hsbd_hs_z_cs(double phi) {
     return (1.0 + phi + phi * phi - phi * phi * phi) / (q * q * q);
 }
 
+/* Kolafa-Labik-Malijevsky (2004): CS with -(2/3)(phi^3 + phi^4) in the numerator; within
+ * ~0.01 % of simulations in the fluid, where CS is 0.26 % low at phi = 0.3 */
+double hsbd_hs_z_klm(double phi) {
+    const double q = 1.0 - phi;
+    return (1.0 + phi + phi * phi - 2.0 / 3.0 * (phi * phi * phi + phi * phi * phi * phi)) /
+           (q * q * q);
+}
+
+double hsbd_hs_contact_klm(double phi) {
+    return (hsbd_hs_z_klm(phi) - 1.0) / (4.0 * phi); /* Z = 1 + 4 phi g(sigma+) */
+}
+
 double hsbd_hd_contact_henderson(double phi) {
     const double q = 1.0 - phi;
     return (1.0 - 7.0 / 16.0 * phi) / (q * q);
