@@ -276,9 +276,8 @@ static double packing_fraction(const hsbd_spheres *s, const double *sigma) {
     return vp / vol;
 }
 
-/* Brownian steps with growth until every diameter is final, or a stall (no gain of
- * packing fraction over `window` steps). The diameters start scaled to a packing that
- * random insertion reaches. */
+/* Brownian steps with growth until every diameter is final, or a stall (below). The
+ * diameters start scaled to a packing that random insertion reaches. */
 static int compress_from_rsi(hsbd_spheres *s, const double *final, double *growth,
                              hsbd_error *err) {
     const double phi = packing_fraction(s, final), phi_start = s->dim == 3 ? 0.25 : 0.40;
@@ -293,12 +292,10 @@ static int compress_from_rsi(hsbd_spheres *s, const double *final, double *growt
     const double step_rms = 0.03 * sigma_mean; /* per axis, of the fastest particle */
     const double dt_max = step_rms * step_rms / (2 * dmax);
     double dt = dt_max;
-
     /* a stall: less than 0.1 % gain of phi in a window, no end after max_steps, or more
      * than max_collisions per particle or steps shrunk a billion-fold, the signs of a
-     * jamming packing (the targets the
-     * configuration allows took 90 to 280 steps and 300 to 600 collisions per particle
-     * at N = 400 to 4000) */
+     * jamming packing (the targets the configuration allows took 90 to 280 steps and 300
+     * to 600 collisions per particle at N = 400 to 4000) */
     const uint64_t window = 1000, max_steps = 10000, max_collisions = 5000;
     double checked = 0;
     for (uint64_t k = 0;; ++k) {
@@ -358,7 +355,7 @@ int hsbd_spheres_draw_diameters(uint64_t seed, size_t n, const double *mean, dou
                               "spheres: polydispersity %g; allowed: 0 <= width <= 0.3, "
                               "distribution gaussian or uniform",
                               width);
-    /* the normal truncated at |z| <= 3 has variance 0.973336: rescale to unit variance */
+    /* the normal truncated at |z| <= 3 has variance 0.973337: rescale to unit variance */
     const double unit = 1.0 / sqrt(0.9733369246625415);
     for (size_t i = 0; i < n; ++i) {
         double xi;
