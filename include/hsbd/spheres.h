@@ -99,6 +99,11 @@ typedef enum { HSBD_SIZES_GAUSSIAN = 0, HSBD_SIZES_UNIFORM = 1 } hsbd_size_distr
 int hsbd_spheres_draw_diameters(uint64_t seed, size_t n, const double *mean, double width,
                                 hsbd_size_distribution dist, double *sigma, hsbd_error *err);
 
+/* Packing fraction of n diameters in a periodic box of dimension 2 or 3 (area pi s^2/4 or
+ * volume pi s^3/6 per particle over the box). */
+double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t n,
+                                     const double *sigma);
+
 /* One EDBD step of length dt. */
 void hsbd_spheres_step(hsbd_spheres *s);
 void hsbd_spheres_set_dt(hsbd_spheres *s, double dt);

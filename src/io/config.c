@@ -903,10 +903,6 @@ static int parse_vector(const hsbd_config *cfg, const char *key, const char *tex
 }
 
 /* particle volume (3D) or area (2D) of diameter s */
-static double particle_volume(int dim, double s) {
-    return dim == 3 ? 3.14159265358979323846 / 6 * s * s * s : 3.14159265358979323846 / 4 * s * s;
-}
-
 static int finalize_spheres(hsbd_config *cfg, hsbd_error *err) {
     if (refuse_keys_of_other_model(cfg, err) != HSBD_OK) return err->status;
     const int dim = (int)cfg->system.dimension;
@@ -920,14 +916,16 @@ static int finalize_spheres(hsbd_config *cfg, hsbd_error *err) {
                               origin_of(cfg, "system", "sigma"), cfg->system.sigma);
     if (parse_species(cfg, err) != HSBD_OK) return err->status;
     /* the particles' volume, from the diameters drawn with the seed when polydisperse */
-    double vp = 0, sigma_max = 0;
+    double sigma_max = 0;
     const size_t n = (size_t)cfg->system.n;
     double *sigma = malloc(n * sizeof *sigma);
     if (!sigma) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory for N = %zu", n);
     if (hsbd_config_particles(cfg, NULL, sigma, NULL, err) != HSBD_OK)
         return free(sigma), err->status;
+    const double unit[3] = {1, 1, 1}; /* phi in a unit box: the particles' volume */
+    const double vp = hsbd_spheres_packing_fraction(dim, unit, n, sigma);
     for (size_t i = 0; i < n; ++i)
-        vp += particle_volume(dim, sigma[i]), sigma_max = fmax(sigma_max, sigma[i]);
+        sigma_max = fmax(sigma_max, sigma[i]);
     free(sigma);
     const int has_box = cfg->system.box_text[0] != 0,
               has_phi = !isnan(cfg->system.packing_fraction);

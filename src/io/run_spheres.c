@@ -555,18 +555,6 @@ static void write_contacts_json(sphere_run *s, FILE *f) {
     }
 }
 
-/* phi of the diameters simulated (from a polydisperse XYZ input they are the file's) */
-static double simulated_packing_fraction(const sphere_run *s) {
-    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
-    double vp = 0, vol = 1;
-    for (size_t i = 0; i < v.n; ++i)
-        vp += v.dimension == 3 ? 3.14159265358979323846 / 6 * v.sigma[i] * v.sigma[i] * v.sigma[i]
-                               : 3.14159265358979323846 / 4 * v.sigma[i] * v.sigma[i];
-    for (int a = 0; a < v.dimension; ++a)
-        vol *= v.box[a];
-    return vp / vol;
-}
-
 /* "sizes": the diameters as simulated (drawn, or read with the positions) */
 static void write_sizes_json(const sphere_run *s, FILE *f) {
     const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
@@ -603,7 +591,9 @@ static int write_summary(sphere_run *s, const char *reason, hsbd_error *err) {
     fprintf(f, "  \"steps\": %llu,\n  \"steps_planned\": %llu,\n  \"equilibration_steps\": %llu,\n",
             (unsigned long long)s->steps_done, (unsigned long long)hsbd_config_steps(cfg),
             (unsigned long long)s->equil_done);
-    hsbd_json_number(f, "packing_fraction", simulated_packing_fraction(s), 1);
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys); /* an XYZ input's own sizes */
+    hsbd_json_number(f, "packing_fraction", hsbd_spheres_packing_fraction(dim, v.box, v.n, v.sigma),
+                     1);
     fprintf(f, "  \"box\": [%.17g, %.17g, %.17g],\n", cfg->system.box[0], cfg->system.box[1],
             cfg->system.box[2]);
     write_sizes_json(s, f);

@@ -266,14 +266,20 @@ static size_t grow_into_gaps(hsbd_spheres *s, const double *final, double fracti
     return below;
 }
 
-static double packing_fraction(const hsbd_spheres *s, const double *sigma) {
+double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t n,
+                                     const double *sigma) {
+    const double pi = 3.14159265358979323846;
     double vp = 0, vol = 1;
-    for (size_t i = 0; i < s->n; ++i)
-        vp += s->dim == 3 ? 3.14159265358979323846 / 6 * sigma[i] * sigma[i] * sigma[i]
-                          : 3.14159265358979323846 / 4 * sigma[i] * sigma[i];
-    for (int a = 0; a < s->dim; ++a)
-        vol *= s->box[a];
+    for (size_t i = 0; i < n; ++i)
+        vp +=
+            dimension == 3 ? pi / 6 * sigma[i] * sigma[i] * sigma[i] : pi / 4 * sigma[i] * sigma[i];
+    for (int a = 0; a < dimension; ++a)
+        vol *= box[a];
     return vp / vol;
+}
+
+static double packing_fraction(const hsbd_spheres *s, const double *sigma) {
+    return hsbd_spheres_packing_fraction(s->dim, s->box, s->n, sigma);
 }
 
 /* Brownian steps with growth until every diameter is final, or a stall (below). The

@@ -108,29 +108,21 @@ static size_t make_sphere_cases(const hsbd_validate_options *opt, vcase *cases) 
     const long n = q ? 1000 : 4000;
     const double t = q ? 8 : 20;
     size_t k = 0;
-    cases[k++] = (vcase){.name = "spheres-3d-phi0.3",
-                         .family = FAMILY_SPHERES,
-                         .n = n,
-                         .phi = 0.3,
-                         .dt = 1e-3,
-                         .t_total = t,
-                         .t_equil = 2};
-    cases[k++] = (vcase){.name = "spheres-binary-phi0.3",
-                         .family = FAMILY_SPHERES,
-                         .n = n,
-                         .phi = 0.3,
-                         .dt = 1e-3,
-                         .t_total = t,
-                         .t_equil = 2,
-                         .kind = SPHERES_BINARY};
-    cases[k++] = (vcase){.name = "spheres-poly0.1-phi0.3",
-                         .family = FAMILY_SPHERES,
-                         .n = n,
-                         .phi = 0.3,
-                         .dt = 1e-3,
-                         .t_total = t,
-                         .t_equil = 2,
-                         .kind = SPHERES_POLY};
+    /* phi 0.3: one size, the binary, polydispersity */
+    static const char *const dense[] = {"spheres-3d-phi0.3", "spheres-binary-phi0.3",
+                                        "spheres-poly0.1-phi0.3"};
+    static const int kinds[] = {SPHERES_ONE, SPHERES_BINARY, SPHERES_POLY};
+    for (int d = 0; d < 3; ++d) {
+        vcase *c = &cases[k++];
+        *c = (vcase){.family = FAMILY_SPHERES,
+                     .n = n,
+                     .phi = 0.3,
+                     .dt = 1e-3,
+                     .t_total = t,
+                     .t_equil = 2,
+                     .kind = kinds[d]};
+        snprintf(c->name, sizeof c->name, "%s", dense[d]);
+    }
     /* D_L: the largest lag (where the slope is taken) no longer than an error block, or
      * the blocks' MSDs at that lag overlap and their scatter understates the error (a
      * 20-unit run with 1-unit blocks and lag 5 gave 0.978 +- 0.0055 at phi 0.02) */
@@ -150,12 +142,8 @@ static size_t make_sphere_cases(const hsbd_validate_options *opt, vcase *cases) 
         const double dts[] = {4e-3, 2e-3, 5e-4, 2.5e-4};
         for (int d = 0; d < 4; ++d) {
             vcase *c = &cases[k++];
-            *c = (vcase){.family = FAMILY_SPHERES,
-                         .n = n,
-                         .phi = 0.3,
-                         .dt = dts[d],
-                         .t_total = t,
-                         .t_equil = 2};
+            *c = cases[0]; /* the one-size phi 0.3 case at other steps */
+            c->dt = dts[d];
             snprintf(c->name, sizeof c->name, "spheres-dt%.1e-phi0.3", dts[d]);
         }
     }
