@@ -26,6 +26,8 @@ void hsbd_blocks_end_sample(hsbd_blocks *b);
  * means over sqrt(blocks), using the blocks that received samples. Returns blocks used. */
 size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err);
 uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
+/* The time block that sample number `sample` (from 0) of nsamples_total falls in. */
+size_t hsbd_blocks_block_of(uint64_t sample, size_t nblocks, uint64_t nsamples_total);
 /* As hsbd_blocks_result, but the error is that of the shape: each block's values are
  * rescaled to the common total first (for quantities whose total is fixed, like the
  * density of a fixed number of rods observed in segments of the ring). */
@@ -105,6 +107,9 @@ void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v);
  * for d-dimensional particles allocate n = d N items, one per coordinate; the MSD per
  * particle is then d times the result. */
 void hsbd_msd_sample_values(hsbd_msd *m, const double *values);
+/* Forget every time origin: no lag spans the samples before and after this call (a new
+ * independent replica starts). */
+void hsbd_msd_restart(hsbd_msd *m);
 /* Also accumulate the self-intermediate scattering function: the mean of cos(k dx) per
  * item (for coordinates: F_s(k, t) with k along the axes, averaged over them). */
 int hsbd_msd_set_wavenumber(hsbd_msd *m, double k, hsbd_error *err);

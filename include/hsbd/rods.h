@@ -103,6 +103,10 @@ void hsbd_rods_free(hsbd_rods *rods);
  * initial-state stream. */
 void hsbd_rods_init_equilibrium(hsbd_rods *rods);
 
+/* The same with an independent draw number: draw 0 is hsbd_rods_init_equilibrium; other
+ * draws give independent samples of the same seed (e.g. for independent replicas). */
+void hsbd_rods_init_equilibrium_draw(hsbd_rods *rods, uint64_t draw);
+
 /* Positions (ring: in [0, L) or unwrapped; walls: in [sigma_i/2, L - sigma_i/2]), any
  * order; sorted along the line, a mixture's species following their rods. Refuses
  * overlaps (gap < -1e-12 sigma) and non-finite values with HSBD_EINPUT. */

@@ -146,13 +146,18 @@ static const key_spec schema[] = {
      "hopping) cheaply, the Euler distortion of dt then relaxes within a short time"},
     {"sample", "bin_width", K_DOUBLE, OFF(sample.bin_width), 0, INF, OPEN_MIN | OPEN_MAX, "1e-2", 0,
      "density bin width Delta_x (Eq. 24); must divide sample.period"},
-    {"sample", "contact_width", K_DOUBLE, OFF(sample.contact_width), 0, INF, OPEN_MIN | OPEN_MAX,
-     "1e-2", 0, "contact window Delta' (Eq. 26): gaps in [0, Delta'] count as contact"},
+    {"sample", "contact_width", K_DOUBLE, OFF(sample.contact_width), 0, INF, OPEN_MAX, "0", 0,
+     "contact window Delta' (Eq. 26): gaps in [0, Delta'] count as contact (0: max(0.01, three "
+     "rms relative steps 3 sqrt(4 D dt)), largest D; narrower windows bias rho2_extrap low, "
+     "docs/observables.md)"},
     {"sample", "period", K_DOUBLE, OFF(sample.period), 0, INF, OPEN_MIN | OPEN_MAX, "", 0,
      "profiles are folded into one period (default: field.wavelength); must divide L"},
-    {"sample", "blocking", K_ENUM, OFF(sample.blocking), 0, 0, 0, "time", "time|space",
+    {"sample", "blocking", K_ENUM, OFF(sample.blocking), 0, 0, 0, "time", "time|space|replicas",
      "error bars of profiles and the MSD from blocks of time, or of space (segments of the "
-     "ring, for long rings whose slow modes outlast time blocks; blocks must divide L/period)"},
+     "ring, for long rings whose slow modes outlast time blocks; blocks must divide L/period), "
+     "or from independent replicas (rods: each block restarts from its own initial state, "
+     "the exact field-free sample or init.positions, and equilibrates run.t_equil; errors "
+     "then include modes slower than any run)"},
     {"sample", "every", K_INT, OFF(sample.every), 1, 1e15, 0, "1", 0,
      "sample every this many steps (spheres: the MSD and F_s; default 10 there)"},
     {"sample", "blocks", K_INT, OFF(sample.blocks), 2, 10000, 0, "20", 0,
@@ -1032,11 +1037,16 @@ static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
                               "t_total/(dt*every) = %llu; allowed: 2 <= blocks <= %llu",
                               origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
                               (unsigned long long)samples, (unsigned long long)samples);
-    if (cfg->sample.msd_max_lag == 0) cfg->sample.msd_max_lag = cfg->run.t_total / 10;
-    if (cfg->sample.msd_max_lag > cfg->run.t_total)
+    const int replicas = cfg->sample.blocking == HSBD_BLOCKS_REPLICAS;
+    const double lag_limit = replicas ? cfg->run.t_total / (double)cfg->sample.blocks
+                                      : cfg->run.t_total; /* a replica's production time */
+    if (cfg->sample.msd_max_lag == 0)
+        cfg->sample.msd_max_lag = fmin(cfg->run.t_total / 10, lag_limit);
+    if (cfg->sample.msd_max_lag > lag_limit * (1 + 1e-12))
         return hsbd_error_set(
-            err, HSBD_EINPUT, "%s: sample.msd_max_lag = %g exceeds run.t_total = %g",
-            origin_of(cfg, "sample", "msd_max_lag"), cfg->sample.msd_max_lag, cfg->run.t_total);
+            err, HSBD_EINPUT, "%s: sample.msd_max_lag = %g exceeds %s = %g",
+            origin_of(cfg, "sample", "msd_max_lag"), cfg->sample.msd_max_lag,
+            replicas ? "a replica's time run.t_total/sample.blocks" : "run.t_total", lag_limit);
     if (cfg->output.trajectory_every == 0) cfg->output.trajectory_every = cfg->run.t_total / 100;
     if (cfg->output.trajectory_every < cfg->run.dt)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -1068,6 +1078,14 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               "= %g (no room); allowed: %s",
                               origin_of(cfg, "system", "N"), (long long)cfg->system.n, occupied, L,
                               allowed);
+    }
+    if (cfg->sample.contact_width == 0) {
+        double d = cfg->system.diffusion;
+        for (size_t k = 0; k < cfg->species.n; ++k)
+            d = fmax(d, cfg->species.diffusion[k]);
+        cfg->sample.contact_width = fmax(1e-2, 3 * sqrt(4 * d * cfg->run.dt));
+        snprintf(cfg->origin[key_index(find_key("sample", "contact_width"))], HSBD_ORIGIN_MAX,
+                 "default (derived from run.dt)");
     }
     if (cfg->pair.type != HSBD_PAIR_NONE && !cfg->system.hard_core)
         return hsbd_error_set(err, HSBD_EINPUT,

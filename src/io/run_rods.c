@@ -32,6 +32,9 @@ typedef struct run_state {
     uint64_t steps_done, equil_done;
     double wall_equil, wall_prod;
     double sum_x_start, sum_x_last_current; /* for the particle current */
+    double displacement_before;             /* sum of displacements of earlier replicas */
+    double *x_start;                        /* init.positions in line order (replicas) */
+    size_t replicas_started;                /* sample.blocking = replicas: blocks begun */
     uint64_t last_current_step;
     int completed;
     double min_gap_checked;
@@ -223,8 +226,10 @@ static int write_blocks_table(run_state *s, const char *name, const char *what, 
 
 static int write_profile_blocks(run_state *s, hsbd_error *err) {
     const int reflect = s->cfg->system.contact_rule == HSBD_CONTACT_REFLECT;
-    const char *unit =
-        s->cfg->sample.blocking == HSBD_BLOCKS_SPACE ? "segment of the line" : "block of time";
+    const int blocking = s->cfg->sample.blocking;
+    const char *unit = blocking == HSBD_BLOCKS_SPACE      ? "segment of the line"
+                       : blocking == HSBD_BLOCKS_REPLICAS ? "independent replica"
+                                                          : "block of time";
     char what[256];
     snprintf(what, sizeof what,
              "density profile of each %s (the estimates behind rho_err; their covariance "
@@ -324,9 +329,8 @@ static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err)
     if (cfg->system.hard_core)
         hsbd_clusters_means(s->clusters, &mean_size, &mean_size_err, &merges, &merges_err);
     const double t_prod = (double)s->steps_done * cfg->run.dt;
-    const double current =
-        t_prod > 0 ? (sum_unwrapped(s->rods) - s->sum_x_start) / (cfg->system.length * t_prod)
-                   : NAN;
+    const double displaced = s->displacement_before + sum_unwrapped(s->rods) - s->sum_x_start;
+    const double current = t_prod > 0 ? displaced / (cfg->system.length * t_prod) : NAN;
     fprintf(f, "{\n  \"program\": \"hsbd\",\n  \"version\": \"%s\",\n  \"git\": \"%s\",\n",
             HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
     fprintf(f, "  \"model\": \"rods\",\n  \"seed\": %llu,\n", (unsigned long long)cfg->system.seed);
@@ -337,6 +341,7 @@ static int write_summary(run_state *s, const char *stop_reason, hsbd_error *err)
             (unsigned long long)s->equil_done);
     fprintf(f, "  \"samples\": %llu,\n",
             (unsigned long long)(s->steps_done / (uint64_t)cfg->sample.every));
+    fprintf(f, "  \"replicas\": %zu,\n", s->replicas_started ? s->replicas_started : 1);
     hsbd_json_number(f, "time_simulated", t_prod, 1);
     hsbd_json_number(f, "wall_seconds", s->wall_prod + s->wall_equil, 1);
     hsbd_json_number(f, "wall_seconds_production", s->wall_prod, 1);
@@ -486,6 +491,13 @@ static int setup(run_state *s, hsbd_error *err) {
     if (rc0 == HSBD_OK && !s->rods) rc0 = err->status;
     if (rc0 == HSBD_OK && x) rc0 = hsbd_rods_set_positions(s->rods, x, err);
     if (rc0 == HSBD_OK && !x) hsbd_rods_init_equilibrium(s->rods);
+    if (rc0 == HSBD_OK && x && cfg->sample.blocking == HSBD_BLOCKS_REPLICAS) {
+        /* line order, so that setting them again keeps a mixture's species in place */
+        const hsbd_rods_view v = hsbd_rods_get_view(s->rods);
+        for (size_t i = 0; i < par.n; ++i)
+            x[i] = v.z[i] + v.offset[i];
+        s->x_start = x, x = NULL;
+    }
     free(x);
     if (rc0 != HSBD_OK) return rc0;
     const uint64_t samples = hsbd_config_steps(cfg) / (uint64_t)cfg->sample.every;
@@ -540,7 +552,7 @@ static int equilibrate(run_state *s, hsbd_error *err) {
     int rc = HSBD_OK;
     for (uint64_t k = 0; k < n; ++k) {
         hsbd_rods_step(s->rods, NULL);
-        s->equil_done = k + 1;
+        s->equil_done += 1; /* over all replicas */
         if (s->opt->check && (rc = check_hard_core(s, err)) != HSBD_OK) break;
         if ((k & 255) == 0) {
             hsbd_progress_update(&pr, k, n);
@@ -548,10 +560,41 @@ static int equilibrate(run_state *s, hsbd_error *err) {
             if ((rc = check_hard_core(s, err)) != HSBD_OK) break; /* O(N): NaN, overlap */
         }
     }
-    s->wall_equil = hsbd_wall_seconds() - t0;
+    s->wall_equil += hsbd_wall_seconds() - t0;
     hsbd_rods_set_dt(s->rods, s->cfg->run.dt);
     hsbd_progress_end(&pr);
     return rc;
+}
+
+/* sample.blocking = replicas: before the first step of each block after the first, a
+ * fresh initial state (its own draw of the exact field-free sample, or init.positions
+ * again) and its own equilibration; the noise goes on with the step counter, so every
+ * replica is independent. Lags of the MSD do not cross replicas. */
+static int start_replica(run_state *s, hsbd_error *err) {
+    s->displacement_before += sum_unwrapped(s->rods) - s->sum_x_start;
+    int rc = HSBD_OK;
+    if (s->x_start)
+        rc = hsbd_rods_set_positions(s->rods, s->x_start, err);
+    else
+        hsbd_rods_init_equilibrium_draw(s->rods, s->replicas_started);
+    s->replicas_started += 1;
+    if (rc == HSBD_OK) rc = equilibrate(s, err);
+    hsbd_msd_restart(s->msd);
+    for (size_t q = 0; q < s->cfg->species.n; ++q)
+        hsbd_msd_restart(s->msd_species[q]);
+    s->sum_x_start = s->sum_x_last_current = sum_unwrapped(s->rods);
+    return rc;
+}
+
+/* Does a new replica begin before production step k? */
+static int replica_due(const run_state *s, uint64_t k) {
+    const hsbd_config *cfg = s->cfg;
+    const uint64_t every = (uint64_t)cfg->sample.every;
+    if (cfg->sample.blocking != HSBD_BLOCKS_REPLICAS || k == 0 || k % every != 0) return 0;
+    const uint64_t total = hsbd_config_steps(cfg) / every, done = k / every;
+    const size_t nb = (size_t)cfg->sample.blocks;
+    return done < total &&
+           hsbd_blocks_block_of(done, nb, total) != hsbd_blocks_block_of(done - 1, nb, total);
 }
 
 static int produce(run_state *s, hsbd_error *err) {
@@ -569,9 +612,11 @@ static int produce(run_state *s, hsbd_error *err) {
     hsbd_progress pr;
     hsbd_progress_start(&pr, s->opt->progress, "running", (double)cfg->system.n);
     s->sum_x_start = s->sum_x_last_current = sum_unwrapped(s->rods);
-    const double t0 = hsbd_wall_seconds();
+    const double t0 = hsbd_wall_seconds(), equil0 = s->wall_equil;
     int rc = HSBD_OK;
+    if (cfg->sample.blocking == HSBD_BLOCKS_REPLICAS) s->replicas_started = 1;
     for (uint64_t k = 0; k < n; ++k) {
+        if (replica_due(s, k) && (rc = start_replica(s, err)) != HSBD_OK) break;
         const int sample = (k + 1) % every == 0;
         hsbd_rods_step_stats st;
         hsbd_rods_step(s->rods, sample && hard ? &st : NULL);
@@ -610,7 +655,7 @@ static int produce(run_state *s, hsbd_error *err) {
             if (stop_requested(s)) break;
         }
     }
-    s->wall_prod = hsbd_wall_seconds() - t0;
+    s->wall_prod = hsbd_wall_seconds() - t0 - (s->wall_equil - equil0); /* replicas' own */
     hsbd_progress_end(&pr);
     s->completed = rc == HSBD_OK && s->steps_done == n;
     return rc;
@@ -660,6 +705,7 @@ static void release(run_state *s) {
     hsbd_contacts_free(s->contacts);
     free(s->species);
     hsbd_clusters_free(s->clusters);
+    free(s->x_start);
 }
 
 int hsbd_run_rods(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err) {

@@ -44,9 +44,13 @@ double *hsbd_blocks_acc(hsbd_blocks *b) {
     return b->acc;
 }
 
+size_t hsbd_blocks_block_of(uint64_t sample, size_t nblocks, uint64_t nsamples_total) {
+    const size_t k = (size_t)(sample * nblocks / (nsamples_total ? nsamples_total : 1));
+    return k < nblocks ? k : nblocks - 1;
+}
+
 static size_t block_of(const hsbd_blocks *b, uint64_t sample) {
-    const size_t k = (size_t)(sample * b->nblocks / (b->nsamples_total ? b->nsamples_total : 1));
-    return k < b->nblocks ? k : b->nblocks - 1;
+    return hsbd_blocks_block_of(sample, b->nblocks, b->nsamples_total);
 }
 
 hsbd_blocks *hsbd_blocks_alloc_spatial(size_t nvalues, size_t nblocks) {

@@ -198,6 +198,11 @@ void hsbd_msd_sample_values(hsbd_msd *m, const double *values) {
     msd_sample(m, &src);
 }
 
+void hsbd_msd_restart(hsbd_msd *m) {
+    for (size_t s = 0; s < m->slots; ++s)
+        m->snap_at[s] = UINT64_MAX;
+}
+
 int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err) {
     if (nseg < 2 || nseg > m->n)
         return hsbd_error_set(err, HSBD_EINPUT, "msd: %zu segments for %zu rods (need 2..N)", nseg,

@@ -182,13 +182,18 @@ void hsbd_rods_free(hsbd_rods *r) {
 
 /* Sorted uniforms from normalised partial sums of N+1 exponential spacings, O(N). */
 void hsbd_rods_init_equilibrium(hsbd_rods *r) {
+    hsbd_rods_init_equilibrium_draw(r, 0);
+}
+
+void hsbd_rods_init_equilibrium_draw(hsbd_rods *r, uint64_t draw) {
     const size_t n = r->par.n;
     double *u = r->y; /* scratch */
     double rotation;
-    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_INIT, 0, 0, n, u);
-    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_INIT, 1, 0, 1, &rotation);
+    const uint64_t c = 3 * draw; /* three counters of the initial-state stream per draw */
+    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_INIT, c, 0, n, u);
+    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_INIT, c + 1, 0, 1, &rotation);
     double last;
-    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_INIT, 2, 0, 1, &last);
+    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_INIT, c + 2, 0, 1, &last);
     double sum = 0.0;
     for (size_t i = 0; i < n; ++i) {
         sum += -log(u[i]);

@@ -139,6 +139,23 @@ printf '0.1\n' >wpos.txt; for k in $(seq 1 19); do echo "$((2 * k))" >>wpos.txt;
 expect_fail walls-positions "outside the walls" "sigma/2 = 0.25 <= x" -- run good.ini --set system.boundary=walls --set init.positions=wpos.txt
 "$HSBD" run good.ini --set system.boundary=walls --set field.type=harmonic+tilt --set field.force=-0.5 --out "$T/walls" "${QUICK[@]}" \
     && grep -q '"wall_left"' "$T/walls/summary.json" && ok || bad "walls run without wall contact densities"
+# independent replicas: each block restarts (its own draw, or init.positions) and
+# equilibrates; the MSD's lags stay inside a replica
+"$HSBD" run good.ini --set sample.blocking=replicas --out "$T/rep" "${QUICK[@]}" &&
+    grep -q '"replicas": 4,' "$T/rep/summary.json" && grep -q '"equilibration_steps": 400,' "$T/rep/summary.json" &&
+    grep -q "independent replica" "$T/rep/density_blocks.tsv" && ok || bad "replicas run"
+for k in $(seq 0 19); do echo "$((2 * k + 1))" >>rpos.txt; done
+"$HSBD" run good.ini --set sample.blocking=replicas --set init.positions=rpos.txt --out "$T/rep2" "${QUICK[@]}" &&
+    grep -q '"replicas": 4,' "$T/rep2/summary.json" && ok || bad "replicas run from init.positions"
+expect_fail replicas-lag "sample.msd_max_lag = 0.3" "run.t_total/sample.blocks = 0.125" -- run good.ini --set sample.blocking=replicas --set sample.msd_max_lag=0.3
+# statistical (fixed seed 31): Tonks ring N = 1000, L = 2000, sigma = 0.5, 20 replicas of 2
+# time units at dt = 1e-3; the contact theorem against the exact canonical value
+# (N/L)(N-1)/(L - N sigma) = 0.333 within 4 error bars (replica errors match the scatter of
+# independent runs: docs/validation.md section 14)
+printf '[system]\nN = 1000\nL = 2000\nsigma = 0.5\nseed = 31\n[field]\ntype = none\n[run]\ndt = 1e-3\nt_equil = 0.5\nt_total = 40\n[sample]\nbin_width = 1\nperiod = 1\nblocking = replicas\n' >tonksrep.ini
+if "$HSBD" run tonksrep.ini --out "$T/tonksrep" --quiet &&
+    awk '!/^#/ && $1 != "x" { d = $4 - 0.333; e = $5; exit !(e > 0 && e < 0.01 && d * d < 16 * e * e) }' "$T/tonksrep/contact.tsv"; then ok
+else bad "Tonks ring with replicas: contact theorem off the exact value ($(grep -v '^#' "$T/tonksrep/contact.tsv" | tail -1))"; fi
 expect_fail profile-memory "sample.bin_width = 0.0001" "GiB of profile accumulators" "at most 4 GiB" -- run good.ini --set system.boundary=walls --set system.L=1000 --set sample.bin_width=1e-4 --set sample.blocks=20 --set sample.every=1
 # exact theory between walls: the walls carry the column's weight (N |force| = 15)
 "$HSBD" theory box --N 30 --L 50 --sigma 1 --force -0.5 --bin 0.5 --out box.tsv \
