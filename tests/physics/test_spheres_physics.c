@@ -8,10 +8,10 @@
  *     3.9843, CS 3.9738 (docs/validation.md, spheres section);
  *   - BMCSL, the mixture form of CS, inherits about that deficit, which is 2 to 3 of the
  *     error bars below: the mixture checks guard against errors above ~0.5 % in Z;
- *   - (2D disks vs Henderson's equation of state are in make validate, not here: at N 1000
+ *   - (2D disks vs the virial series to B10 are in make validate, not here: at N 1000
  *     the box's slowest density modes relax over ~10 time units, longer than the time
  *     blocks a quick test can afford, so its block errors understate the scatter between
- *     seeds; docs/validation.md, spheres section);
+ *     seeds; docs/spheres.md);
  *   - 3D binary mixture (size ratio 1.4, equal numbers, D ~ 1/sigma), phi 0.3: the three
  *     contact values vs BMCSL and Z_virial vs Z from the BMCSL contact values;
  *   - 3D continuous polydispersity (Gaussian, width 0.1, Stokes-Einstein D), phi 0.3,
@@ -100,8 +100,8 @@ static void test_monodisperse(int dim, double phi, unsigned seed) {
                                    .seed = seed,
                                    .hard_core = 1};
     const outcome o = run_case(&p, 2.0, 8.0, 0);
-    const double z = dim == 3 ? hsbd_hs_z_klm(phi) : hsbd_hd_z_henderson(phi);
-    const double g = dim == 3 ? hsbd_hs_contact_klm(phi) : hsbd_hd_contact_henderson(phi);
+    const double z = dim == 3 ? hsbd_hs_z_klm(phi) : hsbd_hd_z_virial(phi);
+    const double g = dim == 3 ? hsbd_hs_contact_klm(phi) : hsbd_hd_contact_virial(phi);
     printf("%dD, phi %.2f, N %zu, dt 1e-3, seed %u:\n", dim, phi, n, seed);
     check_within("Z (collisional virial)", o.z_virial, o.z_virial_err, z);
     check_within("g(sigma+) (quadratic fit)", o.g[0], o.g_err[0], g);

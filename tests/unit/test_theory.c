@@ -444,7 +444,26 @@ static void test_box_wall_is_percus(void) {
     hsbd_box_result_free(&r);
 }
 
+/* Hard disks: the virial series reproduces the exact B3 and B4 at low density, meets
+ * Henderson where Henderson is accurate, and its geometric remainder is small */
+static void test_hard_disk_virial(void) {
+    const double pi = 3.14159265358979323846;
+    const double b3 = (16.0 / 3.0 - 4.0 * sqrt(3.0) / pi) / 4.0;               /* B3/B2^2 */
+    const double b4 = (16.0 - 36.0 * sqrt(3.0) / pi + 80.0 / (pi * pi)) / 8.0; /* B4/B2^3 */
+    for (double phi = 1e-3; phi <= 4e-3; phi *= 2) {
+        const double x = 2 * phi, fourth = hsbd_hd_z_virial(phi) - 1 - x - b3 * x * x;
+        CHECK_CLOSE(fourth / (x * x * x), b4, 2 * x); /* next term b5 x^4 */
+    }
+    CHECK_CLOSE(hsbd_hd_z_virial(0.2), hsbd_hd_z_henderson(0.2), 1e-4 * hsbd_hd_z_virial(0.2));
+    const double z4 = hsbd_hd_z_virial(0.4);
+    CHECK(z4 > 2.827 && z4 < 2.831, "Z(0.4) = %.6f", z4); /* the series to B10 is 2.82726 */
+    CHECK_CLOSE(hsbd_hd_contact_virial(0.4), (z4 - 1) / 0.8, 1e-14);
+    printf("hard disks: virial-series Z(0.4) = %.5f, Henderson %.5f (%+.2f %%)\n", z4,
+           hsbd_hd_z_henderson(0.4), 100 * (hsbd_hd_z_henderson(0.4) / z4 - 1));
+}
+
 int main(void) {
+    test_hard_disk_virial();
     test_uniform_is_tonks();
     test_point_particles_are_boltzmann();
     test_grid_convergence();
