@@ -864,6 +864,18 @@ static const char *const spheres_only[][2] = {
     {"sample", "contact_fit"},     {"sample", "fs_k"},          {"init", "method"},
     {"species", "polydispersity"}, {"species", "distribution"}, {"species", "D_law"}};
 
+/* Is section.key read only by the model this configuration does not use? */
+static int key_of_other_model(const hsbd_config *cfg, const char *section, const char *key) {
+    const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
+    const size_t count = spheres ? sizeof rods_only / sizeof rods_only[0]
+                                 : sizeof spheres_only / sizeof spheres_only[0];
+    for (size_t k = 0; k < count; ++k) {
+        const char *const *other = spheres ? rods_only[k] : spheres_only[k];
+        if (!strcmp(other[0], section) && !strcmp(other[1], key)) return 1;
+    }
+    return 0;
+}
+
 static int refuse_keys_of_other_model(const hsbd_config *cfg, hsbd_error *err) {
     const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
     const size_t count = spheres ? sizeof rods_only / sizeof rods_only[0]
@@ -1184,6 +1196,7 @@ void hsbd_config_write_header(const hsbd_config *cfg, FILE *out, const char *pre
     for (size_t i = 0; i < NKEYS; ++i) {
         /* where the run was written is not a parameter: tables stay byte-identical */
         if (!strcmp(schema[i].section, "output") && !strcmp(schema[i].key, "dir")) continue;
+        if (key_of_other_model(cfg, schema[i].section, schema[i].key)) continue; /* not read */
         format_value(cfg, &schema[i], v, sizeof v);
         fprintf(out, "%s%s.%s = %s\n", prefix, schema[i].section, schema[i].key, v);
     }
