@@ -62,7 +62,7 @@ static void usage(FILE *out) {
             "                      [--points M] --out FILE|-\n"
             "                                       exact profile between hard walls\n"
             "       hsbd validate [--quick] [--dt-scan] [--sticky] [--out DIR] [--case TEXT]\n"
-            "                     [--jobs N]\n"
+            "                     [--jobs N] [--seed-offset K]\n"
             "                                       simulations against exact theory\n"
             "       hsbd config-doc                 print the configuration reference (Markdown)\n"
             "       hsbd version\n");
@@ -584,10 +584,20 @@ static int cmd_validate(int argc, char **argv) {
                 return EXIT_INPUT;
             }
             opt.jobs = (int)j;
+        } else if (!strcmp(argv[i], "--seed-offset") && i + 1 < argc) {
+            char *end;
+            const long k = strtol(argv[++i], &end, 10);
+            if (*end || k < 0 || k > 1000000) {
+                fprintf(stderr,
+                        "hsbd validate: --seed-offset = '%s'; allowed: 0 <= offset <= 1000000\n",
+                        argv[i]);
+                return EXIT_INPUT;
+            }
+            opt.seed_offset = (unsigned)k;
         } else {
             fprintf(stderr,
                     "hsbd validate: unknown option '%s' (--quick, --dt-scan, --sticky, --out DIR, "
-                    "--case TEXT, --jobs N)\n",
+                    "--case TEXT, --jobs N, --seed-offset K)\n",
                     argv[i]);
             return EXIT_INPUT;
         }

@@ -7,12 +7,13 @@
 #include "hsbd/error.h"
 
 typedef struct hsbd_validate_options {
-    const char *out_dir; /* one run directory per case below it */
-    int quick;           /* minutes instead of an hour */
-    int jobs;            /* simulations run in parallel (processes) */
-    const char *only;    /* run only cases whose name contains this (NULL: all) */
-    int dt_scan;         /* add the time-step convergence cases */
-    int sticky;          /* run the paper's sticky contact rule instead of the default reflect */
+    const char *out_dir;  /* one run directory per case below it */
+    int quick;            /* minutes instead of an hour */
+    int jobs;             /* simulations run in parallel (processes) */
+    const char *only;     /* run only cases whose name contains this (NULL: all) */
+    int dt_scan;          /* add the time-step convergence cases */
+    int sticky;           /* run the paper's sticky contact rule instead of the default reflect */
+    unsigned seed_offset; /* added to every case's seed: the same grid with other noise */
 } hsbd_validate_options;
 
 /* Runs the cases, prints the table to `report`, writes validation.tsv and validation.md

@@ -271,8 +271,8 @@ static size_t make_cases(const hsbd_validate_options *opt, vcase *cases) {
     return kept;
 }
 
-static int case_config(const vcase *c, int reflect, const char *dir, hsbd_config *cfg,
-                       hsbd_error *err) {
+static int case_config(const vcase *c, int reflect, unsigned seed_offset, const char *dir,
+                       hsbd_config *cfg, hsbd_error *err) {
     hsbd_config_defaults(cfg);
     const long n = lround(c->rho * c->length);
     const char *sets[24];
@@ -282,7 +282,8 @@ static int case_config(const vcase *c, int reflect, const char *dir, hsbd_config
     SET("system.N=%ld", n);
     SET("system.L=%.17g", c->length);
     SET("system.sigma=%.17g", c->sigma);
-    SET("system.seed=%u", 1000u + (unsigned)(c->sigma * 10) * 10 + (unsigned)(c->rho * 10));
+    SET("system.seed=%u",
+        1000u + (unsigned)(c->sigma * 10) * 10 + (unsigned)(c->rho * 10) + seed_offset);
     SET("field.type=%s", c->u0 != 0 ? "cosine" : "none");
     SET("field.amplitude=%.17g", c->u0);
     SET("run.dt=%.17g", c->dt);
@@ -315,7 +316,8 @@ static int case_config(const vcase *c, int reflect, const char *dir, hsbd_config
     return hsbd_config_finalize(cfg, err);
 }
 
-static int sphere_case_config(const vcase *c, const char *dir, hsbd_config *cfg, hsbd_error *err) {
+static int sphere_case_config(const vcase *c, unsigned seed_offset, const char *dir,
+                              hsbd_config *cfg, hsbd_error *err) {
     hsbd_config_defaults(cfg);
     char sets[16][HSBD_PATH_MAX + 64];
     int k = 0;
@@ -323,7 +325,8 @@ static int sphere_case_config(const vcase *c, const char *dir, hsbd_config *cfg,
     if (c->kind == SPHERES_DISKS) snprintf(sets[k++], sizeof sets[0], "system.dimension=2");
     snprintf(sets[k++], sizeof sets[0], "system.N=%ld", c->n);
     snprintf(sets[k++], sizeof sets[0], "system.packing_fraction=%.17g", c->phi);
-    snprintf(sets[k++], sizeof sets[0], "system.seed=%u", 2000u + (unsigned)(c->phi * 100));
+    snprintf(sets[k++], sizeof sets[0], "system.seed=%u",
+             2000u + (unsigned)(c->phi * 100) + seed_offset);
     snprintf(sets[k++], sizeof sets[0], "run.dt=%.17g", c->dt);
     snprintf(sets[k++], sizeof sets[0], "run.t_total=%.17g", c->t_total);
     snprintf(sets[k++], sizeof sets[0], "run.t_equil=%.17g", c->t_equil);
@@ -356,8 +359,8 @@ static int run_case(const hsbd_validate_options *opt, const vcase *c) {
     hsbd_config cfg;
     hsbd_error err;
     const int spheres = c->family == FAMILY_SPHERES;
-    if ((spheres ? sphere_case_config(c, dir, &cfg, &err)
-                 : case_config(c, !opt->sticky, dir, &cfg, &err)) != HSBD_OK) {
+    if ((spheres ? sphere_case_config(c, opt->seed_offset, dir, &cfg, &err)
+                 : case_config(c, !opt->sticky, opt->seed_offset, dir, &cfg, &err)) != HSBD_OK) {
         fprintf(stderr, "validate %s: %s\n", c->name, err.message);
         return 1;
     }
