@@ -11,6 +11,16 @@ void hsbd_write_table_header(FILE *f, const hsbd_config *cfg, const char *what,
     fprintf(f, "%s\n", columns);
 }
 
+void hsbd_write_value_columns(FILE *f, size_t rows, const double *x, size_t pairs,
+                              const double *val) {
+    for (size_t k = 0; k < rows; ++k) {
+        fprintf(f, "%.10g", x[k]);
+        for (size_t p = 0; p < pairs; ++p)
+            fprintf(f, "\t%.10g\t%.4g", val[2 * p * rows + k], val[(2 * p + 1) * rows + k]);
+        fputc('\n', f);
+    }
+}
+
 void hsbd_json_number(FILE *f, const char *key, double v, int comma) {
     if (isfinite(v))
         fprintf(f, "  \"%s\": %.10g%s\n", key, v, comma ? "," : "");

@@ -12,6 +12,10 @@
 /* "# hsbd <version> (git ...): what", every configuration key, then the column names. */
 void hsbd_write_table_header(FILE *f, const hsbd_config *cfg, const char *what,
                              const char *columns);
+/* Table rows: x[k], then `pairs` value/error columns laid out as val[2 p rows + k] (value)
+ * and val[(2 p + 1) rows + k] (error). */
+void hsbd_write_value_columns(FILE *f, size_t rows, const double *x, size_t pairs,
+                              const double *val);
 /* "  "key": value," at the summary's indent; non-finite values as null. */
 void hsbd_json_number(FILE *f, const char *key, double v, int comma);
 

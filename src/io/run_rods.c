@@ -151,12 +151,7 @@ static int write_profile_table(run_state *s, const char *name, const char *what,
         hsbd_write_table_header(o.f, s->cfg, what, columns);
         for (size_t g = 0; g < nget; ++g)
             get[g](s->profile, x, val + 2 * g * nb, val + (2 * g + 1) * nb);
-        for (size_t k = 0; k < nb; ++k) {
-            fprintf(o.f, "%.10g", x[k]);
-            for (size_t g = 0; g < nget; ++g)
-                fprintf(o.f, "\t%.10g\t%.4g", val[2 * g * nb + k], val[(2 * g + 1) * nb + k]);
-            fputc('\n', o.f);
-        }
+        hsbd_write_value_columns(o.f, nb, x, nget, val);
         rc = hsbd_outfile_commit(&o, err);
     }
     free(x), free(val);

@@ -373,12 +373,7 @@ static int write_gr(sphere_run *s, hsbd_error *err) {
                                 "radial distribution function per species pair (bin centres); "
                                 "errors from time blocks",
                                 columns);
-        for (size_t k = 0; k < nb; ++k) {
-            fprintf(o.f, "%.10g", r[k]);
-            for (size_t p = 0; p < np; ++p)
-                fprintf(o.f, "\t%.10g\t%.4g", val[2 * p * nb + k], val[(2 * p + 1) * nb + k]);
-            fputc('\n', o.f);
-        }
+        hsbd_write_value_columns(o.f, nb, r, np, val);
         rc = hsbd_outfile_commit(&o, err);
     }
     free(r), free(val);
