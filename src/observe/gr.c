@@ -14,6 +14,7 @@
 
 #include "hsbd/observe.h"
 #include "spheres/cells.h"
+#include "spheres/predict.h"
 
 enum { GR_FIT_BINS = 10 };
 static const double HSBD_PI = 3.14159265358979323846;
@@ -168,7 +169,7 @@ void hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
                 if (j <= (int32_t)i) continue;
                 double r2 = 0;
                 for (int a = 0; a < g->dim; ++a) {
-                    const double d = sph_wrap_delta(v->x[3 * (size_t)j + a] - xi[a], g->box[a], 0);
+                    const double d = sph_wrap_delta(v->x[3 * (size_t)j + a] - xi[a], g->box[a]);
                     r2 += d * d;
                 }
                 if (r2 >= rmax2) continue;

@@ -29,13 +29,4 @@ void sph_cells_remove(sph_cells *c, int32_t i);
 /* Distinct cells around the cell of x (itself included); returns their number. */
 int sph_cells_around(const sph_cells *c, const double x[3], int32_t out[27]);
 
-/* Minimum-image difference along one axis, for |d| < 1.5 box (positions wrapped at the
- * start of a step move far less than half a box within it); branch-free selects. */
-static inline double sph_wrap_delta(double d, double box, double inv_box) {
-    (void)inv_box;
-    const double half = 0.5 * box;
-    d = d > half ? d - box : d;
-    return d < -half ? d + box : d;
-}
-
 #endif

@@ -10,14 +10,12 @@
 
 /* ---- small vector helpers (3 components; z = 0 in 2D) ---- */
 
-static inline double dot3(const double *a, const double *b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+#define dot3 sph_dot3
 
 /* minimum-image a - b */
 static inline void min_image(const hsbd_spheres *s, const double *a, const double *b, double *r) {
     for (int k = 0; k < 3; ++k)
-        r[k] = sph_wrap_delta(a[k] - b[k], s->box[k], s->inv_box[k]);
+        r[k] = sph_wrap_delta(a[k] - b[k], s->box[k]);
 }
 
 static inline double contact_distance(const hsbd_spheres *s, int32_t i, int32_t j) {
@@ -37,22 +35,8 @@ void hsbd_spheres_collide(double di, double dj, const double n[3], double vi[3],
     }
 }
 
-/* |r + v t|^2 - s^2 = g + 2 b t + vv t^2 has a root in [0, T] iff the pair approaches
- * (b < 0) and either the value at T is <= 0 or the minimum lies inside [0, T] with a
- * non-negative discriminant. All tests are evaluated without branches (about half the
- * neighbour pairs approach: a branch on b alone mispredicts), the root only for hits. */
-static inline double contact_time(const double r[3], const double v[3], double s, double tmax) {
-    const double b = dot3(r, v), g = dot3(r, r) - s * s, vv = dot3(v, v);
-    const double f_end = g + tmax * (2 * b + vv * tmax), disc = b * b - vv * g;
-    const int hit = (b < 0) & ((f_end <= 0) | ((-b < vv * tmax) & (disc >= 0)));
-    if (__builtin_expect(!hit, 1)) return -1;
-    if (g <= 0) return 0; /* touching (round-off) and approaching */
-    const double t = g / (-b + sqrt(disc > 0 ? disc : 0));
-    return t <= tmax ? t : tmax; /* a root exists in [0, tmax]: round-off only */
-}
-
 double hsbd_spheres_contact_time(const double r[3], const double v[3], double s, double tmax) {
-    return contact_time(r, v, s, tmax);
+    return sph_contact_time(r, v, s, tmax);
 }
 
 /* ---- parameters and allocation ---- */
@@ -158,6 +142,8 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->nb_count);
     free(s->nb_upper);
     free(s->nb);
+    free(s->hit_j);
+    free(s->hit_t);
     free(s->normals);
     sph_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
@@ -243,7 +229,10 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->nb_count = calloc(n, sizeof *s->nb_count);
         s->nb_upper = calloc(n, sizeof *s->nb_upper);
         s->nb = malloc(n * s->nb_cap * sizeof *s->nb);
-        if (!s->nb_count || !s->nb_upper || !s->nb) goto oom;
+        s->hit_j = malloc(s->nb_cap * sizeof *s->hit_j);
+        s->hit_t = malloc(s->nb_cap * sizeof *s->hit_t);
+        if (!s->nb_count || !s->nb_upper || !s->nb || !s->hit_j || !s->hit_t) goto oom;
+        s->predict_row = sph_predict_row_select();
     }
     return s;
 oom:
@@ -262,7 +251,11 @@ void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
 
 static int nb_grow(hsbd_spheres *s) {
     const uint32_t cap = 2 * s->nb_cap;
-    int32_t *nb = malloc(s->n * cap * sizeof *nb);
+    int32_t *hit_j = realloc(s->hit_j, cap * sizeof *hit_j);
+    if (hit_j) s->hit_j = hit_j;
+    double *hit_t = realloc(s->hit_t, cap * sizeof *hit_t);
+    if (hit_t) s->hit_t = hit_t;
+    int32_t *nb = hit_j && hit_t ? malloc(s->n * cap * sizeof *nb) : NULL;
     if (!nb) return -1;
     for (size_t i = 0; i < s->n; ++i)
         memcpy(nb + i * cap, s->nb + i * s->nb_cap, s->nb_count[i] * sizeof *nb);
@@ -388,17 +381,24 @@ static void push_event(hsbd_spheres *s, double t, int32_t i, int32_t j) {
     if (sph_calendar_push(&s->calendar, e)) s->oom = 1;
 }
 
-/* Collision of i (at its local time t) with j inside [t, dt). */
-static void predict_pair(hsbd_spheres *s, int32_t i, int32_t j, double t) {
-    double xi[3], xj[3], r[3], v[3];
-    position_at(s, i, t, xi);
-    position_at(s, j, t, xj);
-    min_image(s, xj, xi, r);
-    const double *vi = s->v + 3 * (size_t)i, *vj = s->v + 3 * (size_t)j;
-    for (int a = 0; a < 3; ++a)
-        v[a] = vj[a] - vi[a];
-    const double tc = contact_time(r, v, contact_distance(s, i, j), s->dt - t);
-    if (tc >= 0) push_event(s, t + tc, i, j);
+/* Collisions of i (at time t, with t_local[j] = t for every j when at_start) with the
+ * first m neighbours of its row inside [t, dt): into the calendar. */
+static void predict_row(hsbd_spheres *s, int32_t i, double t, uint32_t m, int at_start) {
+    sph_row_query q = {.x = s->x,
+                       .v = s->v,
+                       .t_local = at_start ? NULL : s->t_local,
+                       .sigma = s->sigma,
+                       .sigma_i = s->sigma[i],
+                       .t = t,
+                       .tmax = s->dt - t};
+    position_at(s, i, t, q.xi);
+    for (int a = 0; a < 3; ++a) {
+        q.box[a] = s->box[a];
+        q.vi[a] = s->v[3 * (size_t)i + a];
+    }
+    const uint32_t hits = s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, m, s->hit_j, s->hit_t);
+    for (uint32_t k = 0; k < hits; ++k)
+        push_event(s, t + s->hit_t[k], i, s->hit_j[k]);
 }
 
 /* When i (at local time t) would leave its shell before dt: schedule that. */
@@ -416,10 +416,7 @@ static void predict_shell_exit(hsbd_spheres *s, int32_t i, double t) {
 }
 
 static void predict_particle(hsbd_spheres *s, int32_t i, double t) {
-    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
-    const uint32_t c = s->nb_count[i];
-    for (uint32_t k = 0; k < c; ++k)
-        predict_pair(s, i, row[k], t);
+    predict_row(s, i, t, s->nb_count[i], 0);
     predict_shell_exit(s, i, t);
 }
 
@@ -453,23 +450,8 @@ static void start_step_events(hsbd_spheres *s) {
             predict_shell_exit(s, (int32_t)i, 0.0);
         }
     }
-    for (size_t i = 0; i < n; ++i) {
-        const double *xi = s->x + 3 * i, *vi = s->v + 3 * i;
-        const int32_t *row = s->nb + i * s->nb_cap;
-        const uint32_t c = s->nb_upper[i];
-        for (uint32_t k = 0; k < c; ++k) {
-            const int32_t j = row[k];
-            const double *xj = s->x + 3 * (size_t)j, *vj = s->v + 3 * (size_t)j;
-            double r[3], v[3];
-            for (int a = 0; a < 3; ++a) {
-                r[a] = sph_wrap_delta(xj[a] - xi[a], s->box[a], s->inv_box[a]);
-                v[a] = vj[a] - vi[a];
-            }
-            const double tc =
-                hsbd_spheres_contact_time(r, v, contact_distance(s, (int32_t)i, j), dt);
-            if (tc >= 0) push_event(s, tc, (int32_t)i, j);
-        }
-    }
+    for (size_t i = 0; i < n; ++i)
+        predict_row(s, (int32_t)i, 0.0, s->nb_upper[i], 1);
 }
 
 static void process_collision(hsbd_spheres *s, const sph_event *e) {

@@ -20,8 +20,7 @@ static int overlaps_any(const hsbd_spheres *s, const sph_cells *c, const double 
             if (j == self) continue;
             double r2 = 0;
             for (int a = 0; a < 3; ++a) {
-                const double d =
-                    sph_wrap_delta(pos[3 * (size_t)j + a] - x[a], s->box[a], s->inv_box[a]);
+                const double d = sph_wrap_delta(pos[3 * (size_t)j + a] - x[a], s->box[a]);
                 r2 += d * d;
             }
             const double sij = 0.5 * (sg + s->sigma[j]);
@@ -211,8 +210,8 @@ int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err
             if (overlaps_any(s, &grid, pos, pos + 3 * i, s->sigma[i], (int32_t)i, &j)) {
                 double r2 = 0;
                 for (int a = 0; a < 3; ++a) {
-                    const double d = sph_wrap_delta(pos[3 * (size_t)j + a] - pos[3 * i + a],
-                                                    s->box[a], s->inv_box[a]);
+                    const double d =
+                        sph_wrap_delta(pos[3 * (size_t)j + a] - pos[3 * i + a], s->box[a]);
                     r2 += d * d;
                 }
                 rc = hsbd_error_set(err, HSBD_EINPUT,
@@ -250,8 +249,8 @@ static size_t grow_into_gaps(hsbd_spheres *s, const double *final, double fracti
             const int32_t j = row[k];
             double r2 = 0;
             for (int a = 0; a < 3; ++a) {
-                const double d = sph_wrap_delta(s->x[3 * (size_t)j + a] - s->x[3 * i + a],
-                                                s->box[a], s->inv_box[a]);
+                const double d =
+                    sph_wrap_delta(s->x[3 * (size_t)j + a] - s->x[3 * i + a], s->box[a]);
                 r2 += d * d;
             }
             const double gap = sqrt(r2) - 0.5 * (s->sigma[i] + s->sigma[j]);

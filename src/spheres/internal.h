@@ -5,6 +5,7 @@
 #include "hsbd/spheres.h"
 #include "spheres/calendar.h"
 #include "spheres/cells.h"
+#include "spheres/predict.h"
 
 struct hsbd_spheres {
     hsbd_spheres_params par;
@@ -29,6 +30,9 @@ struct hsbd_spheres {
     int32_t *nb;                   /* n x nb_cap */
     sph_cells cells;               /* of the shell centres, cells >= sigma_max + 2 shell wide */
     sph_calendar calendar;
+    sph_predict_row_fn predict_row; /* scalar or AVX2 (the same results) */
+    int32_t *hit_j;                 /* nb_cap hits of one row */
+    double *hit_t;
     double *normals;       /* dim x n draws of a step */
     uint32_t noise_stream; /* HSBD_STREAM_NOISE; the compression uses its own */
     double dt, time;

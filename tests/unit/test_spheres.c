@@ -14,6 +14,7 @@
 #include "hsbd/observe.h"
 #include "hsbd/rng.h"
 #include "hsbd/spheres.h"
+#include "spheres/predict.h"
 
 static const double PI = 3.14159265358979323846;
 
@@ -118,6 +119,70 @@ static void test_contact_time(void) {
         }
     }
     CHECK(hits > 20 && misses > 20, "cases cover both: %d hits, %d misses", hits, misses);
+}
+
+/* The row kernels (scalar, AVX2) against pair-by-pair sph_contact_time on random rows of
+ * every tail length, across the periodic boundary, at the start of a step and later: the
+ * same hits in the same order with bit-identical times. */
+static void test_predict_row_kernels(void) {
+    enum { N = 64, ROWS = 300 };
+    double g[7 * N];
+    hsbd_rng_normals(12, 99, 1, 0, 7 * N, g);
+    double x[3 * N], v[3 * N], t_local[N], sigma[N];
+    const double box[3] = {3.0, 3.0, 3.0};
+    for (int j = 0; j < N; ++j) {
+        for (int a = 0; a < 3; ++a) {
+            x[3 * j + a] = fmod(fabs(g[7 * j + a]), 1.0) * box[a];
+            v[3 * j + a] = 20 * g[7 * j + 3 + a];
+        }
+        t_local[j] = 0.004 * fabs(g[7 * j + 6]) / (1 + fabs(g[7 * j + 6]));
+        sigma[j] = 0.8 + 0.1 * (j % 5);
+    }
+    const int avx2 = __builtin_cpu_supports("avx2") != 0;
+    int hits_seen = 0;
+    for (int row_id = 0; row_id < ROWS; ++row_id) {
+        const int i = row_id % N, at_start = row_id % 2;
+        const uint32_t m = (uint32_t)(row_id % 14);
+        int32_t row[16];
+        for (uint32_t k = 0; k < m; ++k)
+            row[k] = (int32_t)((i + 1 + 7 * k + (uint32_t)row_id) % N);
+        sph_row_query q = {.x = x, .v = v, .t_local = at_start ? NULL : t_local, .sigma = sigma};
+        q.t = at_start ? 0.0 : 0.004;
+        q.tmax = 0.01 - q.t;
+        q.sigma_i = sigma[i];
+        for (int a = 0; a < 3; ++a) {
+            q.box[a] = box[a];
+            q.xi[a] = x[3 * i + a];
+            q.vi[a] = v[3 * i + a];
+        }
+        int32_t ref_j[16], hj[2][16];
+        double ref_t[16], ht[2][16];
+        uint32_t ref = 0;
+        for (uint32_t k = 0; k < m; ++k) {
+            const int32_t j = row[k];
+            const double h = at_start ? 0.0 : q.t - t_local[j];
+            double r[3], w[3];
+            for (int a = 0; a < 3; ++a) {
+                const double pj = at_start ? x[3 * j + a] : x[3 * j + a] + v[3 * j + a] * h;
+                r[a] = sph_wrap_delta(pj - q.xi[a], box[a]);
+                w[a] = v[3 * j + a] - q.vi[a];
+            }
+            const double tc = sph_contact_time(r, w, 0.5 * (sigma[i] + sigma[j]), q.tmax);
+            if (tc >= 0) ref_j[ref] = j, ref_t[ref++] = tc;
+        }
+        hits_seen += (int)ref;
+        for (int kernel = 0; kernel < 1 + avx2; ++kernel) {
+            const uint32_t got = kernel ? sph_predict_row_avx2(&q, row, m, hj[1], ht[1])
+                                        : sph_predict_row_scalar(&q, row, m, hj[0], ht[0]);
+            CHECK(got == ref, "row %d, kernel %d: %u hits, pair by pair %u", row_id, kernel, got,
+                  ref);
+            for (uint32_t k = 0; k < got && k < ref; ++k)
+                CHECK(hj[kernel][k] == ref_j[k] && memcmp(&ht[kernel][k], &ref_t[k], 8) == 0,
+                      "row %d, kernel %d, hit %u: j %d t %.17g, pair by pair j %d t %.17g", row_id,
+                      kernel, k, hj[kernel][k], ht[kernel][k], ref_j[k], ref_t[k]);
+        }
+    }
+    CHECK(hits_seen > 50, "the rows have hits: %d", hits_seen);
 }
 
 /* smallest gap over all pairs, relative to sigma_ij (brute force, minimum image) */
@@ -384,6 +449,7 @@ static void test_gr_weights(void) {
 int main(void) {
     test_collision_rule();
     test_contact_time();
+    test_predict_row_kernels();
     test_no_overlap();
     test_reproducible();
     test_bad_params();

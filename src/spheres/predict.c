@@ -1,0 +1,42 @@
+#include "spheres/predict.h"
+
+/* The pair's separation and relative velocity as both kernels compute them. */
+static inline void pair_geometry(const sph_row_query *q, int32_t j, double r[3], double v[3]) {
+    const double *xj = q->x + 3 * (size_t)j, *vj = q->v + 3 * (size_t)j;
+    const double h = q->t_local ? q->t - q->t_local[j] : 0.0;
+    for (int a = 0; a < 3; ++a) {
+        const double pj = q->t_local ? xj[a] + vj[a] * h : xj[a];
+        r[a] = sph_wrap_delta(pj - q->xi[a], q->box[a]);
+        v[a] = vj[a] - q->vi[a];
+    }
+}
+
+uint32_t sph_predict_row_scalar(const sph_row_query *q, const int32_t *row, uint32_t m,
+                                int32_t *hit_j, double *hit_t) {
+    uint32_t hits = 0;
+    for (uint32_t k = 0; k < m; ++k) {
+        const int32_t j = row[k];
+        double r[3], v[3];
+        pair_geometry(q, j, r, v);
+        const double tc = sph_contact_time(r, v, 0.5 * (q->sigma_i + q->sigma[j]), q->tmax);
+        if (tc >= 0) {
+            hit_j[hits] = j;
+            hit_t[hits++] = tc;
+        }
+    }
+    return hits;
+}
+
+#if defined(__x86_64__) || defined(_M_X64)
+sph_predict_row_fn sph_predict_row_select(void) {
+    return __builtin_cpu_supports("avx2") ? sph_predict_row_avx2 : sph_predict_row_scalar;
+}
+#else
+uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32_t m,
+                              int32_t *hit_j, double *hit_t) {
+    return sph_predict_row_scalar(q, row, m, hit_j, hit_t);
+}
+sph_predict_row_fn sph_predict_row_select(void) {
+    return sph_predict_row_scalar;
+}
+#endif

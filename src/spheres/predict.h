@@ -1,0 +1,69 @@
+/* Pair contact prediction of EDBD (internal to src/spheres): the contact time of two
+ * spheres on straight paths and a kernel that tests one particle against a row of
+ * neighbours. The kernel has a scalar and an AVX2 version (predict_avx2.c, chosen at run
+ * time); both evaluate the same IEEE operations in the same order without FMA, so they
+ * return the same hits and bit-identical times (tests/unit/test_spheres.c checks it). */
+#ifndef HSBD_SPHERES_PREDICT_H
+#define HSBD_SPHERES_PREDICT_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+
+static inline double sph_dot3(const double *a, const double *b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Minimum-image difference along one axis, for |d| < 1.5 box (positions wrapped at the
+ * start of a step move far less than half a box within it); branch-free selects. */
+static inline double sph_wrap_delta(double d, double box) {
+    const double half = 0.5 * box;
+    d = d > half ? d - box : d;
+    return d < -half ? d + box : d;
+}
+
+/* The hit test of sph_contact_time: |r + v t|^2 - s^2 = g + 2 b t + vv t^2 has a root in
+ * [0, T] iff the pair approaches (b < 0) and either the value at T is <= 0 or the minimum
+ * lies inside [0, T] with a non-negative discriminant. */
+static inline int sph_contact_hit(double b, double g, double vv, double tmax) {
+    const double f_end = g + tmax * (2 * b + vv * tmax), disc = b * b - vv * g;
+    return (b < 0) & ((f_end <= 0) | ((-b < vv * tmax) & (disc >= 0)));
+}
+
+/* First time in [0, tmax] at which |r + v t| = s, or -1. The tests run without branches
+ * (about half the neighbour pairs approach: a branch on b alone mispredicts); the root
+ * only for hits. */
+static inline double sph_contact_time(const double r[3], const double v[3], double s, double tmax) {
+    const double b = sph_dot3(r, v), g = sph_dot3(r, r) - s * s, vv = sph_dot3(v, v);
+    if (__builtin_expect(!sph_contact_hit(b, g, vv, tmax), 1)) return -1;
+    if (g <= 0) return 0; /* touching (round-off) and approaching */
+    const double disc = b * b - vv * g;
+    const double t = g / (-b + sqrt(disc > 0 ? disc : 0));
+    return t <= tmax ? t : tmax; /* a root exists in [0, tmax]: round-off only */
+}
+
+/* One particle i against a row of neighbours. Particle j sits at x_j + v_j (t - t_j)
+ * (t_local = NULL: every t_j = t, the start of a step); r = minimum image of that minus
+ * xi, relative velocity v_j - vi, contact distance (sigma_i + sigma_j) / 2. */
+typedef struct sph_row_query {
+    const double *x, *v;   /* 3 per particle */
+    const double *t_local; /* per particle, or NULL */
+    const double *sigma;   /* per particle */
+    double box[3];
+    double xi[3], vi[3], sigma_i;
+    double t, tmax; /* the time of xi within the step; tmax = dt - t */
+} sph_row_query;
+
+/* Writes the j of row[0..m) that reach contact within tmax, in row order, to hit_j and
+ * their times after t to hit_t; returns their number. */
+typedef uint32_t (*sph_predict_row_fn)(const sph_row_query *q, const int32_t *row, uint32_t m,
+                                       int32_t *hit_j, double *hit_t);
+
+uint32_t sph_predict_row_scalar(const sph_row_query *q, const int32_t *row, uint32_t m,
+                                int32_t *hit_j, double *hit_t);
+uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32_t m,
+                              int32_t *hit_j, double *hit_t);
+/* The fastest version this CPU runs. */
+sph_predict_row_fn sph_predict_row_select(void);
+
+#endif

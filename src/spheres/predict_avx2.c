@@ -1,0 +1,88 @@
+/* AVX2 version of sph_predict_row (compiled with -mavx2 and without FMA, see
+ * CMakeLists.txt): four neighbours per pass, the same operations as the scalar kernel. */
+#include "spheres/predict.h"
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+
+static inline __m256d wrap4(__m256d d, __m256d box, __m256d half, __m256d neg_half) {
+    d = _mm256_blendv_pd(d, _mm256_sub_pd(d, box), _mm256_cmp_pd(d, half, _CMP_GT_OQ));
+    return _mm256_blendv_pd(d, _mm256_add_pd(d, box), _mm256_cmp_pd(d, neg_half, _CMP_LT_OQ));
+}
+
+static inline __m256d dot4(const __m256d a[3], const __m256d b[3]) {
+    return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(a[0], b[0]), _mm256_mul_pd(a[1], b[1])),
+                         _mm256_mul_pd(a[2], b[2]));
+}
+
+uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32_t m,
+                              int32_t *hit_j, double *hit_t) {
+    __m256d box[3], half[3], neg_half[3], xi[3], vi[3];
+    for (int a = 0; a < 3; ++a) {
+        const double h = 0.5 * q->box[a];
+        box[a] = _mm256_set1_pd(q->box[a]);
+        half[a] = _mm256_set1_pd(h);
+        neg_half[a] = _mm256_set1_pd(-h);
+        xi[a] = _mm256_set1_pd(q->xi[a]);
+        vi[a] = _mm256_set1_pd(q->vi[a]);
+    }
+    const __m256d sigma_i = _mm256_set1_pd(q->sigma_i), tmax = _mm256_set1_pd(q->tmax);
+    const __m256d t = _mm256_set1_pd(q->t), zero = _mm256_setzero_pd();
+    const __m256d two = _mm256_set1_pd(2.0), one_half = _mm256_set1_pd(0.5);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    uint32_t hits = 0;
+    for (uint32_t k = 0; k < m; k += 4) {
+        const uint32_t lanes = m - k < 4 ? m - k : 4;
+        /* the tail's missing lanes read particle 0 and are masked out of the hits */
+        const __m128i j32 =
+            lanes == 4 ? _mm_loadu_si128((const __m128i *)(row + k))
+                       : _mm_maskload_epi32(row + k, _mm_cmpgt_epi32(_mm_set1_epi32((int)lanes),
+                                                                     _mm_setr_epi32(0, 1, 2, 3)));
+        const __m256i j = _mm256_cvtepi32_epi64(j32);
+        const __m256i j3 = _mm256_add_epi64(_mm256_add_epi64(j, j), j);
+        __m256d r[3], v[3];
+        __m256d h = zero;
+        if (q->t_local) h = _mm256_sub_pd(t, _mm256_i64gather_pd(q->t_local, j, 8));
+        for (int a = 0; a < 3; ++a) {
+            const __m256d vj = _mm256_i64gather_pd(q->v + a, j3, 8);
+            __m256d pj = _mm256_i64gather_pd(q->x + a, j3, 8);
+            if (q->t_local) pj = _mm256_add_pd(pj, _mm256_mul_pd(vj, h));
+            r[a] = wrap4(_mm256_sub_pd(pj, xi[a]), box[a], half[a], neg_half[a]);
+            v[a] = _mm256_sub_pd(vj, vi[a]);
+        }
+        const __m256d sj = _mm256_i64gather_pd(q->sigma, j, 8);
+        const __m256d s = _mm256_mul_pd(one_half, _mm256_add_pd(sigma_i, sj));
+        const __m256d b = dot4(r, v), vv = dot4(v, v);
+        const __m256d g = _mm256_sub_pd(dot4(r, r), _mm256_mul_pd(s, s));
+        /* sph_contact_hit, lane by lane */
+        const __m256d vt = _mm256_mul_pd(vv, tmax);
+        const __m256d f_end =
+            _mm256_add_pd(g, _mm256_mul_pd(tmax, _mm256_add_pd(_mm256_mul_pd(two, b), vt)));
+        const __m256d disc = _mm256_sub_pd(_mm256_mul_pd(b, b), _mm256_mul_pd(vv, g));
+        const __m256d inside = _mm256_and_pd(_mm256_cmp_pd(_mm256_xor_pd(b, sign), vt, _CMP_LT_OQ),
+                                             _mm256_cmp_pd(disc, zero, _CMP_GE_OQ));
+        const __m256d hit =
+            _mm256_and_pd(_mm256_cmp_pd(b, zero, _CMP_LT_OQ),
+                          _mm256_or_pd(_mm256_cmp_pd(f_end, zero, _CMP_LE_OQ), inside));
+        int mask = _mm256_movemask_pd(hit) & ((1 << lanes) - 1);
+        if (__builtin_expect(!mask, 1)) continue;
+        double rl[3][4], vl[3][4], sl[4];
+        for (int a = 0; a < 3; ++a) {
+            _mm256_storeu_pd(rl[a], r[a]);
+            _mm256_storeu_pd(vl[a], v[a]);
+        }
+        _mm256_storeu_pd(sl, s);
+        for (; mask; mask &= mask - 1) {
+            const int l = __builtin_ctz((unsigned)mask);
+            const double rr[3] = {rl[0][l], rl[1][l], rl[2][l]};
+            const double vr[3] = {vl[0][l], vl[1][l], vl[2][l]};
+            const double tc = sph_contact_time(rr, vr, sl[l], q->tmax);
+            if (tc >= 0) {
+                hit_j[hits] = row[k + (uint32_t)l];
+                hit_t[hits++] = tc;
+            }
+        }
+    }
+    return hits;
+}
+#endif
