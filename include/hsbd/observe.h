@@ -126,7 +126,8 @@ typedef struct hsbd_gr hsbd_gr;
 hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, double fit_width,
                        size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
 void hsbd_gr_free(hsbd_gr *g);
-void hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v);
+/* Returns HSBD_OK, or HSBD_ENOMEM (the sample is then not taken). */
+int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v);
 size_t hsbd_gr_bins(const hsbd_gr *g);
 /* unordered species pairs a <= b: nspecies (nspecies + 1) / 2 */
 size_t hsbd_gr_pairs(const hsbd_gr *g);

@@ -333,7 +333,10 @@ static int produce(sphere_run *s, hsbd_error *err) {
         }
         if (s->gr && (k + 1) % gr_every == 0) {
             const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
-            hsbd_gr_sample(s->gr, &v);
+            if (hsbd_gr_sample(s->gr, &v) != HSBD_OK) {
+                rc = hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory for its cells");
+                break;
+            }
         }
         if (traj_every && (k + 1) % traj_every == 0) write_xyz_frame(s);
         if ((k & 255) == 0) {

@@ -152,12 +152,12 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
     return g;
 }
 
-void hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
+int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
     const size_t row = g->bins + GR_FIT_BINS;
     memset(g->acc, 0, g->npairs * row * sizeof *g->acc);
     sph_cells_clear(&g->cells);
     for (size_t i = 0; i < g->n; ++i)
-        sph_cells_insert(&g->cells, (int32_t)i, v->x + 3 * i);
+        if (sph_cells_insert(&g->cells, (int32_t)i, v->x + 3 * i)) return HSBD_ENOMEM;
     const double rmax2 = g->r_max * g->r_max, inv_w = 1.0 / g->width;
     const double h_inv = GR_FIT_BINS / g->fit_width;
     for (size_t i = 0; i < g->n; ++i) {
@@ -165,7 +165,8 @@ void hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
         const int nc = sph_cells_around(&g->cells, v->x + 3 * i, around);
         const double *xi = v->x + 3 * i;
         for (int q = 0; q < nc; ++q)
-            for (int32_t j = g->cells.head[around[q]]; j >= 0; j = g->cells.next[j]) {
+            for (uint32_t u = 0; u < sph_cells_count(&g->cells, around[q]); ++u) {
+                const int32_t j = sph_cells_ids(&g->cells, around[q])[u];
                 if (j <= (int32_t)i) continue;
                 double r2 = 0;
                 for (int a = 0; a < g->dim; ++a) {
@@ -190,6 +191,7 @@ void hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
     for (size_t k = 0; k < g->npairs * row; ++k)
         b[k] += g->acc[k];
     hsbd_blocks_end_sample(g->blocks);
+    return HSBD_OK;
 }
 
 size_t hsbd_gr_bins(const hsbd_gr *g) {

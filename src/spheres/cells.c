@@ -2,11 +2,15 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
+
+enum { CELLS_FIRST_CAP = 4 };
 
 int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, size_t npoints) {
+    memset(c, 0, sizeof *c);
     c->dim = dim;
     c->ncells = 1;
-    c->few = 0;
+    c->npoints = npoints;
     for (int a = 0; a < 3; ++a) {
         int n = 1;
         if (a < dim) {
@@ -18,27 +22,30 @@ int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, 
         c->inv_width[a] = a < dim ? n / box[a] : 0.0;
         c->ncells *= (size_t)n;
     }
-    c->head = malloc(c->ncells * sizeof *c->head);
-    c->next = malloc(npoints * sizeof *c->next);
-    c->prev = malloc(npoints * sizeof *c->prev);
+    c->cap = CELLS_FIRST_CAP;
+    c->count = calloc(c->ncells, sizeof *c->count);
+    c->id = malloc(c->ncells * c->cap * sizeof *c->id);
+    c->pos = malloc(3 * c->ncells * c->cap * sizeof *c->pos);
     c->cell_of = malloc(npoints * sizeof *c->cell_of);
-    if (!c->head || !c->next || !c->prev || !c->cell_of) return -1;
-    for (size_t i = 0; i < npoints; ++i)
-        c->cell_of[i] = -1;
+    c->slot_of = malloc(npoints * sizeof *c->slot_of);
+    if (!c->count || !c->id || !c->pos || !c->cell_of || !c->slot_of) return -1;
     sph_cells_clear(c);
     return 0;
 }
 
 void sph_cells_free(sph_cells *c) {
-    free(c->head);
-    free(c->next);
-    free(c->prev);
+    free(c->count);
+    free(c->id);
+    free(c->pos);
     free(c->cell_of);
+    free(c->slot_of);
+    memset(c, 0, sizeof *c);
 }
 
 void sph_cells_clear(sph_cells *c) {
-    for (size_t k = 0; k < c->ncells; ++k)
-        c->head[k] = -1;
+    memset(c->count, 0, c->ncells * sizeof *c->count);
+    for (size_t i = 0; i < c->npoints; ++i)
+        c->cell_of[i] = -1;
 }
 
 static int axis_cell(const sph_cells *c, int a, double x) {
@@ -55,24 +62,58 @@ int32_t sph_cells_index(const sph_cells *c, const double x[3]) {
     return (int32_t)((kz * c->nc[1] + ky) * c->nc[0] + kx);
 }
 
-void sph_cells_insert(sph_cells *c, int32_t i, const double x[3]) {
+/* Twice the slots per cell, every cell copied over. */
+static int grow(sph_cells *c) {
+    const uint32_t cap = 2 * c->cap;
+    int32_t *id = malloc(c->ncells * cap * sizeof *id);
+    double *pos = malloc(3 * c->ncells * cap * sizeof *pos);
+    if (!id || !pos) {
+        free(id);
+        free(pos);
+        return -1;
+    }
+    for (size_t k = 0; k < c->ncells; ++k) {
+        memcpy(id + k * cap, c->id + k * c->cap, c->count[k] * sizeof *id);
+        memcpy(pos + 3 * k * cap, c->pos + 3 * k * c->cap, 3 * c->count[k] * sizeof *pos);
+    }
+    free(c->id);
+    free(c->pos);
+    c->id = id;
+    c->pos = pos;
+    c->cap = cap;
+    return 0;
+}
+
+int sph_cells_insert(sph_cells *c, int32_t i, const double x[3]) {
     const int32_t k = sph_cells_index(c, x);
+    if (c->count[k] == c->cap && grow(c)) return -1;
+    const uint32_t u = c->count[k]++;
+    const size_t slot = (size_t)k * c->cap + u;
+    c->id[slot] = i;
+    memcpy(c->pos + 3 * slot, x, 3 * sizeof *x);
     c->cell_of[i] = k;
-    c->prev[i] = -1;
-    c->next[i] = c->head[k];
-    if (c->head[k] >= 0) c->prev[c->head[k]] = i;
-    c->head[k] = i;
+    c->slot_of[i] = (int32_t)u;
+    return 0;
 }
 
 void sph_cells_remove(sph_cells *c, int32_t i) {
     const int32_t k = c->cell_of[i];
     if (k < 0) return;
-    if (c->prev[i] >= 0)
-        c->next[c->prev[i]] = c->next[i];
-    else
-        c->head[k] = c->next[i];
-    if (c->next[i] >= 0) c->prev[c->next[i]] = c->prev[i];
+    const size_t base = (size_t)k * c->cap, slot = base + (uint32_t)c->slot_of[i];
+    const size_t last = base + --c->count[k];
+    if (slot != last) { /* the last point fills the hole */
+        const int32_t moved = c->id[last];
+        c->id[slot] = moved;
+        memcpy(c->pos + 3 * slot, c->pos + 3 * last, 3 * sizeof *c->pos);
+        c->slot_of[moved] = c->slot_of[i];
+    }
     c->cell_of[i] = -1;
+}
+
+/* k + d (d = -1, 0, 1) on a periodic axis of n cells */
+static inline int axis_step(int k, int d, int n) {
+    k += d;
+    return k < 0 ? k + n : k >= n ? k - n : k;
 }
 
 int sph_cells_around(const sph_cells *c, const double x[3], int32_t out[27]) {
@@ -80,17 +121,19 @@ int sph_cells_around(const sph_cells *c, const double x[3], int32_t out[27]) {
     if (c->dim == 3) kc[2] = axis_cell(c, 2, x[2]);
     int count = 0;
     const int zr = c->dim == 3 ? 1 : 0;
-    for (int dz = -zr; dz <= zr; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
+    for (int dz = -zr; dz <= zr; ++dz) {
+        const int kz = axis_step(kc[2], dz, c->nc[2]);
+        for (int dy = -1; dy <= 1; ++dy) {
+            const int ky = axis_step(kc[1], dy, c->nc[1]);
             for (int dx = -1; dx <= 1; ++dx) {
-                const int kx = (kc[0] + dx + c->nc[0]) % c->nc[0];
-                const int ky = (kc[1] + dy + c->nc[1]) % c->nc[1];
-                const int kz = (kc[2] + dz + c->nc[2]) % c->nc[2];
+                const int kx = axis_step(kc[0], dx, c->nc[0]);
                 const int32_t k = (int32_t)((kz * c->nc[1] + ky) * c->nc[0] + kx);
                 int seen = 0;
                 for (int q = 0; q < count && c->few && !seen; ++q)
                     seen = out[q] == k;
                 if (!seen) out[count++] = k;
             }
+        }
+    }
     return count;
 }

@@ -1,6 +1,8 @@
 /* Cell grid over a periodic box (internal to src/spheres): each point sits in one cell,
  * cells at least `min_size` wide, so every point within min_size of a position lies in
- * the (up to 27, deduplicated when an axis has fewer than 3 cells) cells around it. */
+ * the (up to 27, deduplicated when an axis has fewer than 3 cells) cells around it. A
+ * cell keeps its points' indices and positions in contiguous slots, so a scan of the
+ * cells around a point streams through memory instead of chasing a linked list. */
 #ifndef HSBD_SPHERES_CELLS_H
 #define HSBD_SPHERES_CELLS_H
 
@@ -12,10 +14,13 @@ typedef struct sph_cells {
     int nc[3]; /* cells per axis (1 for z in 2D) */
     double inv_width[3];
     size_t ncells;
-    int few;              /* some axis has fewer than 3 cells: neighbour cells repeat */
-    int32_t *head;        /* first point of each cell, -1 empty */
-    int32_t *next, *prev; /* doubly linked points (O(1) removal) */
-    int32_t *cell_of;     /* cell of each point, -1 when not inserted */
+    int few;                    /* some axis has fewer than 3 cells: neighbour cells repeat */
+    uint32_t cap;               /* slots per cell (doubled when one fills) */
+    uint32_t *count;            /* points per cell */
+    int32_t *id;                /* ncells x cap point indices */
+    double *pos;                /* ncells x cap x 3 positions given at insertion */
+    int32_t *cell_of, *slot_of; /* per point; cell -1 when not inserted */
+    size_t npoints;
 } sph_cells;
 
 /* Returns 0, or -1 when out of memory. */
@@ -24,9 +29,20 @@ void sph_cells_free(sph_cells *c);
 void sph_cells_clear(sph_cells *c);
 /* Cell index of a position wrapped into the box. */
 int32_t sph_cells_index(const sph_cells *c, const double x[3]);
-void sph_cells_insert(sph_cells *c, int32_t i, const double x[3]);
+/* Returns 0, or -1 when out of memory (the point is then not inserted). */
+int sph_cells_insert(sph_cells *c, int32_t i, const double x[3]);
 void sph_cells_remove(sph_cells *c, int32_t i);
 /* Distinct cells around the cell of x (itself included); returns their number. */
 int sph_cells_around(const sph_cells *c, const double x[3], int32_t out[27]);
+
+static inline uint32_t sph_cells_count(const sph_cells *c, int32_t k) {
+    return c->count[k];
+}
+static inline const int32_t *sph_cells_ids(const sph_cells *c, int32_t k) {
+    return c->id + (size_t)k * c->cap;
+}
+static inline const double *sph_cells_positions(const sph_cells *c, int32_t k) {
+    return c->pos + 3 * (size_t)k * c->cap;
+}
 
 #endif

@@ -172,8 +172,8 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->par.box[a] = s->box[a];
         if (a >= s->dim) s->par.drift[a] = 0;
     }
-    s->x = calloc(3 * n, sizeof *s->x);
-    s->v = calloc(3 * n, sizeof *s->v);
+    s->x = calloc(3 * n + 1, sizeof *s->x); /* + 1: the AVX2 row kernel reads 4 at a time */
+    s->v = calloc(3 * n + 1, sizeof *s->v);
     s->t_local = calloc(n, sizeof *s->t_local);
     s->centre = calloc(3 * n, sizeof *s->centre);
     s->image = calloc(3 * n, sizeof *s->image);
@@ -300,11 +300,23 @@ static void nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
         }
 }
 
-static int shells_overlap(const hsbd_spheres *s, int32_t i, int32_t j) {
-    double r[3];
-    min_image(s, s->centre + 3 * (size_t)j, s->centre + 3 * (size_t)i, r);
-    const double reach = contact_distance(s, i, j) + 2 * s->shell;
-    return dot3(r, r) < reach * reach;
+/* Adds the pairs of i with the points of cell k whose shells overlap i's (j > i only when
+ * upper_only), to both rows. The cell holds the shell centres. */
+static void nb_add_from_cell(hsbd_spheres *s, int32_t i, int32_t k, int upper_only) {
+    const uint32_t m = sph_cells_count(&s->cells, k);
+    const int32_t *id = sph_cells_ids(&s->cells, k);
+    const double *c = sph_cells_positions(&s->cells, k), *ci = s->centre + 3 * (size_t)i;
+    const double half_i = 0.5 * s->sigma[i] + 2 * s->shell;
+    for (uint32_t u = 0; u < m; ++u) {
+        const int32_t j = id[u];
+        double r[3];
+        min_image(s, c + 3 * u, ci, r);
+        const double reach = half_i + 0.5 * s->sigma[j]; /* sigma_ij + 2 shell */
+        if (dot3(r, r) < reach * reach && (!upper_only || j > i)) {
+            nb_add(s, i, j);
+            nb_add(s, j, i);
+        }
+    }
 }
 
 static void set_centre(hsbd_spheres *s, int32_t i) {
@@ -325,35 +337,25 @@ static void recentre(hsbd_spheres *s, int32_t i) {
     int32_t around[27];
     const int nc = sph_cells_around(&s->cells, s->centre + 3 * (size_t)i, around);
     for (int q = 0; q < nc; ++q)
-        for (int32_t j = s->cells.head[around[q]]; j >= 0; j = s->cells.next[j])
-            if (shells_overlap(s, i, j)) {
-                nb_add(s, i, j);
-                nb_add(s, j, i);
-            }
-    sph_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i);
+        nb_add_from_cell(s, i, around[q], 0);
+    if (sph_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i)) s->oom = 1;
     s->stats.shell_updates++;
 }
 
 int sph_rebuild_neighbours(hsbd_spheres *s) {
     if (!s->par.hard_core) return HSBD_OK;
     sph_cells_clear(&s->cells);
-    for (size_t i = 0; i < s->n; ++i) {
+    for (size_t i = 0; i < s->n; ++i)
         s->nb_count[i] = s->nb_upper[i] = 0;
-        s->cells.cell_of[i] = -1;
-    }
     for (size_t i = 0; i < s->n; ++i) {
         set_centre(s, (int32_t)i);
-        sph_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i);
+        if (sph_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) s->oom = 1;
     }
     for (size_t i = 0; i < s->n; ++i) {
         int32_t around[27];
         const int nc = sph_cells_around(&s->cells, s->centre + 3 * i, around);
         for (int q = 0; q < nc; ++q)
-            for (int32_t j = s->cells.head[around[q]]; j >= 0; j = s->cells.next[j])
-                if (j > (int32_t)i && shells_overlap(s, (int32_t)i, j)) {
-                    nb_add(s, (int32_t)i, j);
-                    nb_add(s, j, (int32_t)i);
-                }
+            nb_add_from_cell(s, (int32_t)i, around[q], 1);
     }
     return s->oom ? HSBD_ENOMEM : HSBD_OK;
 }

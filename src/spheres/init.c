@@ -16,7 +16,8 @@ static int overlaps_any(const hsbd_spheres *s, const sph_cells *c, const double 
     int32_t around[27];
     const int nc = sph_cells_around(c, x, around);
     for (int q = 0; q < nc; ++q)
-        for (int32_t j = c->head[around[q]]; j >= 0; j = c->next[j]) {
+        for (uint32_t u = 0; u < sph_cells_count(c, around[q]); ++u) {
+            const int32_t j = sph_cells_ids(c, around[q])[u];
             if (j == self) continue;
             double r2 = 0;
             for (int a = 0; a < 3; ++a) {
@@ -78,7 +79,8 @@ int hsbd_spheres_init_random(hsbd_spheres *s, hsbd_error *err) {
             double x[3] = {u[0] * s->box[0], u[1] * s->box[1], s->dim == 3 ? u[2] * s->box[2] : 0};
             if (!overlaps_any(s, &grid, s->x, x, s->sigma[i], -1, NULL)) {
                 memcpy(s->x + 3 * i, x, sizeof x);
-                sph_cells_insert(&grid, (int32_t)i, x);
+                if (sph_cells_insert(&grid, (int32_t)i, x))
+                    rc = hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
                 break;
             }
         }
@@ -219,7 +221,8 @@ int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err
                                     "contact distance %.9g; allowed: no overlaps",
                                     j + 1, i + 1, sqrt(r2), 0.5 * (s->sigma[i] + s->sigma[j]));
             }
-            sph_cells_insert(&grid, (int32_t)i, pos + 3 * i);
+            if (rc == HSBD_OK && sph_cells_insert(&grid, (int32_t)i, pos + 3 * i))
+                rc = hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
         }
         sph_cells_free(&grid);
     }

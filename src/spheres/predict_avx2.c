@@ -10,6 +10,23 @@ static inline __m256d wrap4(__m256d d, __m256d box, __m256d half, __m256d neg_ha
     return _mm256_blendv_pd(d, _mm256_add_pd(d, box), _mm256_cmp_pd(d, neg_half, _CMP_LT_OQ));
 }
 
+/* Components 0..2 of the 3-vectors a + 3 idx[l] into out[0..2], lane l: four unaligned
+ * loads (each reads one double past the vector: the arrays carry a padding entry) and a
+ * transpose. */
+static inline void load_transposed(const double *a, const int32_t idx[4], __m256d out[3]) {
+    const __m256d r0 = _mm256_loadu_pd(a + 3 * (size_t)idx[0]);
+    const __m256d r1 = _mm256_loadu_pd(a + 3 * (size_t)idx[1]);
+    const __m256d r2 = _mm256_loadu_pd(a + 3 * (size_t)idx[2]);
+    const __m256d r3 = _mm256_loadu_pd(a + 3 * (size_t)idx[3]);
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1); /* x0 x1 z0 z1 */
+    const __m256d t1 = _mm256_unpackhi_pd(r0, r1); /* y0 y1 .. .. */
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3); /* x2 x3 z2 z3 */
+    const __m256d t3 = _mm256_unpackhi_pd(r2, r3); /* y2 y3 .. .. */
+    out[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+    out[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+    out[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+}
+
 static inline __m256d dot4(const __m256d a[3], const __m256d b[3]) {
     return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(a[0], b[0]), _mm256_mul_pd(a[1], b[1])),
                          _mm256_mul_pd(a[2], b[2]));
@@ -33,24 +50,25 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
     uint32_t hits = 0;
     for (uint32_t k = 0; k < m; k += 4) {
         const uint32_t lanes = m - k < 4 ? m - k : 4;
-        /* the tail's missing lanes read particle 0 and are masked out of the hits */
-        const __m128i j32 =
-            lanes == 4 ? _mm_loadu_si128((const __m128i *)(row + k))
-                       : _mm_maskload_epi32(row + k, _mm_cmpgt_epi32(_mm_set1_epi32((int)lanes),
-                                                                     _mm_setr_epi32(0, 1, 2, 3)));
-        const __m256i j = _mm256_cvtepi32_epi64(j32);
-        const __m256i j3 = _mm256_add_epi64(_mm256_add_epi64(j, j), j);
+        int32_t idx[4]; /* the tail's missing lanes repeat the first and are masked out */
+        for (uint32_t l = 0; l < 4; ++l)
+            idx[l] = row[k + (l < lanes ? l : 0)];
         __m256d r[3], v[3];
-        __m256d h = zero;
-        if (q->t_local) h = _mm256_sub_pd(t, _mm256_i64gather_pd(q->t_local, j, 8));
-        for (int a = 0; a < 3; ++a) {
-            const __m256d vj = _mm256_i64gather_pd(q->v + a, j3, 8);
-            __m256d pj = _mm256_i64gather_pd(q->x + a, j3, 8);
-            if (q->t_local) pj = _mm256_add_pd(pj, _mm256_mul_pd(vj, h));
-            r[a] = wrap4(_mm256_sub_pd(pj, xi[a]), box[a], half[a], neg_half[a]);
-            v[a] = _mm256_sub_pd(vj, vi[a]);
+        load_transposed(q->x, idx, r);
+        load_transposed(q->v, idx, v);
+        if (q->t_local) {
+            const __m256d tj = _mm256_setr_pd(q->t_local[idx[0]], q->t_local[idx[1]],
+                                              q->t_local[idx[2]], q->t_local[idx[3]]);
+            const __m256d h = _mm256_sub_pd(t, tj);
+            for (int a = 0; a < 3; ++a)
+                r[a] = _mm256_add_pd(r[a], _mm256_mul_pd(v[a], h));
         }
-        const __m256d sj = _mm256_i64gather_pd(q->sigma, j, 8);
+        for (int a = 0; a < 3; ++a) {
+            r[a] = wrap4(_mm256_sub_pd(r[a], xi[a]), box[a], half[a], neg_half[a]);
+            v[a] = _mm256_sub_pd(v[a], vi[a]);
+        }
+        const __m256d sj =
+            _mm256_setr_pd(q->sigma[idx[0]], q->sigma[idx[1]], q->sigma[idx[2]], q->sigma[idx[3]]);
         const __m256d s = _mm256_mul_pd(one_half, _mm256_add_pd(sigma_i, sj));
         const __m256d b = dot4(r, v), vv = dot4(v, v);
         const __m256d g = _mm256_sub_pd(dot4(r, r), _mm256_mul_pd(s, s));
@@ -78,7 +96,7 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
             const double vr[3] = {vl[0][l], vl[1][l], vl[2][l]};
             const double tc = sph_contact_time(rr, vr, sl[l], q->tmax);
             if (tc >= 0) {
-                hit_j[hits] = row[k + (uint32_t)l];
+                hit_j[hits] = idx[l];
                 hit_t[hits++] = tc;
             }
         }

@@ -128,7 +128,8 @@ static void test_predict_row_kernels(void) {
     enum { N = 64, ROWS = 300 };
     double g[7 * N];
     hsbd_rng_normals(12, 99, 1, 0, 7 * N, g);
-    double x[3 * N], v[3 * N], t_local[N], sigma[N];
+    double x[3 * N + 1], v[3 * N + 1], t_local[N], sigma[N]; /* + 1: padding the kernel reads */
+    x[3 * N] = v[3 * N] = 0;
     const double box[3] = {3.0, 3.0, 3.0};
     for (int j = 0; j < N; ++j) {
         for (int a = 0; a < 3; ++a) {
