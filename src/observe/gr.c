@@ -14,7 +14,7 @@
 
 #include "hsbd/observe.h"
 #include "spheres/cells.h"
-#include "spheres/predict.h"
+#include "spheres/kernels.h"
 
 enum { GR_FIT_BINS = 10 };
 static const double HSBD_PI = 3.14159265358979323846;

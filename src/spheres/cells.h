@@ -14,11 +14,11 @@ typedef struct sph_cells {
     int nc[3]; /* cells per axis (1 for z in 2D) */
     double inv_width[3];
     size_t ncells;
-    int few;                    /* some axis has fewer than 3 cells: neighbour cells repeat */
-    uint32_t cap;               /* slots per cell (doubled when one fills) */
-    uint32_t *count;            /* points per cell */
-    int32_t *id;                /* ncells x cap point indices */
-    double *pos;                /* ncells x cap x 3 positions given at insertion */
+    int few;         /* some axis has fewer than 3 cells: neighbour cells repeat */
+    uint32_t cap;    /* slots per cell (doubled when one fills) */
+    uint32_t *count; /* points per cell */
+    int32_t *id;     /* ncells x cap point indices */
+    double *pos;     /* ncells x cap x 3 positions given at insertion, + 1 padding (vector loads) */
     int32_t *cell_of, *slot_of; /* per point; cell -1 when not inserted */
     size_t npoints;
 } sph_cells;

@@ -144,6 +144,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->nb);
     free(s->hit_j);
     free(s->hit_t);
+    free(s->near);
     free(s->normals);
     sph_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
@@ -233,6 +234,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->hit_t = malloc(s->nb_cap * sizeof *s->hit_t);
         if (!s->nb_count || !s->nb_upper || !s->nb || !s->hit_j || !s->hit_t) goto oom;
         s->predict_row = sph_predict_row_select();
+        s->cells_near = sph_cells_near_select();
     }
     return s;
 oom:
@@ -300,22 +302,29 @@ static void nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
         }
 }
 
-/* Adds the pairs of i with the points of cell k whose shells overlap i's (j > i only when
- * upper_only), to both rows. The cell holds the shell centres. */
-static void nb_add_from_cell(hsbd_spheres *s, int32_t i, int32_t k, int upper_only) {
-    const uint32_t m = sph_cells_count(&s->cells, k);
-    const int32_t *id = sph_cells_ids(&s->cells, k);
-    const double *c = sph_cells_positions(&s->cells, k), *ci = s->centre + 3 * (size_t)i;
-    const double half_i = 0.5 * s->sigma[i] + 2 * s->shell;
-    for (uint32_t u = 0; u < m; ++u) {
-        const int32_t j = id[u];
-        double r[3];
-        min_image(s, c + 3 * u, ci, r);
-        const double reach = half_i + 0.5 * s->sigma[j]; /* sigma_ij + 2 shell */
-        if (dot3(r, r) < reach * reach && (!upper_only || j > i)) {
-            nb_add(s, i, j);
-            nb_add(s, j, i);
+/* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
+ * sigma_ij + 2 shell (j > i only when upper_only), to both rows. */
+static void add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
+    const size_t room = 27 * (size_t)s->cells.cap;
+    if (room > s->near_cap) {
+        int32_t *near = realloc(s->near, room * sizeof *near);
+        if (!near) {
+            s->oom = 1;
+            return;
         }
+        s->near = near;
+        s->near_cap = room;
+    }
+    const double *ci = s->centre + 3 * (size_t)i;
+    int32_t around[27];
+    const int nc = sph_cells_around(&s->cells, ci, around);
+    const uint32_t found = s->cells_near(&s->cells, around, nc, ci, s->box, s->sigma,
+                                         0.5 * s->sigma[i] + 2 * s->shell, s->near);
+    for (uint32_t k = 0; k < found; ++k) {
+        const int32_t j = s->near[k];
+        if (upper_only && j <= i) continue;
+        nb_add(s, i, j);
+        nb_add(s, j, i);
     }
 }
 
@@ -334,10 +343,7 @@ static void recentre(hsbd_spheres *s, int32_t i) {
     s->nb_count[i] = s->nb_upper[i] = 0;
     sph_cells_remove(&s->cells, i);
     set_centre(s, i);
-    int32_t around[27];
-    const int nc = sph_cells_around(&s->cells, s->centre + 3 * (size_t)i, around);
-    for (int q = 0; q < nc; ++q)
-        nb_add_from_cell(s, i, around[q], 0);
+    add_shell_neighbours(s, i, 0);
     if (sph_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i)) s->oom = 1;
     s->stats.shell_updates++;
 }
@@ -351,12 +357,8 @@ int sph_rebuild_neighbours(hsbd_spheres *s) {
         set_centre(s, (int32_t)i);
         if (sph_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) s->oom = 1;
     }
-    for (size_t i = 0; i < s->n; ++i) {
-        int32_t around[27];
-        const int nc = sph_cells_around(&s->cells, s->centre + 3 * i, around);
-        for (int q = 0; q < nc; ++q)
-            nb_add_from_cell(s, (int32_t)i, around[q], 1);
-    }
+    for (size_t i = 0; i < s->n; ++i)
+        add_shell_neighbours(s, (int32_t)i, 1);
     return s->oom ? HSBD_ENOMEM : HSBD_OK;
 }
 

@@ -5,7 +5,7 @@
 #include "hsbd/spheres.h"
 #include "spheres/calendar.h"
 #include "spheres/cells.h"
-#include "spheres/predict.h"
+#include "spheres/kernels.h"
 
 struct hsbd_spheres {
     hsbd_spheres_params par;
@@ -33,6 +33,9 @@ struct hsbd_spheres {
     sph_predict_row_fn predict_row; /* scalar or AVX2 (the same results) */
     int32_t *hit_j;                 /* nb_cap hits of one row */
     double *hit_t;
+    sph_cells_near_fn cells_near; /* scalar or AVX2 */
+    int32_t *near;                /* points found around one particle */
+    size_t near_cap;
     double *normals;       /* dim x n draws of a step */
     uint32_t noise_stream; /* HSBD_STREAM_NOISE; the compression uses its own */
     double dt, time;

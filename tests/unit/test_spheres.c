@@ -8,13 +8,14 @@
  * the virial route. */
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../test_util.h"
 #include "hsbd/observe.h"
 #include "hsbd/rng.h"
 #include "hsbd/spheres.h"
-#include "spheres/predict.h"
+#include "spheres/kernels.h"
 
 static const double PI = 3.14159265358979323846;
 
@@ -184,6 +185,66 @@ static void test_predict_row_kernels(void) {
         }
     }
     CHECK(hits_seen > 50, "the rows have hits: %d", hits_seen);
+}
+
+/* The cell search kernels (scalar, AVX2) against brute force over all points: the same
+ * points in the same order, including cells with more points than a vector holds. */
+static void test_cells_near_kernels(void) {
+    enum { N = 400 };
+    double g[4 * N];
+    hsbd_rng_normals(13, 99, 1, 0, 4 * N, g);
+    const double box[3] = {5.0, 5.0, 4.0};
+    double x[3 * N], sigma[N];
+    sph_cells cells;
+    CHECK(sph_cells_init(&cells, 3, box, 1.6, N) == 0, "cells allocated");
+    for (int j = 0; j < N; ++j) {
+        for (int a = 0; a < 3; ++a)
+            x[3 * j + a] = fmod(fabs(g[4 * j + a]), 1.0) * box[a];
+        sigma[j] = 0.6 + 0.2 * fmod(fabs(g[4 * j + 3]), 1.0);
+        CHECK(sph_cells_insert(&cells, j, x + 3 * j) == 0, "insert %d", j);
+    }
+    CHECK(cells.cap > 4, "some cell holds more than one vector: cap %u", cells.cap);
+    const int avx2 = __builtin_cpu_supports("avx2") != 0;
+    int32_t *out = malloc(27 * cells.cap * sizeof *out), ref[N];
+    int total = 0;
+    for (int i = 0; i < N; i += 7) {
+        int32_t around[27];
+        const int nc = sph_cells_around(&cells, x + 3 * i, around);
+        const double base = 0.5 * sigma[i] + 0.6;
+        uint32_t nref = 0;
+        for (int q = 0; q < nc; ++q) /* brute force in the kernels' order: cell, then slot */
+            for (int j = 0; j < N; ++j) {
+                if (cells.cell_of[j] != around[q]) continue;
+                double r2 = 0;
+                for (int a = 0; a < 3; ++a) {
+                    const double d = sph_wrap_delta(x[3 * j + a] - x[3 * i + a], box[a]);
+                    r2 += d * d;
+                }
+                const double reach = base + 0.5 * sigma[j];
+                if (r2 < reach * reach) ref[nref++] = j;
+            }
+        for (int kernel = 0; kernel < 1 + avx2; ++kernel) {
+            const uint32_t got =
+                kernel
+                    ? sph_cells_near_avx2(&cells, around, nc, x + 3 * i, box, sigma, base, out)
+                    : sph_cells_near_scalar(&cells, around, nc, x + 3 * i, box, sigma, base, out);
+            CHECK(got == nref, "point %d, kernel %d: %u found, brute force %u", i, kernel, got,
+                  nref);
+            for (uint32_t k = 0; k < got && k < nref; ++k) {
+                int seen = 0;
+                for (uint32_t l = 0; l < nref; ++l)
+                    seen |= out[k] == ref[l];
+                CHECK(seen, "point %d, kernel %d: %d is not within reach", i, kernel, out[k]);
+                if (k > 0 && cells.cell_of[out[k]] == cells.cell_of[out[k - 1]])
+                    CHECK(cells.slot_of[out[k]] > cells.slot_of[out[k - 1]],
+                          "point %d, kernel %d: slot order", i, kernel);
+            }
+        }
+        total += (int)nref;
+    }
+    CHECK(total > 100, "points found: %d", total);
+    free(out);
+    sph_cells_free(&cells);
 }
 
 /* smallest gap over all pairs, relative to sigma_ij (brute force, minimum image) */
@@ -451,6 +512,7 @@ int main(void) {
     test_collision_rule();
     test_contact_time();
     test_predict_row_kernels();
+    test_cells_near_kernels();
     test_no_overlap();
     test_reproducible();
     test_bad_params();

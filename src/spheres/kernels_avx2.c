@@ -1,6 +1,6 @@
 /* AVX2 version of sph_predict_row (compiled with -mavx2 and without FMA, see
  * CMakeLists.txt): four neighbours per pass, the same operations as the scalar kernel. */
-#include "spheres/predict.h"
+#include "spheres/kernels.h"
 
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -102,5 +102,45 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
         }
     }
     return hits;
+}
+
+uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nlist,
+                             const double c[3], const double box_in[3], const double *sigma,
+                             double reach_base, int32_t *out) {
+    __m256d box[3], half[3], neg_half[3], centre[3];
+    for (int a = 0; a < 3; ++a) {
+        const double h = 0.5 * box_in[a];
+        box[a] = _mm256_set1_pd(box_in[a]);
+        half[a] = _mm256_set1_pd(h);
+        neg_half[a] = _mm256_set1_pd(-h);
+        centre[a] = _mm256_set1_pd(c[a]);
+    }
+    const __m256d base = _mm256_set1_pd(reach_base), one_half = _mm256_set1_pd(0.5);
+    uint32_t found = 0;
+    for (int q = 0; q < nlist; ++q) {
+        const uint32_t m = sph_cells_count(cells, list[q]);
+        const int32_t *id = sph_cells_ids(cells, list[q]);
+        const double *p = sph_cells_positions(cells, list[q]);
+        for (uint32_t u = 0; u < m; u += 4) {
+            const uint32_t lanes = m - u < 4 ? m - u : 4;
+            int32_t slot[4], who[4]; /* missing lanes repeat the first, masked out below */
+            for (uint32_t l = 0; l < 4; ++l) {
+                slot[l] = (int32_t)(u + (l < lanes ? l : 0));
+                who[l] = id[slot[l]];
+            }
+            __m256d r[3];
+            load_transposed(p, slot, r);
+            for (int a = 0; a < 3; ++a)
+                r[a] = wrap4(_mm256_sub_pd(r[a], centre[a]), box[a], half[a], neg_half[a]);
+            const __m256d sj =
+                _mm256_setr_pd(sigma[who[0]], sigma[who[1]], sigma[who[2]], sigma[who[3]]);
+            const __m256d reach = _mm256_add_pd(base, _mm256_mul_pd(one_half, sj));
+            const __m256d near = _mm256_cmp_pd(dot4(r, r), _mm256_mul_pd(reach, reach), _CMP_LT_OQ);
+            int mask = _mm256_movemask_pd(near) & ((1 << lanes) - 1);
+            for (; mask; mask &= mask - 1)
+                out[found++] = who[__builtin_ctz((unsigned)mask)];
+        }
+    }
+    return found;
 }
 #endif

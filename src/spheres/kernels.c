@@ -1,4 +1,4 @@
-#include "spheres/predict.h"
+#include "spheres/kernels.h"
 
 /* The pair's separation and relative velocity as both kernels compute them. */
 static inline void pair_geometry(const sph_row_query *q, int32_t j, double r[3], double v[3]) {
@@ -27,9 +27,32 @@ uint32_t sph_predict_row_scalar(const sph_row_query *q, const int32_t *row, uint
     return hits;
 }
 
+uint32_t sph_cells_near_scalar(const sph_cells *cells, const int32_t *list, int nlist,
+                               const double c[3], const double box[3], const double *sigma,
+                               double reach_base, int32_t *out) {
+    uint32_t found = 0;
+    for (int q = 0; q < nlist; ++q) {
+        const uint32_t m = sph_cells_count(cells, list[q]);
+        const int32_t *id = sph_cells_ids(cells, list[q]);
+        const double *p = sph_cells_positions(cells, list[q]);
+        for (uint32_t u = 0; u < m; ++u) {
+            double r[3];
+            for (int a = 0; a < 3; ++a)
+                r[a] = sph_wrap_delta(p[3 * u + a] - c[a], box[a]);
+            const double reach = reach_base + 0.5 * sigma[id[u]];
+            out[found] = id[u];
+            found += sph_dot3(r, r) < reach * reach;
+        }
+    }
+    return found;
+}
+
 #if defined(__x86_64__) || defined(_M_X64)
 sph_predict_row_fn sph_predict_row_select(void) {
     return __builtin_cpu_supports("avx2") ? sph_predict_row_avx2 : sph_predict_row_scalar;
+}
+sph_cells_near_fn sph_cells_near_select(void) {
+    return __builtin_cpu_supports("avx2") ? sph_cells_near_avx2 : sph_cells_near_scalar;
 }
 #else
 uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32_t m,
@@ -38,5 +61,13 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
 }
 sph_predict_row_fn sph_predict_row_select(void) {
     return sph_predict_row_scalar;
+}
+uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nlist,
+                             const double c[3], const double box[3], const double *sigma,
+                             double reach_base, int32_t *out) {
+    return sph_cells_near_scalar(cells, list, nlist, c, box, sigma, reach_base, out);
+}
+sph_cells_near_fn sph_cells_near_select(void) {
+    return sph_cells_near_scalar;
 }
 #endif

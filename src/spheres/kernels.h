@@ -1,14 +1,17 @@
-/* Pair contact prediction of EDBD (internal to src/spheres): the contact time of two
- * spheres on straight paths and a kernel that tests one particle against a row of
- * neighbours. The kernel has a scalar and an AVX2 version (predict_avx2.c, chosen at run
- * time); both evaluate the same IEEE operations in the same order without FMA, so they
- * return the same hits and bit-identical times (tests/unit/test_spheres.c checks it). */
-#ifndef HSBD_SPHERES_PREDICT_H
-#define HSBD_SPHERES_PREDICT_H
+/* The inner loops of EDBD (internal to src/spheres): the contact time of two spheres on
+ * straight paths, a kernel that tests one particle against a row of neighbours, and one
+ * that finds the points of a few cells within reach of a position. Each kernel has a
+ * scalar and an AVX2 version (kernels_avx2.c, chosen at run time); both evaluate the same
+ * IEEE operations in the same order without FMA, so they return the same hits and
+ * bit-identical times (tests/unit/test_spheres.c checks it). */
+#ifndef HSBD_SPHERES_KERNELS_H
+#define HSBD_SPHERES_KERNELS_H
 
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+
+#include "spheres/cells.h"
 
 static inline double sph_dot3(const double *a, const double *b) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -65,5 +68,20 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
                               int32_t *hit_j, double *hit_t);
 /* The fastest version this CPU runs. */
 sph_predict_row_fn sph_predict_row_select(void);
+
+/* The points p of cells list[0..nlist) with |minimum image of p - c|^2 < (reach_base +
+ * sigma[id] / 2)^2, in list and slot order, to out (room for the cells' total count);
+ * returns their number. */
+typedef uint32_t (*sph_cells_near_fn)(const sph_cells *cells, const int32_t *list, int nlist,
+                                      const double c[3], const double box[3], const double *sigma,
+                                      double reach_base, int32_t *out);
+
+uint32_t sph_cells_near_scalar(const sph_cells *cells, const int32_t *list, int nlist,
+                               const double c[3], const double box[3], const double *sigma,
+                               double reach_base, int32_t *out);
+uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nlist,
+                             const double c[3], const double box[3], const double *sigma,
+                             double reach_base, int32_t *out);
+sph_cells_near_fn sph_cells_near_select(void);
 
 #endif
