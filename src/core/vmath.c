@@ -10,6 +10,14 @@ int hsbd_vmath_vectorised(void) {
 #endif
 }
 
+int hsbd_cpu_has_avx2(void) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    return __builtin_cpu_supports("avx2") != 0;
+#else
+    return 0;
+#endif
+}
+
 void hsbd_vmath_box_muller(size_t n, double *restrict u1, double *restrict u2) {
     if (hsbd_vmath_vectorised()) {
         hsbd_vmath_box_muller_avx2(n, u1, u2);

@@ -7,6 +7,7 @@
 #define HSBD_CORE_VMATH_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 /* In place: (u1, u2) uniforms in (0,1] -> sqrt(-2 ln u1) * (cos 2 pi u2, sin 2 pi u2). */
 void hsbd_vmath_box_muller(size_t n, double *restrict u1, double *restrict u2);
@@ -23,5 +24,12 @@ int hsbd_vmath_vectorised(void);
 void hsbd_vmath_box_muller_avx2(size_t n, double *restrict u1, double *restrict u2);
 void hsbd_vmath_scaled_sinpi_avx2(size_t n, const double *restrict t, double scale,
                                   double *restrict out);
+
+/* Whether this CPU has AVX2 (the integer kernels below need nothing else). */
+int hsbd_cpu_has_avx2(void);
+/* src/core/rng.c's uniform pairs for counters k0 .. k0 + npairs - 1, four at a time
+ * (philox_avx2.c, -mavx2); npairs a multiple of 4. */
+void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k0,
+                                    size_t npairs, double *restrict u1, double *restrict u2);
 
 #endif

@@ -2,6 +2,7 @@
  * distinct across seeds/streams/steps, and with the moments of N(0,1) and U(0,1) within
  * 5 standard errors over 2^21 draws (fixed seeds). The vectorised Box-Muller agrees
  * with glibc's scalar functions to 1e-13. */
+#include <Random123/philox.h>
 #include <math.h>
 #include <string.h>
 
@@ -31,6 +32,28 @@ static void test_batching_invariance(void) {
     hsbd_rng_normals(42, HSBD_STREAM_INIT, 7, 5, 1, &d);
     CHECK(a != b && a != c && a != d, "seed, step and stream must all change the draw");
     CHECK(all[5] == a, "same (seed, stream, step, index) must give the same draw");
+}
+
+/* hsbd_rng_uniforms (four counters at a time with AVX2) against Random123's philox4x32
+ * called here, bit for bit, across the 2^32 wrap of the index pair and a 64-bit step. */
+static void test_uniforms_match_random123(void) {
+    const uint64_t seed = 0x0123456789abcdefull, step = 0x100000003ull;
+    const uint32_t stream = 5;
+    const size_t first = 2 * (size_t)0xfffffff0u + 1, n = 123;
+    double u[123];
+    hsbd_rng_uniforms(seed, stream, step, first, n, u);
+    const philox4x32_key_t key = {{(uint32_t)seed, (uint32_t)(seed >> 32)}};
+    for (size_t k = 0; k < n; ++k) {
+        const uint64_t index = first + k, pair = index / 2;
+        const philox4x32_ctr_t ctr = {
+            {(uint32_t)pair, (uint32_t)step, (uint32_t)(step >> 32), stream}};
+        const philox4x32_ctr_t r = philox4x32(ctr, key);
+        const uint64_t bits = index % 2 ? (((uint64_t)r.v[2] << 32) | r.v[3]) >> 11
+                                        : (((uint64_t)r.v[0] << 32) | r.v[1]) >> 11;
+        const double want = ((double)bits + 0.5) * 0x1.0p-53;
+        CHECK(memcmp(&u[k], &want, sizeof want) == 0, "index %zu: %.17g, Random123 %.17g", index,
+              u[k], want);
+    }
 }
 
 static void test_normal_moments(void) {
@@ -95,6 +118,7 @@ static void test_vector_math_matches_libm(void) {
 
 int main(void) {
     test_batching_invariance();
+    test_uniforms_match_random123();
     test_normal_moments();
     test_uniform_moments();
     test_vector_math_matches_libm();

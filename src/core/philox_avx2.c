@@ -1,0 +1,63 @@
+/* Philox4x32-10 for four counters at once (AVX2, see CMakeLists.txt): the same function as
+ * Random123's philox4x32 (tests/unit/test_rng.c compares them bit for bit), each 32-bit
+ * word in the low half of a 64-bit lane so that _mm256_mul_epu32 gives the full product. */
+#include "core/vmath.h"
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+
+/* One Philox round on the words x[0..3] with key (k0, k1): Random123's _philox4x32round. */
+static inline void philox_round(__m256i x[4], __m256i k0, __m256i k1) {
+    const __m256i low = _mm256_set1_epi64x(0xffffffff);
+    const __m256i p0 = _mm256_mul_epu32(x[0], _mm256_set1_epi64x(0xD2511F53));
+    const __m256i p1 = _mm256_mul_epu32(x[2], _mm256_set1_epi64x(0xCD9E8D57));
+    const __m256i hi0 = _mm256_srli_epi64(p0, 32), lo0 = _mm256_and_si256(p0, low);
+    const __m256i hi1 = _mm256_srli_epi64(p1, 32), lo1 = _mm256_and_si256(p1, low);
+    x[0] = _mm256_xor_si256(_mm256_xor_si256(hi1, x[1]), k0);
+    x[1] = lo1;
+    x[2] = _mm256_xor_si256(_mm256_xor_si256(hi0, x[3]), k1);
+    x[3] = lo0;
+}
+
+/* (double) of a < 2^53 in each lane, exactly: two 32-bit halves through 2^52 + h. */
+static inline __m256d exact_u53_to_double(__m256i a) {
+    const __m256i magic = _mm256_set1_epi64x(0x4330000000000000); /* 2^52 */
+    const __m256d two52 = _mm256_set1_pd(0x1.0p52), two32 = _mm256_set1_pd(0x1.0p32);
+    const __m256i hi = _mm256_srli_epi64(a, 32);
+    const __m256i lo = _mm256_and_si256(a, _mm256_set1_epi64x(0xffffffff));
+    const __m256d dhi = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(hi, magic)), two52);
+    const __m256d dlo = _mm256_sub_pd(_mm256_castsi256_pd(_mm256_or_si256(lo, magic)), two52);
+    return _mm256_add_pd(_mm256_mul_pd(dhi, two32), dlo); /* exact: an integer < 2^53 */
+}
+
+void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k0,
+                                    size_t npairs, double *restrict u1, double *restrict u2) {
+    const __m256i step_lo = _mm256_set1_epi64x((uint32_t)step);
+    const __m256i step_hi = _mm256_set1_epi64x((uint32_t)(step >> 32));
+    const __m256i str = _mm256_set1_epi64x(stream);
+    const __m256i w0 = _mm256_set1_epi64x(0x9E3779B9), w1 = _mm256_set1_epi64x(0xBB67AE85);
+    const __m256i low = _mm256_set1_epi64x(0xffffffff);
+    const __m256d half = _mm256_set1_pd(0.5), scale = _mm256_set1_pd(0x1.0p-53);
+    for (size_t j = 0; j + 4 <= npairs; j += 4) {
+        const uint64_t c = k0 + j;
+        __m256i x[4] = {_mm256_and_si256(_mm256_setr_epi64x((int64_t)c, (int64_t)(c + 1),
+                                                            (int64_t)(c + 2), (int64_t)(c + 3)),
+                                         low),
+                        step_lo, step_hi, str};
+        __m256i key0 = _mm256_set1_epi64x((uint32_t)seed);
+        __m256i key1 = _mm256_set1_epi64x((uint32_t)(seed >> 32));
+        for (int round = 0; round < 10; ++round) {
+            if (round) { /* the key bump, modulo 2^32 in the low halves */
+                key0 = _mm256_and_si256(_mm256_add_epi64(key0, w0), low);
+                key1 = _mm256_and_si256(_mm256_add_epi64(key1, w1), low);
+            }
+            philox_round(x, key0, key1);
+        }
+        /* 53 bits from (v0, v1) and from (v2, v3), as in src/core/rng.c */
+        const __m256i a = _mm256_srli_epi64(_mm256_or_si256(_mm256_slli_epi64(x[0], 32), x[1]), 11);
+        const __m256i b = _mm256_srli_epi64(_mm256_or_si256(_mm256_slli_epi64(x[2], 32), x[3]), 11);
+        _mm256_storeu_pd(u1 + j, _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(a), half), scale));
+        _mm256_storeu_pd(u2 + j, _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(b), half), scale));
+    }
+}
+#endif
