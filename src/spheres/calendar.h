@@ -1,7 +1,10 @@
-/* Event calendar of one EDBD step (internal to src/spheres): a binary min-heap on time.
+/* Event calendar of one EDBD step (internal to src/spheres): a bucket queue over [0, dt).
  * Events are never removed when they go stale; each carries the collision counters its
- * particles had when it was predicted and is dropped on popping if they changed. Only a
- * few percent of particles collide per step, so the heap stays small. */
+ * particles had when it was predicted and is dropped on popping if they changed. Event
+ * times only grow within a step and every event lies in [0, dt], so equal-width buckets
+ * over the step with about one event each give O(1) pushes and pops: the earliest event
+ * is the earliest of the first non-empty bucket (the bucket index is a non-decreasing
+ * function of t). A step ends with the calendar empty. */
 #ifndef HSBD_SPHERES_CALENDAR_H
 #define HSBD_SPHERES_CALENDAR_H
 
@@ -17,14 +20,20 @@ typedef struct sph_event {
 } sph_event;
 
 typedef struct sph_calendar {
-    sph_event *heap;
-    size_t size, cap;
+    sph_event *pool; /* events in use and free ones */
+    int32_t *next;   /* per pool entry: next in its bucket or in the free list, -1 ends */
+    size_t pool_cap, pool_used;
+    int32_t free_head;
+    int32_t *head; /* first event of each bucket, -1 empty */
+    size_t nbuckets, current;
+    double inv_width;    /* buckets per unit time */
+    size_t size, pushed; /* events held; pushed in this step */
 } sph_calendar;
 
 void sph_calendar_free(sph_calendar *c);
-static inline void sph_calendar_clear(sph_calendar *c) {
-    c->size = 0;
-}
+/* Starts a step of length dt on an empty calendar, with buckets for about as many events
+ * as the last step pushed. Returns 0, or -1 when out of memory. */
+int sph_calendar_start(sph_calendar *c, double dt);
 /* Returns 0, or -1 when out of memory. */
 int sph_calendar_push(sph_calendar *c, sph_event e);
 /* Removes the earliest event into *e; 0 when empty. */

@@ -443,7 +443,7 @@ static void draw_velocities(hsbd_spheres *s) {
 static void start_step_events(hsbd_spheres *s) {
     const double dt = s->dt, r2 = s->shell * s->shell;
     const size_t n = s->n;
-    sph_calendar_clear(&s->calendar);
+    if (sph_calendar_start(&s->calendar, dt)) s->oom = 1;
     for (size_t i = 0; i < n; ++i) {
         double d[3];
         min_image(s, s->x + 3 * i, s->centre + 3 * i, d);

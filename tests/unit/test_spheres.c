@@ -15,6 +15,7 @@
 #include "hsbd/observe.h"
 #include "hsbd/rng.h"
 #include "hsbd/spheres.h"
+#include "spheres/calendar.h"
 #include "spheres/kernels.h"
 
 static const double PI = 3.14159265358979323846;
@@ -185,6 +186,54 @@ static void test_predict_row_kernels(void) {
         }
     }
     CHECK(hits_seen > 50, "the rows have hits: %d", hits_seen);
+}
+
+/* The bucket calendar pops in time order while events are pushed at or after the last
+ * popped time, as in a step; checked against the earliest of all events still held. */
+static void test_calendar_order(void) {
+    enum { N = 3000 };
+    double u[2 * N];
+    hsbd_rng_uniforms(14, 99, 1, 0, 2 * N, u);
+    sph_calendar c = {0};
+    const double dt = 1e-3;
+    for (int step = 0; step < 3; ++step) {
+        CHECK(sph_calendar_start(&c, dt) == 0, "start");
+        double held[N];
+        int nheld = 0, used = 0, popped = 0;
+        double now = 0;
+        for (; used < N / 2; ++used) { /* the initial predictions */
+            const sph_event e = {u[used] * dt, used, used + 1, 0, 0};
+            CHECK(sph_calendar_push(&c, e) == 0, "push");
+            held[nheld++] = e.t;
+        }
+        if (step == 1) { /* ties and the end of the step */
+            for (int k = 0; k < 3; ++k) {
+                const sph_event e = {k ? dt : 0.5 * dt, -1, -1, 0, 0};
+                CHECK(sph_calendar_push(&c, e) == 0, "push");
+                held[nheld++] = e.t;
+            }
+        }
+        sph_event e;
+        while (sph_calendar_pop(&c, &e)) {
+            int at = -1;
+            double least = INFINITY;
+            for (int k = 0; k < nheld; ++k)
+                if (held[k] < least) least = held[k], at = k;
+            CHECK(e.t == least && e.t >= now, "pop %d: t %.17g, earliest held %.17g", popped, e.t,
+                  least);
+            held[at] = held[--nheld];
+            now = e.t;
+            ++popped;
+            if (used < N && u[N + used] < 0.6) { /* new events later in the step */
+                const sph_event f = {now + u[used] * (dt - now), used, -1, 0, 0};
+                CHECK(sph_calendar_push(&c, f) == 0, "push");
+                held[nheld++] = f.t;
+                ++used;
+            }
+        }
+        CHECK(nheld == 0 && c.size == 0, "step %d ends empty: %d held", step, nheld);
+    }
+    sph_calendar_free(&c);
 }
 
 /* The cell search kernels (scalar, AVX2) against brute force over all points: the same
@@ -513,6 +562,7 @@ int main(void) {
     test_contact_time();
     test_predict_row_kernels();
     test_cells_near_kernels();
+    test_calendar_order();
     test_no_overlap();
     test_reproducible();
     test_bad_params();
