@@ -145,6 +145,9 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->hit_j);
     free(s->hit_t);
     free(s->near);
+    free(s->scan_i);
+    free(s->scan_j);
+    free(s->scan_t);
     free(s->normals);
     sph_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
@@ -235,6 +238,12 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         if (!s->nb_count || !s->nb_upper || !s->nb || !s->hit_j || !s->hit_t) goto oom;
         s->predict_row = sph_predict_row_select();
         s->cells_near = sph_cells_near_select();
+        s->half_scan = sph_half_scan_select();
+        s->scan_cap = 4096;
+        s->scan_i = malloc(s->scan_cap * sizeof *s->scan_i);
+        s->scan_j = malloc(s->scan_cap * sizeof *s->scan_j);
+        s->scan_t = malloc(s->scan_cap * sizeof *s->scan_t);
+        if (!s->scan_i || !s->scan_j || !s->scan_t) goto oom;
     }
     return s;
 oom:
@@ -257,6 +266,16 @@ static int nb_grow(hsbd_spheres *s) {
     if (hit_j) s->hit_j = hit_j;
     double *hit_t = realloc(s->hit_t, cap * sizeof *hit_t);
     if (hit_t) s->hit_t = hit_t;
+    if (cap > s->scan_cap) { /* the half scan takes at least one whole row per chunk */
+        int32_t *si = realloc(s->scan_i, cap * sizeof *si);
+        if (si) s->scan_i = si;
+        int32_t *sj = realloc(s->scan_j, cap * sizeof *sj);
+        if (sj) s->scan_j = sj;
+        double *st = realloc(s->scan_t, cap * sizeof *st);
+        if (st) s->scan_t = st;
+        if (!si || !sj || !st) return -1;
+        s->scan_cap = cap;
+    }
     int32_t *nb = hit_j && hit_t ? malloc(s->n * cap * sizeof *nb) : NULL;
     if (!nb) return -1;
     for (size_t i = 0; i < s->n; ++i)
@@ -385,12 +404,11 @@ static void push_event(hsbd_spheres *s, double t, int32_t i, int32_t j) {
     if (sph_calendar_push(&s->calendar, e)) s->oom = 1;
 }
 
-/* Collisions of i (at time t, with t_local[j] = t for every j when at_start) with the
- * first m neighbours of its row inside [t, dt): into the calendar. */
-static void predict_row(hsbd_spheres *s, int32_t i, double t, uint32_t m, int at_start) {
+/* Collisions of i (at time t) with its neighbours inside [t, dt): into the calendar. */
+static void predict_row(hsbd_spheres *s, int32_t i, double t) {
     sph_row_query q = {.x = s->x,
                        .v = s->v,
-                       .t_local = at_start ? NULL : s->t_local,
+                       .t_local = s->t_local,
                        .sigma = s->sigma,
                        .sigma_i = s->sigma[i],
                        .t = t,
@@ -400,7 +418,8 @@ static void predict_row(hsbd_spheres *s, int32_t i, double t, uint32_t m, int at
         q.box[a] = s->box[a];
         q.vi[a] = s->v[3 * (size_t)i + a];
     }
-    const uint32_t hits = s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, m, s->hit_j, s->hit_t);
+    const uint32_t hits =
+        s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, s->nb_count[i], s->hit_j, s->hit_t);
     for (uint32_t k = 0; k < hits; ++k)
         push_event(s, t + s->hit_t[k], i, s->hit_j[k]);
 }
@@ -420,7 +439,7 @@ static void predict_shell_exit(hsbd_spheres *s, int32_t i, double t) {
 }
 
 static void predict_particle(hsbd_spheres *s, int32_t i, double t) {
-    predict_row(s, i, t, s->nb_count[i], 0);
+    predict_row(s, i, t);
     predict_shell_exit(s, i, t);
 }
 
@@ -454,8 +473,23 @@ static void start_step_events(hsbd_spheres *s) {
             predict_shell_exit(s, (int32_t)i, 0.0);
         }
     }
-    for (size_t i = 0; i < n; ++i)
-        predict_row(s, (int32_t)i, 0.0, s->nb_upper[i], 1);
+    const sph_scan_query q = {.x = s->x,
+                              .v = s->v,
+                              .sigma = s->sigma,
+                              .nb = s->nb,
+                              .nb_upper = s->nb_upper,
+                              .nb_cap = s->nb_cap,
+                              .box = {s->box[0], s->box[1], s->box[2]},
+                              .tmax = dt};
+    for (size_t i0 = 0; i0 < n;) { /* chunks of rows whose pairs fit the hit buffers */
+        size_t i1 = i0, pairs = 0;
+        while (i1 < n && pairs + s->nb_upper[i1] <= s->scan_cap)
+            pairs += s->nb_upper[i1++];
+        const uint32_t hits = s->half_scan(&q, i0, i1, s->scan_i, s->scan_j, s->scan_t);
+        for (uint32_t k = 0; k < hits; ++k)
+            push_event(s, s->scan_t[k], s->scan_i[k], s->scan_j[k]);
+        i0 = i1;
+    }
 }
 
 static void process_collision(hsbd_spheres *s, const sph_event *e) {

@@ -34,7 +34,11 @@ struct hsbd_spheres {
     int32_t *hit_j;                 /* nb_cap hits of one row */
     double *hit_t;
     sph_cells_near_fn cells_near; /* scalar or AVX2 */
-    int32_t *near;                /* points found around one particle */
+    sph_half_scan_fn half_scan;   /* scalar or AVX2 */
+    int32_t *scan_i, *scan_j;     /* hits of the half scan over a chunk of rows */
+    double *scan_t;
+    size_t scan_cap; /* >= nb_cap */
+    int32_t *near;   /* points found around one particle */
     size_t near_cap;
     double *normals;       /* dim x n draws of a step */
     uint32_t noise_stream; /* HSBD_STREAM_NOISE; the compression uses its own */

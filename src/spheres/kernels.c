@@ -3,9 +3,9 @@
 /* The pair's separation and relative velocity as both kernels compute them. */
 static inline void pair_geometry(const sph_row_query *q, int32_t j, double r[3], double v[3]) {
     const double *xj = q->x + 3 * (size_t)j, *vj = q->v + 3 * (size_t)j;
-    const double h = q->t_local ? q->t - q->t_local[j] : 0.0;
+    const double h = q->t - q->t_local[j];
     for (int a = 0; a < 3; ++a) {
-        const double pj = q->t_local ? xj[a] + vj[a] * h : xj[a];
+        const double pj = xj[a] + vj[a] * h;
         r[a] = sph_wrap_delta(pj - q->xi[a], q->box[a]);
         v[a] = vj[a] - q->vi[a];
     }
@@ -22,6 +22,31 @@ uint32_t sph_predict_row_scalar(const sph_row_query *q, const int32_t *row, uint
         if (tc >= 0) {
             hit_j[hits] = j;
             hit_t[hits++] = tc;
+        }
+    }
+    return hits;
+}
+
+uint32_t sph_half_scan_scalar(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
+                              int32_t *hit_j, double *hit_t) {
+    uint32_t hits = 0;
+    for (size_t i = i0; i < i1; ++i) {
+        const double *xi = q->x + 3 * i, *vi = q->v + 3 * i;
+        const int32_t *row = q->nb + i * q->nb_cap;
+        for (uint32_t k = 0; k < q->nb_upper[i]; ++k) {
+            const int32_t j = row[k];
+            const double *xj = q->x + 3 * (size_t)j, *vj = q->v + 3 * (size_t)j;
+            double r[3], v[3];
+            for (int a = 0; a < 3; ++a) {
+                r[a] = sph_wrap_delta(xj[a] - xi[a], q->box[a]);
+                v[a] = vj[a] - vi[a];
+            }
+            const double tc = sph_contact_time(r, v, 0.5 * (q->sigma[i] + q->sigma[j]), q->tmax);
+            if (tc >= 0) {
+                hit_i[hits] = (int32_t)i;
+                hit_j[hits] = j;
+                hit_t[hits++] = tc;
+            }
         }
     }
     return hits;
@@ -54,6 +79,9 @@ sph_predict_row_fn sph_predict_row_select(void) {
 sph_cells_near_fn sph_cells_near_select(void) {
     return __builtin_cpu_supports("avx2") ? sph_cells_near_avx2 : sph_cells_near_scalar;
 }
+sph_half_scan_fn sph_half_scan_select(void) {
+    return __builtin_cpu_supports("avx2") ? sph_half_scan_avx2 : sph_half_scan_scalar;
+}
 #else
 uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32_t m,
                               int32_t *hit_j, double *hit_t) {
@@ -69,5 +97,12 @@ uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nl
 }
 sph_cells_near_fn sph_cells_near_select(void) {
     return sph_cells_near_scalar;
+}
+uint32_t sph_half_scan_avx2(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
+                            int32_t *hit_j, double *hit_t) {
+    return sph_half_scan_scalar(q, i0, i1, hit_i, hit_j, hit_t);
+}
+sph_half_scan_fn sph_half_scan_select(void) {
+    return sph_half_scan_scalar;
 }
 #endif

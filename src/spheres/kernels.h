@@ -45,12 +45,12 @@ static inline double sph_contact_time(const double r[3], const double v[3], doub
     return t <= tmax ? t : tmax; /* a root exists in [0, tmax]: round-off only */
 }
 
-/* One particle i against a row of neighbours. Particle j sits at x_j + v_j (t - t_j)
- * (t_local = NULL: every t_j = t, the start of a step); r = minimum image of that minus
- * xi, relative velocity v_j - vi, contact distance (sigma_i + sigma_j) / 2. */
+/* One particle i against a row of neighbours. Particle j sits at x_j + v_j (t - t_j); r =
+ * minimum image of that minus xi, relative velocity v_j - vi, contact distance (sigma_i +
+ * sigma_j) / 2. */
 typedef struct sph_row_query {
     const double *x, *v;   /* 3 per particle */
-    const double *t_local; /* per particle, or NULL */
+    const double *t_local; /* per particle */
     const double *sigma;   /* per particle */
     double box[3];
     double xi[3], vi[3], sigma_i;
@@ -68,6 +68,26 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
                               int32_t *hit_j, double *hit_t);
 /* The fastest version this CPU runs. */
 sph_predict_row_fn sph_predict_row_select(void);
+
+/* The half scan at the start of a step, every particle at its position x (t = 0): the
+ * pairs (i, j) with j among the first nb_upper[i] entries of row i, for i in [i0, i1),
+ * r = minimum image of x_j - x_i; the pairs of many rows fill the vectors. Hits in i and row order
+ * to hit_i, hit_j, hit_t (room for every pair); returns their number. */
+typedef struct sph_scan_query {
+    const double *x, *v, *sigma; /* x, v: 3 per particle */
+    const int32_t *nb;           /* rows of nb_cap entries */
+    const uint32_t *nb_upper;
+    uint32_t nb_cap;
+    double box[3], tmax;
+} sph_scan_query;
+
+typedef uint32_t (*sph_half_scan_fn)(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
+                                     int32_t *hit_j, double *hit_t);
+uint32_t sph_half_scan_scalar(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
+                              int32_t *hit_j, double *hit_t);
+uint32_t sph_half_scan_avx2(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
+                            int32_t *hit_j, double *hit_t);
+sph_half_scan_fn sph_half_scan_select(void);
 
 /* The points p of cells list[0..nlist) with |minimum image of p - c|^2 < (reach_base +
  * sigma[id] / 2)^2, in list and slot order, to out (room for the cells' total count);

@@ -32,74 +32,154 @@ static inline __m256d dot4(const __m256d a[3], const __m256d b[3]) {
                          _mm256_mul_pd(a[2], b[2]));
 }
 
+/* Broadcast constants of the contact test. */
+typedef struct contact4 {
+    __m256d box[3], half[3], neg_half[3];
+    __m256d tmax, zero, two, one_half, sign;
+    double tmax_scalar;
+} contact4;
+
+static inline void contact4_init(contact4 *c, const double box[3], double tmax) {
+    for (int a = 0; a < 3; ++a) {
+        const double h = 0.5 * box[a];
+        c->box[a] = _mm256_set1_pd(box[a]);
+        c->half[a] = _mm256_set1_pd(h);
+        c->neg_half[a] = _mm256_set1_pd(-h);
+    }
+    c->tmax = _mm256_set1_pd(tmax);
+    c->tmax_scalar = tmax;
+    c->zero = _mm256_setzero_pd();
+    c->two = _mm256_set1_pd(2.0);
+    c->one_half = _mm256_set1_pd(0.5);
+    c->sign = _mm256_set1_pd(-0.0);
+}
+
+/* Lanes < lanes whose pair reaches contact within tmax, from the unwrapped separations d
+ * (wrapped here), relative velocities v and diameters sigma_i + sigma_j: bit l of the
+ * result set and tc[l] the contact time (sph_contact_time on the lane). */
+static inline int contact_times4(const contact4 *c, __m256d d[3], const __m256d v[3],
+                                 __m256d sigma_sum, uint32_t lanes, double tc[4]) {
+    for (int a = 0; a < 3; ++a)
+        d[a] = wrap4(d[a], c->box[a], c->half[a], c->neg_half[a]);
+    const __m256d s = _mm256_mul_pd(c->one_half, sigma_sum);
+    const __m256d b = dot4(d, v), vv = dot4(v, v);
+    const __m256d g = _mm256_sub_pd(dot4(d, d), _mm256_mul_pd(s, s));
+    /* sph_contact_hit, lane by lane */
+    const __m256d vt = _mm256_mul_pd(vv, c->tmax);
+    const __m256d f_end =
+        _mm256_add_pd(g, _mm256_mul_pd(c->tmax, _mm256_add_pd(_mm256_mul_pd(c->two, b), vt)));
+    const __m256d disc = _mm256_sub_pd(_mm256_mul_pd(b, b), _mm256_mul_pd(vv, g));
+    const __m256d inside = _mm256_and_pd(_mm256_cmp_pd(_mm256_xor_pd(b, c->sign), vt, _CMP_LT_OQ),
+                                         _mm256_cmp_pd(disc, c->zero, _CMP_GE_OQ));
+    const __m256d hit =
+        _mm256_and_pd(_mm256_cmp_pd(b, c->zero, _CMP_LT_OQ),
+                      _mm256_or_pd(_mm256_cmp_pd(f_end, c->zero, _CMP_LE_OQ), inside));
+    int mask = _mm256_movemask_pd(hit) & ((1 << lanes) - 1);
+    if (__builtin_expect(!mask, 1)) return 0;
+    double dl[3][4], vl[3][4], sl[4];
+    for (int a = 0; a < 3; ++a) {
+        _mm256_storeu_pd(dl[a], d[a]);
+        _mm256_storeu_pd(vl[a], v[a]);
+    }
+    _mm256_storeu_pd(sl, s);
+    int found = 0;
+    for (; mask; mask &= mask - 1) {
+        const int l = __builtin_ctz((unsigned)mask);
+        const double rr[3] = {dl[0][l], dl[1][l], dl[2][l]};
+        const double vr[3] = {vl[0][l], vl[1][l], vl[2][l]};
+        tc[l] = sph_contact_time(rr, vr, sl[l], c->tmax_scalar);
+        if (tc[l] >= 0) found |= 1 << l;
+    }
+    return found;
+}
+
+static inline __m256d load4(const double *a, const int32_t idx[4]) {
+    return _mm256_setr_pd(a[idx[0]], a[idx[1]], a[idx[2]], a[idx[3]]);
+}
+
 uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32_t m,
                               int32_t *hit_j, double *hit_t) {
-    __m256d box[3], half[3], neg_half[3], xi[3], vi[3];
+    contact4 c;
+    contact4_init(&c, q->box, q->tmax);
+    __m256d xi[3], vi[3];
     for (int a = 0; a < 3; ++a) {
-        const double h = 0.5 * q->box[a];
-        box[a] = _mm256_set1_pd(q->box[a]);
-        half[a] = _mm256_set1_pd(h);
-        neg_half[a] = _mm256_set1_pd(-h);
         xi[a] = _mm256_set1_pd(q->xi[a]);
         vi[a] = _mm256_set1_pd(q->vi[a]);
     }
-    const __m256d sigma_i = _mm256_set1_pd(q->sigma_i), tmax = _mm256_set1_pd(q->tmax);
-    const __m256d t = _mm256_set1_pd(q->t), zero = _mm256_setzero_pd();
-    const __m256d two = _mm256_set1_pd(2.0), one_half = _mm256_set1_pd(0.5);
-    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m256d sigma_i = _mm256_set1_pd(q->sigma_i), t = _mm256_set1_pd(q->t);
     uint32_t hits = 0;
     for (uint32_t k = 0; k < m; k += 4) {
         const uint32_t lanes = m - k < 4 ? m - k : 4;
         int32_t idx[4]; /* the tail's missing lanes repeat the first and are masked out */
         for (uint32_t l = 0; l < 4; ++l)
             idx[l] = row[k + (l < lanes ? l : 0)];
-        __m256d r[3], v[3];
-        load_transposed(q->x, idx, r);
+        __m256d d[3], v[3];
+        load_transposed(q->x, idx, d);
         load_transposed(q->v, idx, v);
-        if (q->t_local) {
-            const __m256d tj = _mm256_setr_pd(q->t_local[idx[0]], q->t_local[idx[1]],
-                                              q->t_local[idx[2]], q->t_local[idx[3]]);
-            const __m256d h = _mm256_sub_pd(t, tj);
-            for (int a = 0; a < 3; ++a)
-                r[a] = _mm256_add_pd(r[a], _mm256_mul_pd(v[a], h));
-        }
+        const __m256d h = _mm256_sub_pd(t, load4(q->t_local, idx));
         for (int a = 0; a < 3; ++a) {
-            r[a] = wrap4(_mm256_sub_pd(r[a], xi[a]), box[a], half[a], neg_half[a]);
+            d[a] = _mm256_sub_pd(_mm256_add_pd(d[a], _mm256_mul_pd(v[a], h)), xi[a]);
             v[a] = _mm256_sub_pd(v[a], vi[a]);
         }
-        const __m256d sj =
-            _mm256_setr_pd(q->sigma[idx[0]], q->sigma[idx[1]], q->sigma[idx[2]], q->sigma[idx[3]]);
-        const __m256d s = _mm256_mul_pd(one_half, _mm256_add_pd(sigma_i, sj));
-        const __m256d b = dot4(r, v), vv = dot4(v, v);
-        const __m256d g = _mm256_sub_pd(dot4(r, r), _mm256_mul_pd(s, s));
-        /* sph_contact_hit, lane by lane */
-        const __m256d vt = _mm256_mul_pd(vv, tmax);
-        const __m256d f_end =
-            _mm256_add_pd(g, _mm256_mul_pd(tmax, _mm256_add_pd(_mm256_mul_pd(two, b), vt)));
-        const __m256d disc = _mm256_sub_pd(_mm256_mul_pd(b, b), _mm256_mul_pd(vv, g));
-        const __m256d inside = _mm256_and_pd(_mm256_cmp_pd(_mm256_xor_pd(b, sign), vt, _CMP_LT_OQ),
-                                             _mm256_cmp_pd(disc, zero, _CMP_GE_OQ));
-        const __m256d hit =
-            _mm256_and_pd(_mm256_cmp_pd(b, zero, _CMP_LT_OQ),
-                          _mm256_or_pd(_mm256_cmp_pd(f_end, zero, _CMP_LE_OQ), inside));
-        int mask = _mm256_movemask_pd(hit) & ((1 << lanes) - 1);
-        if (__builtin_expect(!mask, 1)) continue;
-        double rl[3][4], vl[3][4], sl[4];
-        for (int a = 0; a < 3; ++a) {
-            _mm256_storeu_pd(rl[a], r[a]);
-            _mm256_storeu_pd(vl[a], v[a]);
+        double tc[4];
+        int found =
+            contact_times4(&c, d, v, _mm256_add_pd(sigma_i, load4(q->sigma, idx)), lanes, tc);
+        for (; found; found &= found - 1) {
+            const int l = __builtin_ctz((unsigned)found);
+            hit_j[hits] = idx[l];
+            hit_t[hits++] = tc[l];
         }
-        _mm256_storeu_pd(sl, s);
-        for (; mask; mask &= mask - 1) {
-            const int l = __builtin_ctz((unsigned)mask);
-            const double rr[3] = {rl[0][l], rl[1][l], rl[2][l]};
-            const double vr[3] = {vl[0][l], vl[1][l], vl[2][l]};
-            const double tc = sph_contact_time(rr, vr, sl[l], q->tmax);
-            if (tc >= 0) {
-                hit_j[hits] = idx[l];
-                hit_t[hits++] = tc;
+    }
+    return hits;
+}
+
+/* Four pairs (pi[l], pj[l]) of the half scan; lanes >= `lanes` repeat lane 0. */
+static inline uint32_t half_scan4(const sph_scan_query *q, const contact4 *c, const int32_t pi[4],
+                                  const int32_t pj[4], uint32_t lanes, uint32_t hits,
+                                  int32_t *hit_i, int32_t *hit_j, double *hit_t) {
+    __m256d xi[3], xj[3], vi[3], vj[3], d[3], v[3];
+    load_transposed(q->x, pi, xi);
+    load_transposed(q->x, pj, xj);
+    load_transposed(q->v, pi, vi);
+    load_transposed(q->v, pj, vj);
+    for (int a = 0; a < 3; ++a) {
+        d[a] = _mm256_sub_pd(xj[a], xi[a]);
+        v[a] = _mm256_sub_pd(vj[a], vi[a]);
+    }
+    const __m256d sigma_sum = _mm256_add_pd(load4(q->sigma, pi), load4(q->sigma, pj));
+    double tc[4];
+    int found = contact_times4(c, d, v, sigma_sum, lanes, tc);
+    for (; found; found &= found - 1) {
+        const int l = __builtin_ctz((unsigned)found);
+        hit_i[hits] = pi[l];
+        hit_j[hits] = pj[l];
+        hit_t[hits++] = tc[l];
+    }
+    return hits;
+}
+
+uint32_t sph_half_scan_avx2(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
+                            int32_t *hit_j, double *hit_t) {
+    contact4 c;
+    contact4_init(&c, q->box, q->tmax);
+    int32_t pi[4], pj[4];
+    uint32_t pending = 0, hits = 0;
+    for (size_t i = i0; i < i1; ++i) {
+        const int32_t *row = q->nb + i * q->nb_cap;
+        const uint32_t m = q->nb_upper[i];
+        for (uint32_t k = 0; k < m; ++k) {
+            pi[pending] = (int32_t)i;
+            pj[pending] = row[k];
+            if (++pending == 4) {
+                hits = half_scan4(q, &c, pi, pj, 4, hits, hit_i, hit_j, hit_t);
+                pending = 0;
             }
         }
+    }
+    if (pending) {
+        for (uint32_t l = pending; l < 4; ++l)
+            pi[l] = pi[0], pj[l] = pj[0];
+        hits = half_scan4(q, &c, pi, pj, pending, hits, hit_i, hit_j, hit_t);
     }
     return hits;
 }

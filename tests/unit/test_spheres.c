@@ -123,55 +123,69 @@ static void test_contact_time(void) {
     CHECK(hits > 20 && misses > 20, "cases cover both: %d hits, %d misses", hits, misses);
 }
 
-/* The row kernels (scalar, AVX2) against pair-by-pair sph_contact_time on random rows of
- * every tail length, across the periodic boundary, at the start of a step and later: the
- * same hits in the same order with bit-identical times. */
-static void test_predict_row_kernels(void) {
-    enum { N = 64, ROWS = 300 };
-    double g[7 * N];
-    hsbd_rng_normals(12, 99, 1, 0, 7 * N, g);
-    double x[3 * N + 1], v[3 * N + 1], t_local[N], sigma[N]; /* + 1: padding the kernel reads */
-    x[3 * N] = v[3 * N] = 0;
-    const double box[3] = {3.0, 3.0, 3.0};
-    for (int j = 0; j < N; ++j) {
+/* Random particles in a small periodic box for the kernel tests (+ 1: the padding entry
+ * the vector kernels read past the last particle). */
+enum { KN = 64 };
+typedef struct kernel_fixture {
+    double x[3 * KN + 1], v[3 * KN + 1], t_local[KN], sigma[KN], box[3];
+} kernel_fixture;
+
+static void kernel_fixture_fill(kernel_fixture *f) {
+    double g[7 * KN];
+    hsbd_rng_normals(12, 99, 1, 0, 7 * KN, g);
+    for (int a = 0; a < 3; ++a)
+        f->box[a] = 3.0;
+    f->x[3 * KN] = f->v[3 * KN] = 0;
+    for (int j = 0; j < KN; ++j) {
         for (int a = 0; a < 3; ++a) {
-            x[3 * j + a] = fmod(fabs(g[7 * j + a]), 1.0) * box[a];
-            v[3 * j + a] = 20 * g[7 * j + 3 + a];
+            f->x[3 * j + a] = fmod(fabs(g[7 * j + a]), 1.0) * f->box[a];
+            f->v[3 * j + a] = 20 * g[7 * j + 3 + a];
         }
-        t_local[j] = 0.004 * fabs(g[7 * j + 6]) / (1 + fabs(g[7 * j + 6]));
-        sigma[j] = 0.8 + 0.1 * (j % 5);
+        f->t_local[j] = 0.004 * fabs(g[7 * j + 6]) / (1 + fabs(g[7 * j + 6]));
+        f->sigma[j] = 0.8 + 0.1 * (j % 5);
     }
+}
+
+/* sph_contact_time of pair (i, j) with j at x_j + v_j h, in the kernels' operation order. */
+static double kernel_pair_time(const kernel_fixture *f, int i, int j, double h, double tmax) {
+    double r[3], w[3];
+    for (int a = 0; a < 3; ++a) {
+        const double pj = f->x[3 * j + a] + f->v[3 * j + a] * h;
+        r[a] = sph_wrap_delta(pj - f->x[3 * i + a], f->box[a]);
+        w[a] = f->v[3 * j + a] - f->v[3 * i + a];
+    }
+    return sph_contact_time(r, w, 0.5 * (f->sigma[i] + f->sigma[j]), tmax);
+}
+
+/* The row kernels (scalar, AVX2) against pair-by-pair sph_contact_time on random rows of
+ * every tail length, across the periodic boundary: the same hits in the same order with
+ * bit-identical times. */
+static void test_predict_row_kernels(void) {
+    kernel_fixture f;
+    kernel_fixture_fill(&f);
     const int avx2 = __builtin_cpu_supports("avx2") != 0;
     int hits_seen = 0;
-    for (int row_id = 0; row_id < ROWS; ++row_id) {
-        const int i = row_id % N, at_start = row_id % 2;
+    for (int row_id = 0; row_id < 300; ++row_id) {
+        const int i = row_id % KN;
         const uint32_t m = (uint32_t)(row_id % 14);
         int32_t row[16];
         for (uint32_t k = 0; k < m; ++k)
-            row[k] = (int32_t)((i + 1 + 7 * k + (uint32_t)row_id) % N);
-        sph_row_query q = {.x = x, .v = v, .t_local = at_start ? NULL : t_local, .sigma = sigma};
-        q.t = at_start ? 0.0 : 0.004;
+            row[k] = (int32_t)((i + 1 + 7 * k + (uint32_t)row_id) % KN);
+        sph_row_query q = {.x = f.x, .v = f.v, .t_local = f.t_local, .sigma = f.sigma};
+        q.t = 0.004;
         q.tmax = 0.01 - q.t;
-        q.sigma_i = sigma[i];
+        q.sigma_i = f.sigma[i];
         for (int a = 0; a < 3; ++a) {
-            q.box[a] = box[a];
-            q.xi[a] = x[3 * i + a];
-            q.vi[a] = v[3 * i + a];
+            q.box[a] = f.box[a];
+            q.xi[a] = f.x[3 * i + a];
+            q.vi[a] = f.v[3 * i + a];
         }
         int32_t ref_j[16], hj[2][16];
         double ref_t[16], ht[2][16];
         uint32_t ref = 0;
         for (uint32_t k = 0; k < m; ++k) {
-            const int32_t j = row[k];
-            const double h = at_start ? 0.0 : q.t - t_local[j];
-            double r[3], w[3];
-            for (int a = 0; a < 3; ++a) {
-                const double pj = at_start ? x[3 * j + a] : x[3 * j + a] + v[3 * j + a] * h;
-                r[a] = sph_wrap_delta(pj - q.xi[a], box[a]);
-                w[a] = v[3 * j + a] - q.vi[a];
-            }
-            const double tc = sph_contact_time(r, w, 0.5 * (sigma[i] + sigma[j]), q.tmax);
-            if (tc >= 0) ref_j[ref] = j, ref_t[ref++] = tc;
+            const double tc = kernel_pair_time(&f, i, row[k], q.t - f.t_local[row[k]], q.tmax);
+            if (tc >= 0) ref_j[ref] = row[k], ref_t[ref++] = tc;
         }
         hits_seen += (int)ref;
         for (int kernel = 0; kernel < 1 + avx2; ++kernel) {
@@ -186,6 +200,60 @@ static void test_predict_row_kernels(void) {
         }
     }
     CHECK(hits_seen > 50, "the rows have hits: %d", hits_seen);
+}
+
+/* The half-scan kernels (scalar, AVX2) against pair-by-pair sph_contact_time over rows of
+ * every length (0 to 13, so pairs of several rows share a vector and the last one is
+ * partial), for several particle ranges. */
+static void test_half_scan_kernels(void) {
+    kernel_fixture f;
+    kernel_fixture_fill(&f);
+    enum { CAP = 16 };
+    int32_t nb[KN * CAP];
+    uint32_t upper[KN];
+    for (int i = 0; i < KN; ++i) {
+        upper[i] = (uint32_t)((i * 5) % 14);
+        for (uint32_t k = 0; k < upper[i]; ++k)
+            nb[i * CAP + (int)k] = (int32_t)((i + 1 + 3 * (int)k) % KN);
+    }
+    const sph_scan_query q = {.x = f.x,
+                              .v = f.v,
+                              .sigma = f.sigma,
+                              .nb = nb,
+                              .nb_upper = upper,
+                              .nb_cap = CAP,
+                              .box = {f.box[0], f.box[1], f.box[2]},
+                              .tmax = 0.03};
+    const int avx2 = __builtin_cpu_supports("avx2") != 0;
+    static int32_t ri[KN * CAP], rj[KN * CAP], hi[2][KN * CAP], hj[2][KN * CAP];
+    static double rt[KN * CAP], ht[2][KN * CAP];
+    const size_t ranges[][2] = {{0, KN}, {3, 4}, {5, 17}, {10, 10}};
+    int hits_seen = 0;
+    for (size_t c = 0; c < sizeof ranges / sizeof ranges[0]; ++c) {
+        const size_t i0 = ranges[c][0], i1 = ranges[c][1];
+        uint32_t ref = 0;
+        for (size_t i = i0; i < i1; ++i)
+            for (uint32_t k = 0; k < upper[i]; ++k) {
+                const int j = nb[i * CAP + k];
+                const double tc = kernel_pair_time(&f, (int)i, j, 0.0, q.tmax);
+                if (tc >= 0) ri[ref] = (int32_t)i, rj[ref] = j, rt[ref++] = tc;
+            }
+        hits_seen += (int)ref;
+        for (int kernel = 0; kernel < 1 + avx2; ++kernel) {
+            const uint32_t got = kernel ? sph_half_scan_avx2(&q, i0, i1, hi[1], hj[1], ht[1])
+                                        : sph_half_scan_scalar(&q, i0, i1, hi[0], hj[0], ht[0]);
+            CHECK(got == ref, "range %zu, kernel %d: %u hits, pair by pair %u", c, kernel, got,
+                  ref);
+            for (uint32_t k = 0; k < got && k < ref; ++k)
+                CHECK(hi[kernel][k] == ri[k] && hj[kernel][k] == rj[k] &&
+                          memcmp(&ht[kernel][k], &rt[k], 8) == 0,
+                      "range %zu, kernel %d, hit %u: (%d, %d) t %.17g, pair by pair (%d, %d) "
+                      "t %.17g",
+                      c, kernel, k, hi[kernel][k], hj[kernel][k], ht[kernel][k], ri[k], rj[k],
+                      rt[k]);
+        }
+    }
+    CHECK(hits_seen > 50, "the scan has hits: %d", hits_seen);
 }
 
 /* The bucket calendar pops in time order while events are pushed at or after the last
@@ -561,6 +629,7 @@ int main(void) {
     test_collision_rule();
     test_contact_time();
     test_predict_row_kernels();
+    test_half_scan_kernels();
     test_cells_near_kernels();
     test_calendar_order();
     test_no_overlap();
