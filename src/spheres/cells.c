@@ -24,7 +24,7 @@ int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, 
     }
     c->cap = CELLS_FIRST_CAP;
     c->count = calloc(c->ncells, sizeof *c->count);
-    c->id = malloc(c->ncells * c->cap * sizeof *c->id);
+    c->id = calloc(c->ncells * c->cap, sizeof *c->id); /* empty slots are read (cells.h) */
     c->pos = calloc(3 * c->ncells * c->cap + 1, sizeof *c->pos); /* + 1: see cells.h */
     c->cell_of = malloc(npoints * sizeof *c->cell_of);
     c->slot_of = malloc(npoints * sizeof *c->slot_of);
@@ -65,7 +65,7 @@ int32_t sph_cells_index(const sph_cells *c, const double x[3]) {
 /* Twice the slots per cell, every cell copied over. */
 static int grow(sph_cells *c) {
     const uint32_t cap = 2 * c->cap;
-    int32_t *id = malloc(c->ncells * cap * sizeof *id);
+    int32_t *id = calloc(c->ncells * cap, sizeof *id);
     double *pos = calloc(3 * c->ncells * cap + 1, sizeof *pos);
     if (!id || !pos) {
         free(id);

@@ -15,7 +15,7 @@ typedef struct sph_cells {
     double inv_width[3];
     size_t ncells;
     int few;         /* some axis has fewer than 3 cells: neighbour cells repeat */
-    uint32_t cap;    /* slots per cell (doubled when one fills) */
+    uint32_t cap;    /* slots per cell: 4, doubled when one fills (kernels read 4 at a time) */
     uint32_t *count; /* points per cell */
     int32_t *id;     /* ncells x cap point indices */
     double *pos;     /* ncells x cap x 3 positions given at insertion, + 1 padding (vector loads) */

@@ -307,24 +307,24 @@ static void nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
 static void nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
     int32_t *row = s->nb + (size_t)i * s->nb_cap;
     const uint32_t c = s->nb_count[i];
-    for (uint32_t k = 0; k < c; ++k)
-        if (row[k] == j) {
-            if (j > i) { /* keep the partition: last upper entry fills the hole */
-                const uint32_t up = --s->nb_upper[i];
-                row[k] = row[up];
-                row[up] = row[c - 1];
-            } else {
-                row[k] = row[c - 1];
-            }
-            s->nb_count[i] = c - 1;
-            return;
-        }
+    uint32_t k = c;
+    for (uint32_t q = 0; q < c; ++q) /* no early exit: the position is unpredictable */
+        k = row[q] == j ? q : k;
+    if (k == c) return;
+    if (j > i) { /* keep the partition: last upper entry fills the hole */
+        const uint32_t up = --s->nb_upper[i];
+        row[k] = row[up];
+        row[up] = row[c - 1];
+    } else {
+        row[k] = row[c - 1];
+    }
+    s->nb_count[i] = c - 1;
 }
 
 /* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
  * sigma_ij + 2 shell (j > i only when upper_only), to both rows. */
 static void add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
-    const size_t room = 27 * (size_t)s->cells.cap;
+    const size_t room = 27 * (size_t)s->cells.cap + SPH_NEAR_PAD;
     if (room > s->near_cap) {
         int32_t *near = realloc(s->near, room * sizeof *near);
         if (!near) {

@@ -90,8 +90,9 @@ uint32_t sph_half_scan_avx2(const sph_scan_query *q, size_t i0, size_t i1, int32
 sph_half_scan_fn sph_half_scan_select(void);
 
 /* The points p of cells list[0..nlist) with |minimum image of p - c|^2 < (reach_base +
- * sigma[id] / 2)^2, in list and slot order, to out (room for the cells' total count);
- * returns their number. */
+ * sigma[id] / 2)^2, in list and slot order, to out (room for the cells' total count plus
+ * SPH_NEAR_PAD); returns their number. */
+enum { SPH_NEAR_PAD = 4 };
 typedef uint32_t (*sph_cells_near_fn)(const sph_cells *cells, const int32_t *list, int nlist,
                                       const double c[3], const double box[3], const double *sigma,
                                       double reach_base, int32_t *out);

@@ -201,13 +201,15 @@ uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nl
         const uint32_t m = sph_cells_count(cells, list[q]);
         const int32_t *id = sph_cells_ids(cells, list[q]);
         const double *p = sph_cells_positions(cells, list[q]);
-        for (uint32_t u = 0; u < m; u += 4) {
+        /* The first four slots of every cell in one pass, even when fewer are filled (a
+         * cell has at least four slots): no branch on the count, which varies from cell to
+         * cell and would mispredict; fuller cells take more passes. */
+        for (uint32_t u = 0; u == 0 || u < m; u += 4) {
             const uint32_t lanes = m - u < 4 ? m - u : 4;
-            int32_t slot[4], who[4]; /* missing lanes repeat the first, masked out below */
-            for (uint32_t l = 0; l < 4; ++l) {
-                slot[l] = (int32_t)(u + (l < lanes ? l : 0));
-                who[l] = id[slot[l]];
-            }
+            const int32_t slot[4] = {(int32_t)u, (int32_t)u + 1, (int32_t)u + 2, (int32_t)u + 3};
+            int32_t who[4]; /* empty slots: particle 0, masked out below */
+            for (uint32_t l = 0; l < 4; ++l)
+                who[l] = l < lanes ? id[u + l] : 0;
             __m256d r[3];
             load_transposed(p, slot, r);
             for (int a = 0; a < 3; ++a)
@@ -216,9 +218,11 @@ uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nl
                 _mm256_setr_pd(sigma[who[0]], sigma[who[1]], sigma[who[2]], sigma[who[3]]);
             const __m256d reach = _mm256_add_pd(base, _mm256_mul_pd(one_half, sj));
             const __m256d near = _mm256_cmp_pd(dot4(r, r), _mm256_mul_pd(reach, reach), _CMP_LT_OQ);
-            int mask = _mm256_movemask_pd(near) & ((1 << lanes) - 1);
-            for (; mask; mask &= mask - 1)
-                out[found++] = who[__builtin_ctz((unsigned)mask)];
+            const int mask = _mm256_movemask_pd(near) & ((1 << lanes) - 1);
+            for (int l = 0; l < 4; ++l) { /* compaction without branches */
+                out[found] = who[l];
+                found += (uint32_t)(mask >> l) & 1;
+            }
         }
     }
     return found;

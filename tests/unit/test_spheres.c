@@ -322,7 +322,7 @@ static void test_cells_near_kernels(void) {
     }
     CHECK(cells.cap > 4, "some cell holds more than one vector: cap %u", cells.cap);
     const int avx2 = __builtin_cpu_supports("avx2") != 0;
-    int32_t *out = malloc(27 * cells.cap * sizeof *out), ref[N];
+    int32_t *out = malloc((27 * cells.cap + SPH_NEAR_PAD) * sizeof *out), ref[N];
     int total = 0;
     for (int i = 0; i < N; i += 7) {
         int32_t around[27];
