@@ -186,7 +186,7 @@ static const key_spec schema[] = {
     {"output", "trajectory", K_ENUM, OFF(output.trajectory), 0, 0, 0, "none", "none|xyz",
      "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD)"},
     {"output", "trajectory_every", K_DOUBLE, OFF(output.trajectory_every), 0, INF, OPEN_MAX, "0", 0,
-     "time between trajectory frames (0: t_total/100)"},
+     "time between trajectory frames (0: t_total/100, at least run.dt)"},
     {"init", "positions", K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
      "file with initial positions; rods: one per line ('#' comments), default an exact "
      "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "
@@ -1059,7 +1059,8 @@ static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
             err, HSBD_EINPUT, "%s: sample.msd_max_lag = %g exceeds %s = %g",
             origin_of(cfg, "sample", "msd_max_lag"), cfg->sample.msd_max_lag,
             replicas ? "a replica's time run.t_total/sample.blocks" : "run.t_total", lag_limit);
-    if (cfg->output.trajectory_every == 0) cfg->output.trajectory_every = cfg->run.t_total / 100;
+    if (cfg->output.trajectory_every == 0) /* the default never refuses a short run */
+        cfg->output.trajectory_every = fmax(cfg->run.t_total / 100, cfg->run.dt);
     if (cfg->output.trajectory_every < cfg->run.dt)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: output.trajectory_every = %g is shorter than run.dt = %g",
