@@ -10,8 +10,6 @@
 
 /* ---- small vector helpers (3 components; z = 0 in 2D) ---- */
 
-#define dot3 sph_dot3
-
 /* minimum-image a - b */
 static inline void min_image(const hsbd_spheres *s, const double *a, const double *b, double *r) {
     for (int k = 0; k < 3; ++k)
@@ -431,8 +429,8 @@ static void predict_shell_exit(hsbd_spheres *s, int32_t i, double t) {
     const double *v = s->v + 3 * (size_t)i;
     const double T = s->dt - t, r2 = s->shell * s->shell;
     double e[3] = {d[0] + v[0] * T, d[1] + v[1] * T, d[2] + v[2] * T};
-    if (dot3(e, e) <= r2) return; /* the straight path stays inside (the ball is convex) */
-    const double vv = dot3(v, v), b = dot3(d, v), c = dot3(d, d) - r2;
+    if (sph_dot3(e, e) <= r2) return; /* the straight path stays inside (the ball is convex) */
+    const double vv = sph_dot3(v, v), b = sph_dot3(d, v), c = sph_dot3(d, d) - r2;
     double h = (-b + sqrt(b * b - vv * c)) / vv; /* c < 0: one positive root */
     if (!(h >= 0)) h = 0;
     push_event(s, t + h, i, SPH_EVENT_SHELL);
@@ -468,7 +466,7 @@ static void start_step_events(hsbd_spheres *s) {
         min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
         const double *v = s->v + 3 * i;
         const double e[3] = {d[0] + v[0] * dt, d[1] + v[1] * dt, d[2] + v[2] * dt};
-        if (dot3(e, e) > r2) {
+        if (sph_dot3(e, e) > r2) {
             recentre(s, (int32_t)i);
             predict_shell_exit(s, (int32_t)i, 0.0);
         }
@@ -498,7 +496,7 @@ static void process_collision(hsbd_spheres *s, const sph_event *e) {
     advance(s, j, e->t);
     double r[3];
     min_image(s, s->x + 3 * (size_t)j, s->x + 3 * (size_t)i, r);
-    const double dist = sqrt(dot3(r, r));
+    const double dist = sqrt(sph_dot3(r, r));
     const double nrm[3] = {r[0] / dist, r[1] / dist, r[2] / dist};
     double *vi = s->v + 3 * (size_t)i, *vj = s->v + 3 * (size_t)j;
     const double u = (vj[0] - vi[0]) * nrm[0] + (vj[1] - vi[1]) * nrm[1] + (vj[2] - vi[2]) * nrm[2];
@@ -616,7 +614,7 @@ double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite) {
             double r[3];
             min_image(s, s->x + 3 * (size_t)j, s->x + 3 * i, r);
             const double sij = contact_distance(s, (int32_t)i, j);
-            const double gap = (sqrt(dot3(r, r)) - sij) / sij;
+            const double gap = (sqrt(sph_dot3(r, r)) - sij) / sij;
             if (gap < worst) worst = gap;
         }
     }
