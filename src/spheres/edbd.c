@@ -140,8 +140,6 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->nb_count);
     free(s->nb_upper);
     free(s->nb);
-    free(s->hit_j);
-    free(s->hit_t);
     free(s->near);
     free(s->scan_i);
     free(s->scan_j);
@@ -231,9 +229,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->nb_count = calloc(n, sizeof *s->nb_count);
         s->nb_upper = calloc(n, sizeof *s->nb_upper);
         s->nb = malloc(n * s->nb_cap * sizeof *s->nb);
-        s->hit_j = malloc(s->nb_cap * sizeof *s->hit_j);
-        s->hit_t = malloc(s->nb_cap * sizeof *s->hit_t);
-        if (!s->nb_count || !s->nb_upper || !s->nb || !s->hit_j || !s->hit_t) goto oom;
+        if (!s->nb_count || !s->nb_upper || !s->nb) goto oom;
         s->predict_row = sph_predict_row_select();
         s->cells_near = sph_cells_near_select();
         s->half_scan = sph_half_scan_select();
@@ -260,11 +256,7 @@ void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
 
 static int nb_grow(hsbd_spheres *s) {
     const uint32_t cap = 2 * s->nb_cap;
-    int32_t *hit_j = realloc(s->hit_j, cap * sizeof *hit_j);
-    if (hit_j) s->hit_j = hit_j;
-    double *hit_t = realloc(s->hit_t, cap * sizeof *hit_t);
-    if (hit_t) s->hit_t = hit_t;
-    if (cap > s->scan_cap) { /* the half scan takes at least one whole row per chunk */
+    if (cap > s->scan_cap) { /* the scans take at least one whole row */
         int32_t *si = realloc(s->scan_i, cap * sizeof *si);
         if (si) s->scan_i = si;
         int32_t *sj = realloc(s->scan_j, cap * sizeof *sj);
@@ -274,7 +266,7 @@ static int nb_grow(hsbd_spheres *s) {
         if (!si || !sj || !st) return -1;
         s->scan_cap = cap;
     }
-    int32_t *nb = hit_j && hit_t ? malloc(s->n * cap * sizeof *nb) : NULL;
+    int32_t *nb = malloc(s->n * cap * sizeof *nb);
     if (!nb) return -1;
     for (size_t i = 0; i < s->n; ++i)
         memcpy(nb + i * cap, s->nb + i * s->nb_cap, s->nb_count[i] * sizeof *nb);
@@ -417,9 +409,9 @@ static void predict_row(hsbd_spheres *s, int32_t i, double t) {
         q.vi[a] = s->v[3 * (size_t)i + a];
     }
     const uint32_t hits =
-        s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, s->nb_count[i], s->hit_j, s->hit_t);
+        s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, s->nb_count[i], s->scan_j, s->scan_t);
     for (uint32_t k = 0; k < hits; ++k)
-        push_event(s, t + s->hit_t[k], i, s->hit_j[k]);
+        push_event(s, t + s->scan_t[k], i, s->scan_j[k]);
 }
 
 /* When i (at local time t) would leave its shell before dt: schedule that. */

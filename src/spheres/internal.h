@@ -31,11 +31,9 @@ struct hsbd_spheres {
     sph_cells cells;               /* of the shell centres, cells >= sigma_max + 2 shell wide */
     sph_calendar calendar;
     sph_predict_row_fn predict_row; /* scalar or AVX2 (the same results) */
-    int32_t *hit_j;                 /* nb_cap hits of one row */
-    double *hit_t;
-    sph_cells_near_fn cells_near; /* scalar or AVX2 */
-    sph_half_scan_fn half_scan;   /* scalar or AVX2 */
-    int32_t *scan_i, *scan_j;     /* hits of the half scan over a chunk of rows */
+    sph_cells_near_fn cells_near;   /* scalar or AVX2 */
+    sph_half_scan_fn half_scan;     /* scalar or AVX2 */
+    int32_t *scan_i, *scan_j;       /* hits of a scan: a chunk of rows, or one row (no i) */
     double *scan_t;
     size_t scan_cap; /* >= nb_cap */
     int32_t *near;   /* points found around one particle */

@@ -1,5 +1,7 @@
 #include "spheres/kernels.h"
 
+#include "core/vmath.h"
+
 /* The pair's separation and relative velocity as both kernels compute them. */
 static inline void pair_geometry(const sph_row_query *q, int32_t j, double r[3], double v[3]) {
     const double *xj = q->x + 3 * (size_t)j, *vj = q->v + 3 * (size_t)j;
@@ -74,13 +76,13 @@ uint32_t sph_cells_near_scalar(const sph_cells *cells, const int32_t *list, int 
 
 #if defined(__x86_64__) || defined(_M_X64)
 sph_predict_row_fn sph_predict_row_select(void) {
-    return __builtin_cpu_supports("avx2") ? sph_predict_row_avx2 : sph_predict_row_scalar;
+    return hsbd_cpu_has_avx2() ? sph_predict_row_avx2 : sph_predict_row_scalar;
 }
 sph_cells_near_fn sph_cells_near_select(void) {
-    return __builtin_cpu_supports("avx2") ? sph_cells_near_avx2 : sph_cells_near_scalar;
+    return hsbd_cpu_has_avx2() ? sph_cells_near_avx2 : sph_cells_near_scalar;
 }
 sph_half_scan_fn sph_half_scan_select(void) {
-    return __builtin_cpu_supports("avx2") ? sph_half_scan_avx2 : sph_half_scan_scalar;
+    return hsbd_cpu_has_avx2() ? sph_half_scan_avx2 : sph_half_scan_scalar;
 }
 #else
 uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32_t m,
