@@ -254,8 +254,17 @@ void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
 
 /* ---- neighbour shells ---- */
 
+/* The next row capacity: about 1.5 times, a multiple of 4 and never a power of two from 32
+ * on. Rows 128 or 256 bytes apart ran 25-30 % slower at N = 1e5 than rows of 96 to 192
+ * bytes (bench/RESULTS.md); the first overflow came within a few hundred steps. */
+static uint32_t nb_next_cap(uint32_t cap) {
+    uint32_t next = cap + (cap / 2 + 3) / 4 * 4;
+    if ((next & (next - 1)) == 0) next += 4;
+    return next;
+}
+
 static int nb_grow(hsbd_spheres *s) {
-    const uint32_t cap = 2 * s->nb_cap;
+    const uint32_t cap = nb_next_cap(s->nb_cap);
     if (cap > s->scan_cap) { /* the scans take at least one whole row */
         int32_t *si = realloc(s->scan_i, cap * sizeof *si);
         if (si) s->scan_i = si;
