@@ -39,6 +39,11 @@ typedef struct hsbd_spheres_params {
     /* Optional per-particle values (N each, copied at alloc) that replace the species'
      * (or sigma / diffusion) ones: continuous polydispersity, Stokes-Einstein D. */
     const double *particle_sigma, *particle_diffusion;
+    /* 1: keep the particles in the user's order in memory. By default (0) the engine
+     * sorts them along a Z curve through space every so often, which it never shows:
+     * views, outputs and the noise of each particle follow the user's order. The two
+     * runs agree to round-off (tests/unit/test_spheres.c). */
+    int keep_order;
 } hsbd_spheres_params;
 
 /* Collision statistics accumulated since the last reset. */

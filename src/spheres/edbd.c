@@ -145,6 +145,13 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->scan_j);
     free(s->scan_t);
     free(s->normals);
+    free(s->label);
+    free(s->cell_rank);
+    free(s->user_x);
+    free(s->user_image);
+    free(s->user_sigma);
+    free(s->user_diffusion);
+    free(s->user_species);
     sph_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
     free(s);
@@ -186,10 +193,13 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->nspecies = params->nspecies ? params->nspecies : 1;
     s->sp_sigma = malloc(s->nspecies * sizeof *s->sp_sigma);
     s->sp_diffusion = malloc(s->nspecies * sizeof *s->sp_diffusion);
+    s->label = malloc(n * sizeof *s->label);
     if (!s->x || !s->v || !s->t_local || !s->centre || !s->image || !s->counter || !s->sigma ||
         !s->diffusion || !s->noise_amp || !s->species || !s->normals || !s->sp_sigma ||
-        !s->sp_diffusion)
+        !s->sp_diffusion || !s->label)
         goto oom;
+    for (size_t i = 0; i < n; ++i)
+        s->label[i] = (int32_t)i;
     double dmax = 0, sigma_sum = 0;
     for (size_t k = 0; k < s->nspecies; ++k) {
         s->sp_sigma[k] = params->nspecies ? params->species_sigma[k] : params->sigma;
@@ -210,6 +220,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->par.species_diffusion = s->sp_diffusion;
     s->par.particle_sigma = s->par.particle_diffusion = NULL; /* s->sigma, s->diffusion hold them */
     sph_set_noise_amplitudes(s);
+    s->diffusion_max = dmax;
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
     const double reach = s->sigma_max + 2 * s->shell;
     for (int a = 0; a < s->dim; ++a)
@@ -238,6 +249,18 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->scan_j = malloc(s->scan_cap * sizeof *s->scan_j);
         s->scan_t = malloc(s->scan_cap * sizeof *s->scan_t);
         if (!s->scan_i || !s->scan_j || !s->scan_t) goto oom;
+        if (!params->keep_order) { /* the view's user-order copies */
+            s->sort_enabled = 1;
+            s->sort_clock = INFINITY; /* sort before the first step */
+            s->user_x = malloc(3 * n * sizeof *s->user_x);
+            s->user_image = malloc(3 * n * sizeof *s->user_image);
+            s->user_sigma = malloc(n * sizeof *s->user_sigma);
+            s->user_diffusion = malloc(n * sizeof *s->user_diffusion);
+            s->user_species = malloc(n * sizeof *s->user_species);
+            if (!s->user_x || !s->user_image || !s->user_sigma || !s->user_diffusion ||
+                !s->user_species)
+                goto oom;
+        }
     }
     return s;
 oom:
@@ -451,8 +474,9 @@ static void draw_velocities(hsbd_spheres *s) {
     for (size_t i = 0; i < n; ++i) {
         double *v = s->v + 3 * i;
         const double amp = s->noise_amp[i];
+        const double *z = s->normals + d * (size_t)s->label[i]; /* the user's particle's draw */
         for (size_t a = 0; a < d; ++a)
-            v[a] = amp * s->normals[d * i + a] + (amp > 0 ? g[a] : 0.0);
+            v[a] = amp * z[a] + (amp > 0 ? g[a] : 0.0);
     }
 }
 
@@ -552,7 +576,18 @@ static void finish_step(hsbd_spheres *s) {
     }
 }
 
+/* Sorted again once the fastest particle could have moved about half a cell (rms
+ * displacement sqrt(0.6) sigma_max): often enough to keep neighbours near in memory,
+ * rarely enough that the rebuild costs little (bench/RESULTS.md). */
+static void keep_spatial_order(hsbd_spheres *s) {
+    if (!s->sort_enabled) return;
+    if (s->sort_clock >= 0.1 * s->sigma_max * s->sigma_max && sph_sort_spatially(s) == 0)
+        s->sort_clock = 0;
+    s->sort_clock += s->diffusion_max * s->dt;
+}
+
 void hsbd_spheres_step(hsbd_spheres *s) {
+    keep_spatial_order(s);
     draw_velocities(s);
     if (s->par.hard_core) {
         start_step_events(s);
@@ -567,13 +602,14 @@ void hsbd_spheres_step(hsbd_spheres *s) {
 /* ---- views and diagnostics ---- */
 
 hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s) {
+    if (s->reordered) sph_fill_user_view(s);
     hsbd_spheres_view v = {.n = s->n,
                            .dimension = s->dim,
-                           .x = s->x,
-                           .image = s->image,
-                           .sigma = s->sigma,
-                           .diffusion = s->diffusion,
-                           .species = s->species,
+                           .x = s->reordered ? s->user_x : s->x,
+                           .image = s->reordered ? s->user_image : s->image,
+                           .sigma = s->reordered ? s->user_sigma : s->sigma,
+                           .diffusion = s->reordered ? s->user_diffusion : s->diffusion,
+                           .species = s->reordered ? s->user_species : s->species,
                            .nspecies = s->nspecies,
                            .kT = s->par.kT,
                            .dt = s->dt,

@@ -38,9 +38,17 @@ static void reset_dynamics(hsbd_spheres *s) {
     memset(s->t_local, 0, s->n * sizeof *s->t_local);
     s->step = 0;
     s->time = 0;
+    s->sort_clock = INFINITY; /* new positions: sorted before the next step */
+}
+
+/* Every init writes per-particle values by the user's index. */
+static int restore_user_order(hsbd_spheres *s, hsbd_error *err) {
+    return sph_restore_user_order(s) ? hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory")
+                                     : HSBD_OK;
 }
 
 int hsbd_spheres_init_random(hsbd_spheres *s, hsbd_error *err) {
+    if (restore_user_order(s, err) != HSBD_OK) return HSBD_ENOMEM;
     const size_t n = s->n;
     sph_cells grid;
     if (sph_cells_init(&grid, s->dim, s->box, s->sigma_max, n))
@@ -111,6 +119,7 @@ static double lattice_spacing(const hsbd_spheres *s, const int m[3]) {
 }
 
 int hsbd_spheres_init_lattice(hsbd_spheres *s, hsbd_error *err) {
+    if (restore_user_order(s, err) != HSBD_OK) return HSBD_ENOMEM;
     const size_t n = s->n;
     const int basis = s->dim == 3 ? 4 : 2;
     /* cells per axis: start from the cell volume that holds N sites, add cells along the
@@ -186,6 +195,7 @@ int hsbd_spheres_init_lattice(hsbd_spheres *s, hsbd_error *err) {
 }
 
 int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err) {
+    if (restore_user_order(s, err) != HSBD_OK) return HSBD_ENOMEM;
     const size_t n = s->n;
     double *pos = malloc(3 * n * sizeof *pos);
     if (!pos) return hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
@@ -335,16 +345,20 @@ static int compress_from_rsi(hsbd_spheres *s, const double *final, double *growt
 }
 
 int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err) {
+    if (restore_user_order(s, err) != HSBD_OK) return HSBD_ENOMEM;
     double *final = malloc(2 * s->n * sizeof *final), *growth = final + s->n;
     if (!final) return hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
     memcpy(final, s->sigma, s->n * sizeof *final);
     const double dt = s->dt;
     s->noise_stream = HSBD_STREAM_COMPRESS;
+    const int sort_enabled = s->sort_enabled; /* final[] and growth[] use the user's order */
+    s->sort_enabled = 0;
     int rc = s->par.hard_core ? compress_from_rsi(s, final, growth, err)
                               : hsbd_spheres_init_random(s, err);
     memcpy(s->sigma, final, s->n * sizeof *final);
     free(final);
     s->noise_stream = HSBD_STREAM_NOISE;
+    s->sort_enabled = sort_enabled;
     hsbd_spheres_set_dt(s, dt);
     reset_dynamics(s);
     hsbd_spheres_reset_stats(s);

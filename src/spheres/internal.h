@@ -42,6 +42,16 @@ struct hsbd_spheres {
     uint32_t noise_stream; /* HSBD_STREAM_NOISE; the compression uses its own */
     double dt, time;
     uint64_t step;
+    /* spatial order (order.c): internal particle i is the user's particle label[i] */
+    int32_t *label;
+    int reordered;     /* label is not the identity: views show the user_ copies */
+    int sort_enabled;  /* 0 while the compression runs (it indexes by user order) */
+    double sort_clock; /* D_max t since the last sort (length^2) */
+    double diffusion_max;
+    int32_t *cell_rank; /* of each cell along the Z curve; NULL until the first sort */
+    double *user_x, *user_sigma, *user_diffusion; /* the view's arrays in user order */
+    int64_t *user_image;
+    int *user_species;
     int oom; /* an allocation failed inside a step (the step is then not exact) */
     hsbd_spheres_stats stats;
 };
@@ -51,5 +61,14 @@ void sph_set_noise_amplitudes(hsbd_spheres *s);
 
 /* Places every particle's shell at its position and builds all neighbour lists. */
 int sph_rebuild_neighbours(hsbd_spheres *s);
+
+/* Puts the particles in the Z-curve order of their cells and rebuilds the neighbour
+ * lists (between steps). Returns 0, or -1 when out of memory (the order is then kept). */
+int sph_sort_spatially(hsbd_spheres *s);
+/* Back to the user's order (before anything writes per-particle values by user index).
+ * Returns 0, or -1 when out of memory. */
+int sph_restore_user_order(hsbd_spheres *s);
+/* Writes the positions and image counters in user order into user_x and user_image. */
+void sph_fill_user_view(const hsbd_spheres *s);
 
 #endif

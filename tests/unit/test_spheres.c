@@ -2,7 +2,8 @@
  * of sum v_i / D_i and of sum v_i^2 / D_i, reversal of the normal relative velocity, an
  * immobile partner acting as a wall), contact times against brute-force integration, no
  * overlap after any step (O(N^2) check, 2D and 3D, mixtures with immobile obstacles),
- * bit-identical reruns of one seed by two objects in one process, the free-particle
+ * bit-identical reruns of one seed by two objects in one process, the engine's spatial
+ * sort invisible (the same run to round-off with and without it), the free-particle
  * mode, polydisperse diameters (moments within their sampling error), the compression to
  * dense states without overlaps (and its refusal near jamming), and the g(r) weights of
  * the virial route. */
@@ -484,6 +485,75 @@ static void test_reproducible(void) {
     hsbd_spheres_free(b);
 }
 
+/* The engine's spatial sort is invisible: a mixture from random insertion (particles in
+ * random order, so the sort moves nearly all of them) run with and without it gives the
+ * same positions to round-off and the same collisions; views, parameters and a later
+ * set_positions see the user's order. */
+static double max_unwrapped_difference(const hsbd_spheres_view *a, const hsbd_spheres_view *b) {
+    double worst = 0;
+    for (size_t k = 0; k < 3 * a->n; ++k) {
+        const double box = a->box[k % 3];
+        const double d =
+            (a->x[k] + (double)a->image[k] * box) - (b->x[k] + (double)b->image[k] * box);
+        worst = fmax(worst, fabs(d));
+    }
+    return worst;
+}
+
+static void test_spatial_order(void) {
+    static int species[600];
+    for (int i = 0; i < 600; ++i)
+        species[i] = i % 3 == 0;
+    static const double sig[2] = {1.0, 1.4}, dif[2] = {1.0, 1.0 / 1.4};
+    const double side = cbrt((400 * PI / 6 + 200 * PI / 6 * 1.4 * 1.4 * 1.4) / 0.3);
+    hsbd_spheres_params p = {.n = 600,
+                             .dimension = 3,
+                             .box = {side, side, side},
+                             .kT = 1,
+                             .dt = 1e-3,
+                             .seed = 21,
+                             .hard_core = 1,
+                             .nspecies = 2,
+                             .species = species,
+                             .species_sigma = sig,
+                             .species_diffusion = dif,
+                             .keep_order = 1};
+    hsbd_error err;
+    hsbd_spheres *a = hsbd_spheres_alloc(&p, &err);
+    p.keep_order = 0;
+    hsbd_spheres *b = hsbd_spheres_alloc(&p, &err);
+    CHECK(a && b, "alloc");
+    if (!a || !b) return;
+    CHECK(hsbd_spheres_init_random(a, &err) == HSBD_OK, "init: %s", err.message);
+    CHECK(hsbd_spheres_init_random(b, &err) == HSBD_OK, "init: %s", err.message);
+    for (int k = 0; k < 400; ++k) { /* D t = 0.4: the order is sorted four times */
+        hsbd_spheres_step(a);
+        hsbd_spheres_step(b);
+    }
+    const hsbd_spheres_view va = hsbd_spheres_get_view(a), vb = hsbd_spheres_get_view(b);
+    const double diff = max_unwrapped_difference(&va, &vb);
+    CHECK(diff < 1e-9, "sorted and unsorted runs differ by %.3g in a position", diff);
+    const hsbd_spheres_stats sa = hsbd_spheres_get_stats(a), sb = hsbd_spheres_get_stats(b);
+    CHECK(sa.collisions == sb.collisions && sa.collisions > 0,
+          "collisions: %llu unsorted, %llu sorted", (unsigned long long)sa.collisions,
+          (unsigned long long)sb.collisions);
+    CHECK(!memcmp(va.sigma, vb.sigma, p.n * sizeof *va.sigma) &&
+              !memcmp(va.diffusion, vb.diffusion, p.n * sizeof *va.diffusion) &&
+              !memcmp(va.species, vb.species, p.n * sizeof *va.species) &&
+              !memcmp(hsbd_spheres_get_params(b)->species, species, sizeof species),
+          "the sorted run's view or parameters are not in the user's order");
+    /* new positions by user index, after the sort: the view returns them as given */
+    double *x = malloc(3 * p.n * sizeof *x);
+    memcpy(x, va.x, 3 * p.n * sizeof *x);
+    CHECK(hsbd_spheres_set_positions(b, x, &err) == HSBD_OK, "set_positions: %s", err.message);
+    const hsbd_spheres_view vc = hsbd_spheres_get_view(b);
+    CHECK(!memcmp(vc.x, x, 3 * p.n * sizeof *x) && !memcmp(vc.sigma, va.sigma, p.n * sizeof *x),
+          "set_positions after a sort: the view does not give the positions back");
+    free(x);
+    hsbd_spheres_free(a);
+    hsbd_spheres_free(b);
+}
+
 static void test_bad_params(void) {
     hsbd_spheres_params p = {.n = 10,
                              .dimension = 3,
@@ -634,6 +704,7 @@ int main(void) {
     test_calendar_order();
     test_no_overlap();
     test_reproducible();
+    test_spatial_order();
     test_bad_params();
     test_diameters();
     test_compress();

@@ -1,0 +1,150 @@
+/* Spatial order of the particles in memory (internal to src/spheres).
+ *
+ * Every part of a step that is not a stream over the particles (the collisions, the shell
+ * updates, the half scan's neighbour reads) jumps to a particle and then to its
+ * neighbours. When neighbours in space are far apart in memory each of those reads is a
+ * cache miss, and above a few 10^4 particles the step waits on memory. So the engine
+ * keeps its per-particle arrays in the Morton (Z-curve) order of the cells, re-sorted
+ * whenever the particles could have moved about half a cell since the last sort. The
+ * user never sees this order: label[i] is the user's index of internal particle i, the
+ * noise is drawn by label, and views and parameters show the user's order. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "spheres/internal.h"
+
+/* Rank of each cell along the Z curve through the grid (cells outside the grid of the
+ * next power-of-two size are skipped). */
+static int32_t *morton_cell_ranks(const sph_cells *c, int dim) {
+    int32_t *rank = malloc(c->ncells * sizeof *rank);
+    if (!rank) return NULL;
+    int bits = 0;
+    while ((1 << bits) < c->nc[0] || (1 << bits) < c->nc[1] || (1 << bits) < c->nc[2])
+        ++bits;
+    const uint64_t codes = (uint64_t)1 << (dim * bits);
+    int32_t next = 0;
+    for (uint64_t code = 0; code < codes; ++code) {
+        int k[3] = {0, 0, 0};
+        for (int b = 0; b < bits; ++b)
+            for (int a = 0; a < dim; ++a)
+                k[a] |= (int)((code >> (dim * b + a)) & 1u) << b;
+        if (k[0] >= c->nc[0] || k[1] >= c->nc[1] || k[2] >= c->nc[2]) continue;
+        rank[((size_t)k[2] * (size_t)c->nc[1] + (size_t)k[1]) * (size_t)c->nc[0] + (size_t)k[0]] =
+            next++;
+    }
+    return rank;
+}
+
+/* new_to_old: internal particle k after the sort is particle new_to_old[k] before it.
+ * Stable counting sort by the Z-curve rank of each particle's cell. */
+static int spatial_permutation(hsbd_spheres *s, int32_t *new_to_old) {
+    const size_t n = s->n, nc = s->cells.ncells;
+    if (!s->cell_rank && !(s->cell_rank = morton_cell_ranks(&s->cells, s->dim))) return -1;
+    uint32_t *start = calloc(nc + 1, sizeof *start);
+    int32_t *rank_of = malloc(n * sizeof *rank_of);
+    if (!start || !rank_of) {
+        free(start);
+        free(rank_of);
+        return -1;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        rank_of[i] = s->cell_rank[sph_cells_index(&s->cells, s->x + 3 * i)];
+        start[rank_of[i] + 1]++;
+    }
+    for (size_t r = 0; r < nc; ++r)
+        start[r + 1] += start[r];
+    for (size_t i = 0; i < n; ++i)
+        new_to_old[start[rank_of[i]]++] = (int32_t)i;
+    free(start);
+    free(rank_of);
+    return 0;
+}
+
+/* The per-particle arrays that outlive a step, in one table: the permutation moves them
+ * all or, when memory runs out, none. */
+typedef struct {
+    void **array;
+    size_t bytes; /* per particle */
+    size_t pad;   /* extra bytes at the end (vector loads past the last particle) */
+} per_particle;
+
+static size_t per_particle_table(hsbd_spheres *s, per_particle *t) {
+    size_t k = 0;
+    t[k++] = (per_particle){(void **)&s->x, 3 * sizeof *s->x, sizeof *s->x};
+    t[k++] = (per_particle){(void **)&s->image, 3 * sizeof *s->image, 0};
+    t[k++] = (per_particle){(void **)&s->counter, sizeof *s->counter, 0};
+    t[k++] = (per_particle){(void **)&s->sigma, sizeof *s->sigma, 0};
+    t[k++] = (per_particle){(void **)&s->diffusion, sizeof *s->diffusion, 0};
+    t[k++] = (per_particle){(void **)&s->noise_amp, sizeof *s->noise_amp, 0};
+    t[k++] = (per_particle){(void **)&s->species, sizeof *s->species, 0};
+    t[k++] = (per_particle){(void **)&s->label, sizeof *s->label, 0};
+    return k;
+}
+
+/* Applies new_to_old to every per-particle array (between steps: t_local is 0 and v,
+ * the shells and the neighbour lists are rebuilt or redrawn). Returns 0, or -1 with
+ * nothing changed when out of memory. */
+static int permute_particles(hsbd_spheres *s, const int32_t *new_to_old) {
+    per_particle table[8];
+    const size_t count = per_particle_table(s, table), n = s->n;
+    void *fresh[8];
+    for (size_t a = 0; a < count; ++a) {
+        fresh[a] = calloc(1, n * table[a].bytes + table[a].pad);
+        if (!fresh[a]) {
+            while (a-- > 0)
+                free(fresh[a]);
+            return -1;
+        }
+    }
+    for (size_t a = 0; a < count; ++a) {
+        const size_t b = table[a].bytes;
+        const char *old = *table[a].array;
+        char *out = fresh[a];
+        for (size_t k = 0; k < n; ++k)
+            memcpy(out + k * b, old + (size_t)new_to_old[k] * b, b);
+        free(*table[a].array);
+        *table[a].array = fresh[a];
+    }
+    s->reordered = 0;
+    for (size_t k = 0; k < n && !s->reordered; ++k)
+        s->reordered = s->label[k] != (int32_t)k;
+    s->par.species = s->reordered ? s->user_species : s->species;
+    return 0;
+}
+
+/* The user's copies of the constant per-particle values, taken while the order is the
+ * user's own. */
+static void copy_user_constants(hsbd_spheres *s) {
+    memcpy(s->user_sigma, s->sigma, s->n * sizeof *s->sigma);
+    memcpy(s->user_diffusion, s->diffusion, s->n * sizeof *s->diffusion);
+    memcpy(s->user_species, s->species, s->n * sizeof *s->species);
+}
+
+int sph_sort_spatially(hsbd_spheres *s) {
+    int32_t *new_to_old = malloc(s->n * sizeof *new_to_old);
+    if (!new_to_old || spatial_permutation(s, new_to_old)) return free(new_to_old), -1;
+    if (!s->reordered) copy_user_constants(s);
+    const int rc = permute_particles(s, new_to_old);
+    free(new_to_old);
+    if (rc) return -1;
+    return sph_rebuild_neighbours(s) == HSBD_OK ? 0 : -1;
+}
+
+int sph_restore_user_order(hsbd_spheres *s) {
+    if (!s->reordered) return 0;
+    int32_t *new_to_old = malloc(s->n * sizeof *new_to_old);
+    if (!new_to_old) return -1;
+    for (size_t i = 0; i < s->n; ++i)
+        new_to_old[s->label[i]] = (int32_t)i;
+    const int rc = permute_particles(s, new_to_old);
+    free(new_to_old);
+    return rc;
+}
+
+void sph_fill_user_view(const hsbd_spheres *s) {
+    for (size_t i = 0; i < s->n; ++i) {
+        const size_t u = (size_t)s->label[i];
+        memcpy(s->user_x + 3 * u, s->x + 3 * i, 3 * sizeof *s->x);
+        memcpy(s->user_image + 3 * u, s->image + 3 * i, 3 * sizeof *s->image);
+    }
+}
