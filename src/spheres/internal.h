@@ -62,8 +62,8 @@ void sph_set_noise_amplitudes(hsbd_spheres *s);
 /* Places every particle's shell at its position and builds all neighbour lists. */
 int sph_rebuild_neighbours(hsbd_spheres *s);
 
-/* Puts the particles in the Z-curve order of their cells and rebuilds the neighbour
- * lists (between steps). Returns 0, or -1 when out of memory (the order is then kept). */
+/* Puts the particles in the Z-curve order of their cells, the neighbour lists and cells
+ * renumbered (between steps). Returns 0, or -1 when out of memory (the order is then kept). */
 int sph_sort_spatially(hsbd_spheres *s);
 /* Back to the user's order (before anything writes per-particle values by user index).
  * Returns 0, or -1 when out of memory. */

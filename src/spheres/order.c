@@ -5,7 +5,8 @@
  * neighbours. When neighbours in space are far apart in memory each of those reads is a
  * cache miss, and above a few 10^4 particles the step waits on memory. So the engine
  * keeps its per-particle arrays in the Morton (Z-curve) order of the cells, re-sorted
- * whenever the particles could have moved about half a cell since the last sort. The
+ * whenever the particles could have moved about half a cell since the last sort; the
+ * neighbour lists and cells are renumbered, not rebuilt, so the shells stay put. The
  * user never sees this order: label[i] is the user's index of internal particle i, the
  * noise is drawn by label, and views and parameters show the user's order. */
 #include <stdlib.h>
@@ -78,24 +79,77 @@ static size_t per_particle_table(hsbd_spheres *s, per_particle *t) {
     t[k++] = (per_particle){(void **)&s->noise_amp, sizeof *s->noise_amp, 0};
     t[k++] = (per_particle){(void **)&s->species, sizeof *s->species, 0};
     t[k++] = (per_particle){(void **)&s->label, sizeof *s->label, 0};
+    t[k++] = (per_particle){(void **)&s->centre, 3 * sizeof *s->centre, 0};
+    t[k++] = (per_particle){(void **)&s->cells.cell_of, sizeof *s->cells.cell_of, 0};
+    t[k++] = (per_particle){(void **)&s->cells.slot_of, sizeof *s->cells.slot_of, 0};
     return k;
 }
 
-/* Applies new_to_old to every per-particle array (between steps: t_local is 0 and v,
- * the shells and the neighbour lists are rebuilt or redrawn). Returns 0, or -1 with
- * nothing changed when out of memory. */
-static int permute_particles(hsbd_spheres *s, const int32_t *new_to_old) {
-    per_particle table[8];
-    const size_t count = per_particle_table(s, table), n = s->n;
-    void *fresh[8];
-    for (size_t a = 0; a < count; ++a) {
-        fresh[a] = calloc(1, n * table[a].bytes + table[a].pad);
-        if (!fresh[a]) {
-            while (a-- > 0)
-                free(fresh[a]);
-            return -1;
-        }
+/* The neighbour rows in the new order with the new indices, each row again holding its
+ * neighbours j > i first; the cells' point indices renumbered. */
+static int permute_neighbours(hsbd_spheres *s, const int32_t *new_to_old,
+                              const int32_t *old_to_new) {
+    const size_t n = s->n, cap = s->nb_cap;
+    int32_t *nb = malloc(n * cap * sizeof *nb);
+    uint32_t *count = malloc(n * sizeof *count), *upper = malloc(n * sizeof *upper);
+    if (!nb || !count || !upper) {
+        free(nb);
+        free(count);
+        free(upper);
+        return -1;
     }
+    for (size_t k = 0; k < n; ++k) {
+        const size_t old = (size_t)new_to_old[k];
+        const int32_t *from = s->nb + old * cap;
+        int32_t *row = nb + k * cap;
+        const uint32_t c = s->nb_count[old];
+        uint32_t up = 0, low = c;
+        for (uint32_t q = 0; q < c; ++q) {
+            const int32_t j = old_to_new[from[q]];
+            if (j > (int32_t)k)
+                row[up++] = j;
+            else
+                row[--low] = j;
+        }
+        count[k] = c;
+        upper[k] = up;
+    }
+    free(s->nb);
+    free(s->nb_count);
+    free(s->nb_upper);
+    s->nb = nb;
+    s->nb_count = count;
+    s->nb_upper = upper;
+    for (size_t cell = 0; cell < s->cells.ncells; ++cell) {
+        int32_t *id = s->cells.id + cell * s->cells.cap;
+        for (uint32_t q = 0; q < s->cells.count[cell]; ++q)
+            id[q] = old_to_new[id[q]];
+    }
+    return 0;
+}
+
+/* Applies new_to_old to every per-particle array, the neighbour lists and the cells
+ * (between steps: t_local is 0 and v is redrawn). The shells stay where they are, so the
+ * run goes on as if nothing had moved. Returns 0, or -1 with nothing changed when out of
+ * memory. */
+static int permute_particles(hsbd_spheres *s, const int32_t *new_to_old) {
+    per_particle table[11];
+    const size_t count = per_particle_table(s, table), n = s->n;
+    void *fresh[11];
+    size_t ready = 0;
+    while (ready < count && (fresh[ready] = calloc(1, n * table[ready].bytes + table[ready].pad)))
+        ++ready;
+    int32_t *old_to_new = ready == count ? malloc(n * sizeof *old_to_new) : NULL;
+    if (old_to_new)
+        for (size_t k = 0; k < n; ++k)
+            old_to_new[new_to_old[k]] = (int32_t)k;
+    if (!old_to_new || permute_neighbours(s, new_to_old, old_to_new)) {
+        free(old_to_new);
+        while (ready-- > 0)
+            free(fresh[ready]);
+        return -1;
+    }
+    free(old_to_new);
     for (size_t a = 0; a < count; ++a) {
         const size_t b = table[a].bytes;
         const char *old = *table[a].array;
@@ -126,8 +180,7 @@ int sph_sort_spatially(hsbd_spheres *s) {
     if (!s->reordered) copy_user_constants(s);
     const int rc = permute_particles(s, new_to_old);
     free(new_to_old);
-    if (rc) return -1;
-    return sph_rebuild_neighbours(s) == HSBD_OK ? 0 : -1;
+    return rc;
 }
 
 int sph_restore_user_order(hsbd_spheres *s) {
