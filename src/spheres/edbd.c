@@ -578,7 +578,7 @@ static void finish_step(hsbd_spheres *s) {
 
 /* Sorted again once the fastest particle could have moved about half a cell (rms
  * displacement sqrt(0.6) sigma_max): often enough to keep neighbours near in memory,
- * rarely enough that the rebuild costs little (bench/RESULTS.md). */
+ * rarely enough that the renumbering costs little (under 1 %, bench/RESULTS.md). */
 static void keep_spatial_order(hsbd_spheres *s) {
     if (!s->sort_enabled) return;
     if (s->sort_clock >= 0.1 * s->sigma_max * s->sigma_max && sph_sort_spatially(s) == 0)

@@ -69,6 +69,8 @@ typedef struct {
     size_t pad;   /* extra bytes at the end (vector loads past the last particle) */
 } per_particle;
 
+enum { PER_PARTICLE_ARRAYS = 11 }; /* entries of per_particle_table */
+
 static size_t per_particle_table(hsbd_spheres *s, per_particle *t) {
     size_t k = 0;
     t[k++] = (per_particle){(void **)&s->x, 3 * sizeof *s->x, sizeof *s->x};
@@ -133,9 +135,9 @@ static int permute_neighbours(hsbd_spheres *s, const int32_t *new_to_old,
  * run goes on as if nothing had moved. Returns 0, or -1 with nothing changed when out of
  * memory. */
 static int permute_particles(hsbd_spheres *s, const int32_t *new_to_old) {
-    per_particle table[11];
+    per_particle table[PER_PARTICLE_ARRAYS];
     const size_t count = per_particle_table(s, table), n = s->n;
-    void *fresh[11];
+    void *fresh[PER_PARTICLE_ARRAYS];
     size_t ready = 0;
     while (ready < count && (fresh[ready] = calloc(1, n * table[ready].bytes + table[ready].pad)))
         ++ready;
