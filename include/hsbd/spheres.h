@@ -18,6 +18,16 @@
 
 #include "hsbd/error.h"
 
+typedef enum hsbd_spheres_event_order {
+    HSBD_EVENTS_AUTO = 0,
+    HSBD_EVENTS_GLOBAL = 1,
+    HSBD_EVENTS_GROUPS = 2
+} hsbd_spheres_event_order;
+
+/* From this many particles on, AUTO runs the events group by group (bench/RESULTS.md:
+ * below it the state fits in the caches and the global calendar is faster). */
+#define HSBD_SPHERES_GROUPS_MIN_N 65536
+
 typedef struct hsbd_spheres_params {
     size_t n;         /* number of particles N */
     int dimension;    /* 2 (disks) or 3 (spheres) */
@@ -44,11 +54,19 @@ typedef struct hsbd_spheres_params {
      * views, outputs and the noise of each particle follow the user's order. The two
      * runs agree to round-off (tests/unit/test_spheres.c). */
     int keep_order;
+    /* How a step's events run (docs/spheres.md): through one time-ordered calendar for
+     * the whole box, or group by group (the particles predicted to meet in the step, each
+     * group in time order on its own), which keeps large systems in cache. The two give
+     * bit-identical trajectories (tests/unit/test_spheres.c); AUTO (0) takes groups from
+     * HSBD_SPHERES_GROUPS_MIN_N particles on, unless they grow too large to gain. */
+    hsbd_spheres_event_order event_order;
 } hsbd_spheres_params;
 
 /* Collision statistics accumulated since the last reset. */
 typedef struct hsbd_spheres_stats {
     uint64_t steps, collisions, shell_updates, stale_events;
+    /* groups that met another group already moved, and ran again from the step's start */
+    uint64_t group_reruns;
     /* sum over collisions of sigma_ij n . (impulse on j) / kT, in the units of length^2:
      * its mean per unit time gives the collisional virial (docs/spheres.md) */
     double virial;

@@ -10,17 +10,25 @@ void sph_calendar_free(sph_calendar *c) {
 }
 
 int sph_calendar_start(sph_calendar *c, double dt) {
-    size_t want = 64; /* a power of two near the last step's events */
-    while (want < c->pushed && want < ((size_t)1 << 24))
+    return sph_calendar_start_for(c, dt, c->pushed, 64); /* about the last step's events */
+}
+
+int sph_calendar_start_for(sph_calendar *c, double dt, size_t expect, size_t least) {
+    size_t want = least; /* a power of two near the expected number of events */
+    while (want < expect && want < ((size_t)1 << 24))
         want *= 2;
-    if (want != c->nbuckets || c->size) { /* a finished step leaves every bucket empty */
+    if (want > c->head_cap) {
         int32_t *head = realloc(c->head, want * sizeof *head);
         if (!head) return -1;
         c->head = head;
-        c->nbuckets = want;
+        for (size_t b = c->head_cap; b < want; ++b)
+            c->head[b] = -1;
+        c->head_cap = want;
+    }
+    if (c->size) /* a finished run leaves every bucket empty; one cut short does not */
         for (size_t b = 0; b < c->nbuckets; ++b)
             c->head[b] = -1;
-    }
+    c->nbuckets = want;
     c->inv_width = (double)c->nbuckets / dt;
     c->current = 0;
     c->size = c->pushed = c->pool_used = 0;

@@ -25,7 +25,7 @@ typedef struct sph_calendar {
     size_t pool_cap, pool_used;
     int32_t free_head;
     int32_t *head; /* first event of each bucket, -1 empty */
-    size_t nbuckets, current;
+    size_t nbuckets, head_cap, current;
     double inv_width;    /* buckets per unit time */
     size_t size, pushed; /* events held; pushed in this step */
 } sph_calendar;
@@ -34,6 +34,8 @@ void sph_calendar_free(sph_calendar *c);
 /* Starts a step of length dt on an empty calendar, with buckets for about as many events
  * as the last step pushed. Returns 0, or -1 when out of memory. */
 int sph_calendar_start(sph_calendar *c, double dt);
+/* The same for about `expect` events (at least `least` buckets, a power of two). */
+int sph_calendar_start_for(sph_calendar *c, double dt, size_t expect, size_t least);
 /* Returns 0, or -1 when out of memory. */
 int sph_calendar_push(sph_calendar *c, sph_event e);
 /* Removes the earliest event into *e; 0 when empty. */

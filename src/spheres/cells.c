@@ -33,6 +33,19 @@ int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, 
     return 0;
 }
 
+int sph_cells_reserve_points(sph_cells *c, size_t npoints) {
+    if (npoints <= c->npoints) return 0;
+    int32_t *cell_of = realloc(c->cell_of, npoints * sizeof *cell_of);
+    if (cell_of) c->cell_of = cell_of;
+    int32_t *slot_of = cell_of ? realloc(c->slot_of, npoints * sizeof *slot_of) : NULL;
+    if (!slot_of) return -1;
+    c->slot_of = slot_of;
+    for (size_t i = c->npoints; i < npoints; ++i)
+        c->cell_of[i] = -1;
+    c->npoints = npoints;
+    return 0;
+}
+
 void sph_cells_free(sph_cells *c) {
     free(c->count);
     free(c->id);

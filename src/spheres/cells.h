@@ -25,6 +25,8 @@ typedef struct sph_cells {
 
 /* Returns 0, or -1 when out of memory. */
 int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, size_t npoints);
+/* Room for point indices up to npoints - 1. Returns 0, or -1 when out of memory. */
+int sph_cells_reserve_points(sph_cells *c, size_t npoints);
 void sph_cells_free(sph_cells *c);
 void sph_cells_clear(sph_cells *c);
 /* Cell index of a position wrapped into the box. */

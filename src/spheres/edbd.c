@@ -8,18 +8,6 @@
 #include "hsbd/rng.h"
 #include "spheres/internal.h"
 
-/* ---- small vector helpers (3 components; z = 0 in 2D) ---- */
-
-/* minimum-image a - b */
-static inline void min_image(const hsbd_spheres *s, const double *a, const double *b, double *r) {
-    for (int k = 0; k < 3; ++k)
-        r[k] = sph_wrap_delta(a[k] - b[k], s->box[k]);
-}
-
-static inline double contact_distance(const hsbd_spheres *s, int32_t i, int32_t j) {
-    return 0.5 * (s->sigma[i] + s->sigma[j]);
-}
-
 /* ---- collision rule and contact time (exposed for tests) ---- */
 
 void hsbd_spheres_collide(double di, double dj, const double n[3], double vi[3], double vj[3]) {
@@ -111,6 +99,11 @@ static int check_params(const hsbd_spheres_params *p, hsbd_error *err) {
                                       k);
     if (!(p->shell >= 0) || !isfinite(p->shell))
         return hsbd_error_set(err, HSBD_EINPUT, "spheres: shell = %g; allowed: >= 0", p->shell);
+    if (p->event_order < HSBD_EVENTS_AUTO || p->event_order > HSBD_EVENTS_GROUPS)
+        return hsbd_error_set(
+            err, HSBD_EINPUT,
+            "spheres: event_order = %d; allowed: 0 (auto), 1 (global), 2 (groups)",
+            (int)p->event_order);
     return HSBD_OK;
 }
 
@@ -154,6 +147,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->user_species);
     sph_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
+    sph_groups_free(&s->groups);
     free(s);
 }
 
@@ -310,7 +304,7 @@ static int nb_grow(hsbd_spheres *s) {
 
 /* Row i holds its neighbours j > i first (nb_upper of them), then the others: the
  * per-step half scan then runs without a branch per entry. */
-static void nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
+void sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
     if (s->nb_count[i] == s->nb_cap && nb_grow(s)) {
         s->oom = 1;
         return;
@@ -326,7 +320,7 @@ static void nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
     }
 }
 
-static void nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
+void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
     int32_t *row = s->nb + (size_t)i * s->nb_cap;
     const uint32_t c = s->nb_count[i];
     uint32_t k = c;
@@ -343,29 +337,34 @@ static void nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
     s->nb_count[i] = c - 1;
 }
 
-/* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
- * sigma_ij + 2 shell (j > i only when upper_only), to both rows. */
-static void add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
-    const size_t room = 27 * (size_t)s->cells.cap + SPH_NEAR_PAD;
+uint32_t sph_shells_near(hsbd_spheres *s, const sph_cells *cells, const double *point_sigma,
+                         int32_t i) {
+    const size_t room = 27 * (size_t)cells->cap + SPH_NEAR_PAD;
     if (room > s->near_cap) {
         int32_t *near = realloc(s->near, room * sizeof *near);
         if (!near) {
             s->oom = 1;
-            return;
+            return 0;
         }
         s->near = near;
         s->near_cap = room;
     }
     const double *ci = s->centre + 3 * (size_t)i;
     int32_t around[27];
-    const int nc = sph_cells_around(&s->cells, ci, around);
-    const uint32_t found = s->cells_near(&s->cells, around, nc, ci, s->box, s->sigma,
-                                         0.5 * s->sigma[i] + 2 * s->shell, s->near);
+    const int nc = sph_cells_around(cells, ci, around);
+    return s->cells_near(cells, around, nc, ci, s->box, point_sigma,
+                         0.5 * s->sigma[i] + 2 * s->shell, s->near);
+}
+
+/* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
+ * sigma_ij + 2 shell (j > i only when upper_only), to both rows. */
+static void add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
+    const uint32_t found = sph_shells_near(s, &s->cells, s->sigma, i);
     for (uint32_t k = 0; k < found; ++k) {
         const int32_t j = s->near[k];
         if (upper_only && j <= i) continue;
-        nb_add(s, i, j);
-        nb_add(s, j, i);
+        sph_nb_add(s, i, j);
+        sph_nb_add(s, j, i);
     }
 }
 
@@ -380,7 +379,7 @@ static void set_centre(hsbd_spheres *s, int32_t i) {
 static void recentre(hsbd_spheres *s, int32_t i) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     for (uint32_t k = 0; k < s->nb_count[i]; ++k)
-        nb_remove(s, row[k], i);
+        sph_nb_remove(s, row[k], i);
     s->nb_count[i] = s->nb_upper[i] = 0;
     sph_cells_remove(&s->cells, i);
     set_centre(s, i);
@@ -405,29 +404,12 @@ int sph_rebuild_neighbours(hsbd_spheres *s) {
 
 /* ---- event prediction ---- */
 
-static inline void position_at(const hsbd_spheres *s, int32_t i, double t, double *out) {
-    const double *x = s->x + 3 * (size_t)i, *v = s->v + 3 * (size_t)i;
-    const double h = t - s->t_local[i];
-    for (int a = 0; a < 3; ++a)
-        out[a] = x[a] + v[a] * h;
-}
-
-static inline void advance(hsbd_spheres *s, int32_t i, double t) {
-    double *x = s->x + 3 * (size_t)i;
-    const double *v = s->v + 3 * (size_t)i;
-    const double h = t - s->t_local[i];
-    for (int a = 0; a < 3; ++a)
-        x[a] += v[a] * h;
-    s->t_local[i] = t;
-}
-
-static void push_event(hsbd_spheres *s, double t, int32_t i, int32_t j) {
+void sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j) {
     const sph_event e = {t, i, j, s->counter[i], j >= 0 ? s->counter[j] : 0};
     if (sph_calendar_push(&s->calendar, e)) s->oom = 1;
 }
 
-/* Collisions of i (at time t) with its neighbours inside [t, dt): into the calendar. */
-static void predict_row(hsbd_spheres *s, int32_t i, double t) {
+uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t) {
     sph_row_query q = {.x = s->x,
                        .v = s->v,
                        .t_local = s->t_local,
@@ -435,29 +417,38 @@ static void predict_row(hsbd_spheres *s, int32_t i, double t) {
                        .sigma_i = s->sigma[i],
                        .t = t,
                        .tmax = s->dt - t};
-    position_at(s, i, t, q.xi);
+    sph_position_at(s, i, t, q.xi);
     for (int a = 0; a < 3; ++a) {
         q.box[a] = s->box[a];
         q.vi[a] = s->v[3 * (size_t)i + a];
     }
-    const uint32_t hits =
-        s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, s->nb_count[i], s->scan_j, s->scan_t);
+    return s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, s->nb_count[i], s->scan_j, s->scan_t);
+}
+
+/* Collisions of i (at time t) with its neighbours inside [t, dt): into the calendar. */
+static void predict_row(hsbd_spheres *s, int32_t i, double t) {
+    const uint32_t hits = sph_row_hits(s, i, t);
     for (uint32_t k = 0; k < hits; ++k)
-        push_event(s, t + s->scan_t[k], i, s->scan_j[k]);
+        sph_push_event(s, t + s->scan_t[k], i, s->scan_j[k]);
+}
+
+double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t) {
+    double d[3];
+    sph_min_image(s, s->x + 3 * (size_t)i, s->centre + 3 * (size_t)i, d);
+    const double *v = s->v + 3 * (size_t)i;
+    const double T = s->dt - t, r2 = s->shell * s->shell;
+    double e[3] = {d[0] + v[0] * T, d[1] + v[1] * T, d[2] + v[2] * T};
+    if (sph_dot3(e, e) <= r2) return -1; /* the straight path stays inside (convex ball) */
+    const double vv = sph_dot3(v, v), b = sph_dot3(d, v), c = sph_dot3(d, d) - r2;
+    double h = (-b + sqrt(b * b - vv * c)) / vv; /* c < 0: one positive root */
+    if (!(h >= 0)) h = 0;
+    return t + h;
 }
 
 /* When i (at local time t) would leave its shell before dt: schedule that. */
 static void predict_shell_exit(hsbd_spheres *s, int32_t i, double t) {
-    double d[3];
-    min_image(s, s->x + 3 * (size_t)i, s->centre + 3 * (size_t)i, d);
-    const double *v = s->v + 3 * (size_t)i;
-    const double T = s->dt - t, r2 = s->shell * s->shell;
-    double e[3] = {d[0] + v[0] * T, d[1] + v[1] * T, d[2] + v[2] * T};
-    if (sph_dot3(e, e) <= r2) return; /* the straight path stays inside (the ball is convex) */
-    const double vv = sph_dot3(v, v), b = sph_dot3(d, v), c = sph_dot3(d, d) - r2;
-    double h = (-b + sqrt(b * b - vv * c)) / vv; /* c < 0: one positive root */
-    if (!(h >= 0)) h = 0;
-    push_event(s, t + h, i, SPH_EVENT_SHELL);
+    const double exit = sph_shell_exit_time(s, i, t);
+    if (exit >= 0) sph_push_event(s, exit, i, SPH_EVENT_SHELL);
 }
 
 static void predict_particle(hsbd_spheres *s, int32_t i, double t) {
@@ -480,20 +471,29 @@ static void draw_velocities(hsbd_spheres *s) {
     }
 }
 
+/* A start-of-step event: into the calendar, or into the groups' hit list. */
+static void start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_t j) {
+    if (grouped)
+        sph_groups_add_hit(s, t, i, j);
+    else
+        sph_push_event(s, t, i, j);
+}
+
 /* Re-centre the shells of particles whose straight end point would leave them, then
  * predict every neighbour pair once (half scan) and the rare shell exits. */
-static void start_step_events(hsbd_spheres *s) {
+static void start_step_events(hsbd_spheres *s, int grouped) {
     const double dt = s->dt, r2 = s->shell * s->shell;
     const size_t n = s->n;
-    if (sph_calendar_start(&s->calendar, dt)) s->oom = 1;
+    if (!grouped && sph_calendar_start(&s->calendar, dt)) s->oom = 1;
     for (size_t i = 0; i < n; ++i) {
         double d[3];
-        min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
+        sph_min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
         const double *v = s->v + 3 * i;
         const double e[3] = {d[0] + v[0] * dt, d[1] + v[1] * dt, d[2] + v[2] * dt};
         if (sph_dot3(e, e) > r2) {
             recentre(s, (int32_t)i);
-            predict_shell_exit(s, (int32_t)i, 0.0);
+            const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
+            if (exit >= 0) start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL);
         }
     }
     const sph_scan_query q = {.x = s->x,
@@ -510,34 +510,42 @@ static void start_step_events(hsbd_spheres *s) {
             pairs += s->nb_upper[i1++];
         const uint32_t hits = s->half_scan(&q, i0, i1, s->scan_i, s->scan_j, s->scan_t);
         for (uint32_t k = 0; k < hits; ++k)
-            push_event(s, s->scan_t[k], s->scan_i[k], s->scan_j[k]);
+            start_event(s, grouped, s->scan_t[k], s->scan_i[k], s->scan_j[k]);
         i0 = i1;
     }
 }
 
-static void process_collision(hsbd_spheres *s, const sph_event *e) {
+int sph_collide_pair(hsbd_spheres *s, const sph_event *e, double *virial) {
     const int32_t i = e->i, j = e->j;
-    advance(s, i, e->t);
-    advance(s, j, e->t);
+    sph_advance(s, i, e->t);
+    sph_advance(s, j, e->t);
     double r[3];
-    min_image(s, s->x + 3 * (size_t)j, s->x + 3 * (size_t)i, r);
+    sph_min_image(s, s->x + 3 * (size_t)j, s->x + 3 * (size_t)i, r);
     const double dist = sqrt(sph_dot3(r, r));
     const double nrm[3] = {r[0] / dist, r[1] / dist, r[2] / dist};
     double *vi = s->v + 3 * (size_t)i, *vj = s->v + 3 * (size_t)j;
     const double u = (vj[0] - vi[0]) * nrm[0] + (vj[1] - vi[1]) * nrm[1] + (vj[2] - vi[2]) * nrm[2];
-    if (!(u < 0)) return; /* separating already (round-off): nothing to do */
+    if (!(u < 0)) return 0; /* separating already (round-off): nothing to do */
     const double di = s->diffusion[i], dj = s->diffusion[j];
     hsbd_spheres_collide(di, dj, nrm, vi, vj);
     /* sigma_ij times the displacement change of j along n over D_j: impulse / kT */
-    s->stats.virial += contact_distance(s, i, j) * (-2.0 * u / (di + dj)) * (s->dt - e->t);
-    s->stats.collisions++;
+    *virial = sph_contact_distance(s, i, j) * (-2.0 * u / (di + dj)) * (s->dt - e->t);
     s->counter[i]++;
     s->counter[j]++;
+    return 1;
+}
+
+static void process_collision(hsbd_spheres *s, const sph_event *e) {
+    const int32_t i = e->i, j = e->j;
+    double virial;
+    if (!sph_collide_pair(s, e, &virial)) return;
+    s->stats.virial += virial;
+    s->stats.collisions++;
     predict_particle(s, i, e->t);
     predict_particle(s, j, e->t);
 }
 
-static void run_events(hsbd_spheres *s) {
+void sph_run_events(hsbd_spheres *s) {
     sph_event e;
     while (sph_calendar_pop(&s->calendar, &e)) {
         if (s->counter[e.i] != e.ci || (e.j >= 0 && s->counter[e.j] != e.cj)) {
@@ -545,7 +553,7 @@ static void run_events(hsbd_spheres *s) {
             continue;
         }
         if (e.j == SPH_EVENT_SHELL) {
-            advance(s, e.i, e.t);
+            sph_advance(s, e.i, e.t);
             recentre(s, e.i);
             predict_particle(s, e.i, e.t);
         } else {
@@ -590,8 +598,9 @@ void hsbd_spheres_step(hsbd_spheres *s) {
     keep_spatial_order(s);
     draw_velocities(s);
     if (s->par.hard_core) {
-        start_step_events(s);
-        run_events(s);
+        const int grouped = sph_groups_wanted(s) && sph_groups_begin(s) == 0;
+        start_step_events(s, grouped);
+        if (!grouped || sph_groups_run(s) != 0) sph_run_events(s);
     }
     finish_step(s);
     s->step++;
@@ -649,8 +658,8 @@ double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite) {
         for (uint32_t k = 0; k < s->nb_upper[i]; ++k) {
             const int32_t j = row[k];
             double r[3];
-            min_image(s, s->x + 3 * (size_t)j, s->x + 3 * i, r);
-            const double sij = contact_distance(s, (int32_t)i, j);
+            sph_min_image(s, s->x + 3 * (size_t)j, s->x + 3 * i, r);
+            const double sij = sph_contact_distance(s, (int32_t)i, j);
             const double gap = (sqrt(sph_dot3(r, r)) - sij) / sij;
             if (gap < worst) worst = gap;
         }

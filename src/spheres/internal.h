@@ -5,6 +5,7 @@
 #include "hsbd/spheres.h"
 #include "spheres/calendar.h"
 #include "spheres/cells.h"
+#include "spheres/groups.h"
 #include "spheres/kernels.h"
 
 struct hsbd_spheres {
@@ -52,15 +53,76 @@ struct hsbd_spheres {
     double *user_x, *user_sigma, *user_diffusion; /* the view's arrays in user order */
     int64_t *user_image;
     int *user_species;
-    int oom; /* an allocation failed inside a step (the step is then not exact) */
+    sph_groups groups; /* local event processing (groups.c) */
+    int oom;           /* an allocation failed inside a step (the step is then not exact) */
     hsbd_spheres_stats stats;
 };
+
+/* ---- small vector helpers (3 components; z = 0 in 2D) ---- */
+
+/* minimum-image a - b */
+static inline void sph_min_image(const hsbd_spheres *s, const double *a, const double *b,
+                                 double *r) {
+    for (int k = 0; k < 3; ++k)
+        r[k] = sph_wrap_delta(a[k] - b[k], s->box[k]);
+}
+
+static inline double sph_contact_distance(const hsbd_spheres *s, int32_t i, int32_t j) {
+    return 0.5 * (s->sigma[i] + s->sigma[j]);
+}
+
+/* Position of i at time t of the step (on its current straight segment). */
+static inline void sph_position_at(const hsbd_spheres *s, int32_t i, double t, double *out) {
+    const double *x = s->x + 3 * (size_t)i, *v = s->v + 3 * (size_t)i;
+    const double h = t - s->t_local[i];
+    for (int a = 0; a < 3; ++a)
+        out[a] = x[a] + v[a] * h;
+}
+
+/* Moves i along its segment to time t. */
+static inline void sph_advance(hsbd_spheres *s, int32_t i, double t) {
+    double *x = s->x + 3 * (size_t)i;
+    const double *v = s->v + 3 * (size_t)i;
+    const double h = t - s->t_local[i];
+    for (int a = 0; a < 3; ++a)
+        x[a] += v[a] * h;
+    s->t_local[i] = t;
+}
 
 /* The cached per-particle quantities that follow from dt and D: the noise amplitudes. */
 void sph_set_noise_amplitudes(hsbd_spheres *s);
 
 /* Places every particle's shell at its position and builds all neighbour lists. */
 int sph_rebuild_neighbours(hsbd_spheres *s);
+
+/* ---- shared by the global calendar (edbd.c) and the groups (groups.c) ---- */
+
+void sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j);
+/* The time (>= t) at which i, at local time t, leaves its shell before dt; -1 if never. */
+double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t);
+/* Moves e's particles to e->t and applies the collision rule; returns 1 and the event's
+ * virial term when they approach, 0 (nothing changed but the positions) otherwise. */
+int sph_collide_pair(hsbd_spheres *s, const sph_event *e, double *virial);
+/* i (at time t) against its row: the neighbours it reaches inside [t, dt) into
+ * s->scan_j, their contact times after t into s->scan_t; returns their number. */
+uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t);
+void sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j);
+void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j);
+/* The points of `cells` whose shells overlap the shell of i (point_sigma: their sigma),
+ * into s->near; returns their number. */
+uint32_t sph_shells_near(hsbd_spheres *s, const sph_cells *cells, const double *point_sigma,
+                         int32_t i);
+/* The global calendar: runs every event in s->calendar in time order. */
+void sph_run_events(hsbd_spheres *s);
+
+/* Groups (groups.c): a new step (0, or -1 when out of memory: use the global calendar);
+ * a start-of-step event; run them all. sph_groups_run returns 0, or 1 when it left the
+ * step to the global calendar (its events pushed there: the groups were too large). */
+int sph_groups_begin(hsbd_spheres *s);
+/* Whether this step should run group by group (the parameters, N, recent re-runs). */
+int sph_groups_wanted(hsbd_spheres *s);
+void sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j);
+int sph_groups_run(hsbd_spheres *s);
 
 /* Puts the particles in the Z-curve order of their cells, the neighbour lists and cells
  * renumbered (between steps). Returns 0, or -1 when out of memory (the order is then kept). */

@@ -557,6 +557,86 @@ static void test_spatial_order(void) {
     hsbd_spheres_free(b);
 }
 
+/* The same run with the global calendar and group by group: bit-identical positions and
+ * image counters, the same collisions; at least min_reruns groups ran again (so the
+ * joining and rewinding are exercised, not only the easy path). */
+static void compare_event_orders(const char *name, hsbd_spheres_params p, int steps,
+                                 uint64_t min_reruns) {
+    hsbd_error err;
+    p.event_order = HSBD_EVENTS_GLOBAL;
+    hsbd_spheres *a = hsbd_spheres_alloc(&p, &err);
+    p.event_order = HSBD_EVENTS_GROUPS;
+    hsbd_spheres *b = hsbd_spheres_alloc(&p, &err);
+    CHECK(a && b, "%s: alloc", name);
+    if (!a || !b) return;
+    CHECK(hsbd_spheres_init_lattice(a, &err) == HSBD_OK, "%s: init: %s", name, err.message);
+    CHECK(hsbd_spheres_init_lattice(b, &err) == HSBD_OK, "%s: init: %s", name, err.message);
+    for (int k = 0; k < steps; ++k) {
+        hsbd_spheres_step(a);
+        hsbd_spheres_step(b);
+    }
+    const hsbd_spheres_view va = hsbd_spheres_get_view(a), vb = hsbd_spheres_get_view(b);
+    CHECK(!memcmp(va.x, vb.x, 3 * p.n * sizeof *va.x) &&
+              !memcmp(va.image, vb.image, 3 * p.n * sizeof *va.image),
+          "%s: global calendar and groups differ, by up to %.3g in a position", name,
+          max_unwrapped_difference(&va, &vb));
+    const hsbd_spheres_stats sa = hsbd_spheres_get_stats(a), sb = hsbd_spheres_get_stats(b);
+    CHECK(sa.collisions == sb.collisions && sa.collisions > 0,
+          "%s: collisions %llu (global) vs %llu (groups)", name, (unsigned long long)sa.collisions,
+          (unsigned long long)sb.collisions);
+    CHECK(fabs(sa.virial - sb.virial) <= 1e-9 * fabs(sa.virial),
+          "%s: virial %.17g (global) vs %.17g (groups)", name, sa.virial, sb.virial);
+    CHECK(sa.group_reruns == 0 && sb.group_reruns >= min_reruns,
+          "%s: %llu groups re-ran (at least %llu expected)", name,
+          (unsigned long long)sb.group_reruns, (unsigned long long)min_reruns);
+    hsbd_spheres_free(a);
+    hsbd_spheres_free(b);
+}
+
+static void test_event_groups(void) {
+    static int species[1000];
+    for (int i = 0; i < 1000; ++i)
+        species[i] = i % 3 == 0 ? 1 : i % 97 == 5 ? 2 : 0;
+    /* a mixture with a few immobile obstacles, phi 0.3 */
+    static const double sig[3] = {1.0, 1.4, 1.2}, dif[3] = {1.0, 1.0 / 1.4, 0.0};
+    const double side = cbrt((1000 * PI / 6 * (2.0 + 1.4 * 1.4 * 1.4) / 3) / 0.3);
+    hsbd_spheres_params p = {.n = 1000,
+                             .dimension = 3,
+                             .box = {side, side, side},
+                             .kT = 1,
+                             .dt = 1e-3,
+                             .seed = 5,
+                             .hard_core = 1,
+                             .nspecies = 3,
+                             .species = species,
+                             .species_sigma = sig,
+                             .species_diffusion = dif};
+    compare_event_orders("mixture phi 0.3", p, 300, 1);
+    /* dense monodisperse spheres with long steps: the groups meet often */
+    hsbd_spheres_params q = {.n = 864,
+                             .dimension = 3,
+                             .sigma = 1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = 1e-3,
+                             .seed = 6,
+                             .hard_core = 1};
+    const double side_q = cbrt(864 * PI / 6 / 0.5);
+    q.box[0] = q.box[1] = q.box[2] = side_q;
+    compare_event_orders("spheres phi 0.5", q, 200, 20);
+    /* dense disks */
+    hsbd_spheres_params d = {.n = 900,
+                             .dimension = 2,
+                             .sigma = 1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = 1e-3,
+                             .seed = 7,
+                             .hard_core = 1};
+    d.box[0] = d.box[1] = sqrt(900 * PI / 4 / 0.6);
+    compare_event_orders("disks phi 0.6", d, 200, 20);
+}
+
 static void test_bad_params(void) {
     hsbd_spheres_params p = {.n = 10,
                              .dimension = 3,
@@ -708,6 +788,7 @@ int main(void) {
     test_no_overlap();
     test_reproducible();
     test_spatial_order();
+    test_event_groups();
     test_bad_params();
     test_diameters();
     test_compress();

@@ -1,0 +1,525 @@
+/* Events group by group (groups.h; docs/spheres.md). Why it is exact: a group runs its
+ * own events in time order, and every straight segment a group creates is tested, when
+ * it is created, against all neighbours outside the group on the paths they really take:
+ * a particle whose group has not run yet is still on its start-of-step line, one whose
+ * group ran is on its logged segments. Two segments of different groups are therefore
+ * tested against each other once, when the later-made one appears (start-of-step lines
+ * against each other in the half scan). A hit joins the two groups: at once when the
+ * other group is still on its start lines at the present time (it has not run, and its
+ * first event is not earlier), else by re-running the joined group from the step's
+ * start. Shells moved inside a step only add pairs (the old shell stays registered until
+ * the step ends), so groups running out of time order never miss a pair. */
+#include "spheres/groups.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "spheres/internal.h"
+
+enum { GROUP_PENDING, GROUP_ACTIVE, GROUP_DONE, GROUP_JOINED };
+
+/* AUTO: a step whose largest group holds more than 1 / LARGEST_GROUP_SHARE of the hits
+ * runs on the global calendar (dense or long steps: the groups percolate, nothing to
+ * gain); after a step that re-ran more than 1 / REPLAY_SHARE of its events, the next
+ * PAUSE_STEPS steps do. Both depend on the state only: runs stay reproducible. */
+enum { LARGEST_GROUP_SHARE = 4, REPLAY_SHARE = 4, PAUSE_STEPS = 64 };
+
+int sph_groups_wanted(hsbd_spheres *s) {
+    switch (s->par.event_order) {
+    case HSBD_EVENTS_GLOBAL:
+        return 0;
+    case HSBD_EVENTS_GROUPS:
+        return 1;
+    default:
+        if (s->n < HSBD_SPHERES_GROUPS_MIN_N) return 0;
+        if (s->groups.pause) return s->groups.pause--, 0;
+        return 1;
+    }
+}
+
+void sph_groups_free(sph_groups *g) {
+    free(g->parent);
+    free(g->last_segment);
+    free(g->moved);
+    free(g->history);
+    free(g->hit_i);
+    free(g->hit_j);
+    free(g->hit_group);
+    free(g->hit_t);
+    free(g->by_i);
+    free(g->by_j);
+    free(g->by_t);
+    free(g->start);
+    free(g->count);
+    free(g->state);
+    free(g->root);
+    free(g->next_part);
+    free(g->first_segment);
+    free(g->first_time);
+    free(g->virial);
+    free(g->collisions);
+    free(g->seg);
+    sph_cells_free(&g->extra);
+    free(g->extra_particle);
+    free(g->extra_sigma);
+    free(g->moved_list);
+    memset(g, 0, sizeof *g);
+}
+
+/* realloc of an array of `cap` elements of `size` bytes; the old one stays on failure */
+static int grow_array(void *p, size_t cap, size_t size) {
+    void *q = realloc(*(void **)p, cap * size);
+    if (!q) return -1;
+    *(void **)p = q;
+    return 0;
+}
+
+static int alloc_particles(hsbd_spheres *s) {
+    sph_groups *g = &s->groups;
+    if (g->n == s->n) return 0;
+    const size_t n = s->n;
+    g->parent = malloc(n * sizeof *g->parent);
+    g->last_segment = malloc(n * sizeof *g->last_segment);
+    g->moved = calloc(n, sizeof *g->moved);
+    g->history = malloc(n * sizeof *g->history);
+    g->moved_list = malloc(n * sizeof *g->moved_list);
+    g->extra_cap = 256; /* the kernels read sigma[0] for empty slots: never empty arrays */
+    g->extra_particle = malloc(g->extra_cap * sizeof *g->extra_particle);
+    g->extra_sigma = calloc(g->extra_cap, sizeof *g->extra_sigma);
+    if (!g->parent || !g->last_segment || !g->moved || !g->history || !g->moved_list ||
+        !g->extra_particle || !g->extra_sigma ||
+        sph_cells_init(&g->extra, s->dim, s->box, s->sigma_max + 2 * s->shell, g->extra_cap)) {
+        sph_groups_free(g);
+        return -1;
+    }
+    g->n = n;
+    return 0;
+}
+
+int sph_groups_begin(hsbd_spheres *s) {
+    if (alloc_particles(s)) return -1;
+    sph_groups *g = &s->groups;
+    memset(g->parent, 0xff, s->n * sizeof *g->parent); /* -1: a root without a group */
+    memset(g->last_segment, 0xff, s->n * sizeof *g->last_segment);
+    memset(g->history, 0, s->n * sizeof *g->history);
+    g->nhits = g->ngroups = g->nseg = 0;
+    g->replayed = g->played = 0;
+    return 0;
+}
+
+static int32_t find_root(sph_groups *g, int32_t i) {
+    while (g->parent[i] >= 0) {
+        const int32_t p = g->parent[i];
+        if (g->parent[p] >= 0) g->parent[i] = g->parent[p]; /* path halving */
+        i = p;
+    }
+    return i;
+}
+
+static void unite(sph_groups *g, int32_t i, int32_t j) {
+    i = find_root(g, i);
+    j = find_root(g, j);
+    if (i == j) return;
+    if (i < j)
+        g->parent[j] = i;
+    else
+        g->parent[i] = j;
+}
+
+static int grow_hits(sph_groups *g) {
+    const size_t cap = g->hit_cap ? 2 * g->hit_cap : 4096;
+    if (grow_array(&g->hit_i, cap, sizeof *g->hit_i) ||
+        grow_array(&g->hit_j, cap, sizeof *g->hit_j) ||
+        grow_array(&g->hit_group, cap, sizeof *g->hit_group) ||
+        grow_array(&g->hit_t, cap, sizeof *g->hit_t) ||
+        grow_array(&g->by_i, cap, sizeof *g->by_i) || grow_array(&g->by_j, cap, sizeof *g->by_j) ||
+        grow_array(&g->by_t, cap, sizeof *g->by_t))
+        return -1;
+    g->hit_cap = cap;
+    return 0;
+}
+
+void sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j) {
+    sph_groups *g = &s->groups;
+    if (g->nhits == g->hit_cap && grow_hits(g)) {
+        s->oom = 1;
+        return;
+    }
+    g->hit_i[g->nhits] = i;
+    g->hit_j[g->nhits] = j;
+    g->hit_t[g->nhits++] = t;
+    if (j >= 0) unite(g, i, j);
+}
+
+static int grow_groups(sph_groups *g) {
+    const size_t cap = g->group_cap ? 2 * g->group_cap : 1024;
+    if (grow_array(&g->start, cap, sizeof *g->start) ||
+        grow_array(&g->count, cap, sizeof *g->count) ||
+        grow_array(&g->state, cap, sizeof *g->state) ||
+        grow_array(&g->root, cap, sizeof *g->root) ||
+        grow_array(&g->next_part, cap, sizeof *g->next_part) ||
+        grow_array(&g->first_segment, cap, sizeof *g->first_segment) ||
+        grow_array(&g->first_time, cap, sizeof *g->first_time) ||
+        grow_array(&g->virial, cap, sizeof *g->virial) ||
+        grow_array(&g->collisions, cap, sizeof *g->collisions))
+        return -1;
+    g->group_cap = cap;
+    return 0;
+}
+
+/* Numbers the groups in the order of their first hit (memory order, so space order) and
+ * sorts the hits by group. Returns the largest group's hit count, or -1 (out of memory). */
+static long number_groups(hsbd_spheres *s) {
+    sph_groups *g = &s->groups;
+    for (size_t k = 0; k < g->nhits; ++k) {
+        const int32_t r = find_root(g, g->hit_i[k]);
+        if (g->parent[r] == -1) {
+            if (g->ngroups == g->group_cap && grow_groups(g)) return -1;
+            const size_t a = g->ngroups++;
+            g->count[a] = 0;
+            g->state[a] = GROUP_PENDING;
+            g->root[a] = r;
+            g->next_part[a] = g->first_segment[a] = -1;
+            g->first_time[a] = s->dt;
+            g->virial[a] = 0;
+            g->collisions[a] = 0;
+            g->parent[r] = -2 - (int32_t)a;
+        }
+        const int32_t a = -2 - g->parent[r];
+        g->hit_group[k] = a;
+        g->count[a]++;
+        if (g->hit_t[k] < g->first_time[a]) g->first_time[a] = g->hit_t[k];
+    }
+    long largest = 0, sum = 0;
+    for (size_t a = 0; a < g->ngroups; ++a) {
+        g->start[a] = (int32_t)sum;
+        sum += g->count[a];
+        if (g->count[a] > largest) largest = g->count[a];
+        g->count[a] = 0;
+    }
+    for (size_t k = 0; k < g->nhits; ++k) {
+        const int32_t a = g->hit_group[k], o = g->start[a] + g->count[a]++;
+        g->by_i[o] = g->hit_i[k];
+        g->by_j[o] = g->hit_j[k];
+        g->by_t[o] = g->hit_t[k];
+    }
+    return largest;
+}
+
+/* ---- the segment log ---- */
+
+static int32_t new_segment(hsbd_spheres *s, int32_t p, double t) {
+    sph_groups *g = &s->groups;
+    if (g->nseg == g->seg_cap) {
+        const size_t cap = g->seg_cap ? 2 * g->seg_cap : 1024;
+        if (grow_array(&g->seg, cap, sizeof *g->seg)) {
+            s->oom = 1;
+            return -1;
+        }
+        g->seg_cap = cap;
+    }
+    sph_segment *e = &g->seg[g->nseg];
+    e->t = t;
+    memcpy(e->x, s->x + 3 * (size_t)p, sizeof e->x);
+    memcpy(e->v, s->v + 3 * (size_t)p, sizeof e->v);
+    e->prev = g->last_segment[p];
+    e->next_head = -1;
+    e->particle = p;
+    g->last_segment[p] = (int32_t)g->nseg;
+    return (int32_t)g->nseg++;
+}
+
+/* Before a particle of group a first moves in the step: log its start (for a re-run). */
+static void log_start(hsbd_spheres *s, int32_t a, int32_t p) {
+    sph_groups *g = &s->groups;
+    if (g->last_segment[p] >= 0) return;
+    const int32_t k = new_segment(s, p, 0.0);
+    if (k < 0) return;
+    memcpy(g->seg[k].c, s->centre + 3 * (size_t)p, sizeof g->seg[k].c);
+    g->seg[k].next_head = g->first_segment[a];
+    g->first_segment[a] = k;
+}
+
+/* Puts every particle group a moved back on its start-of-step line. */
+static void rewind_group(hsbd_spheres *s, int32_t a) {
+    sph_groups *g = &s->groups;
+    for (int32_t k = g->first_segment[a]; k >= 0; k = g->seg[k].next_head) {
+        const sph_segment *e = &g->seg[k];
+        const int32_t p = e->particle;
+        memcpy(s->x + 3 * (size_t)p, e->x, sizeof e->x);
+        memcpy(s->v + 3 * (size_t)p, e->v, sizeof e->v);
+        memcpy(s->centre + 3 * (size_t)p, e->c, sizeof e->c);
+        s->t_local[p] = 0;
+        g->last_segment[p] = -1;
+        g->history[p] = 0;
+    }
+    g->first_segment[a] = -1;
+}
+
+/* Group b joins the running group a, whose events then start again from the step's
+ * start (b's results, if it ran, are undone). */
+static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
+    sph_groups *g = &s->groups;
+    if (g->state[b] == GROUP_DONE) {
+        s->stats.collisions -= g->collisions[b];
+        s->stats.virial -= g->virial[b];
+        rewind_group(s, b);
+    }
+    rewind_group(s, a);
+    g->parent[g->root[b]] = g->root[a];
+    g->state[b] = GROUP_JOINED;
+    int32_t last = a;
+    while (g->next_part[last] >= 0)
+        last = g->next_part[last];
+    g->next_part[last] = b;
+    s->stats.group_reruns++;
+}
+
+/* Group b, still on its start lines up to the present, joins the running group a. */
+static void join_pending(hsbd_spheres *s, int32_t a, int32_t b) {
+    sph_groups *g = &s->groups;
+    g->parent[g->root[b]] = g->root[a];
+    g->state[b] = GROUP_JOINED;
+    g->next_part[b] = g->next_part[a]; /* b has no parts of its own yet */
+    g->next_part[a] = b;
+    for (int32_t k = g->start[b]; k < g->start[b] + g->count[b]; ++k)
+        sph_push_event(s, g->by_t[k], g->by_i[k], g->by_j[k]);
+}
+
+/* ---- shells moved inside a step ---- */
+
+static int in_row(const hsbd_spheres *s, int32_t i, int32_t j) {
+    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    for (uint32_t k = 0; k < s->nb_count[i]; ++k)
+        if (row[k] == j) return 1;
+    return 0;
+}
+
+static void add_pair_once(hsbd_spheres *s, int32_t i, int32_t j) {
+    if (j == i || in_row(s, i, j)) return;
+    sph_nb_add(s, i, j);
+    sph_nb_add(s, j, i);
+}
+
+static int add_extra_shell(hsbd_spheres *s, int32_t i) {
+    sph_groups *g = &s->groups;
+    if (g->nextra == g->extra_cap) {
+        const size_t cap = 2 * g->extra_cap;
+        if (grow_array(&g->extra_particle, cap, sizeof *g->extra_particle) ||
+            grow_array(&g->extra_sigma, cap, sizeof *g->extra_sigma) ||
+            sph_cells_reserve_points(&g->extra, cap))
+            return -1;
+        g->extra_cap = cap;
+    }
+    const int32_t e = (int32_t)g->nextra;
+    if (sph_cells_insert(&g->extra, e, s->centre + 3 * (size_t)i)) return -1;
+    g->extra_particle[e] = i;
+    g->extra_sigma[e] = s->sigma[i];
+    g->nextra++;
+    return 0;
+}
+
+/* Re-centres i's shell at its position, keeping the old one registered: pairs with
+ * every shell (old or new) that overlaps the new one are added, none removed. */
+static void recentre_adding(hsbd_spheres *s, int32_t i) {
+    sph_groups *g = &s->groups;
+    if (!g->moved[i]) {
+        g->moved[i] = 1;
+        g->moved_list[g->nmoved++] = i;
+    }
+    const double *x = s->x + 3 * (size_t)i;
+    double *c = s->centre + 3 * (size_t)i;
+    for (int a = 0; a < 3; ++a)
+        c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
+    uint32_t found = sph_shells_near(s, &s->cells, s->sigma, i);
+    for (uint32_t k = 0; k < found; ++k)
+        add_pair_once(s, i, s->near[k]);
+    found = sph_shells_near(s, &g->extra, g->extra_sigma, i);
+    for (uint32_t k = 0; k < found; ++k)
+        add_pair_once(s, i, g->extra_particle[s->near[k]]);
+    if (add_extra_shell(s, i)) s->oom = 1;
+    s->stats.shell_updates++;
+}
+
+/* At the end of a step: the moved shells go to the main grid at their last centres, the
+ * pairs no longer in reach leave the rows, the extra shells are dropped. */
+static void settle_moved_shells(hsbd_spheres *s) {
+    sph_groups *g = &s->groups;
+    for (size_t k = 0; k < g->nmoved; ++k) {
+        const int32_t p = g->moved_list[k];
+        sph_cells_remove(&s->cells, p);
+        if (sph_cells_insert(&s->cells, p, s->centre + 3 * (size_t)p)) s->oom = 1;
+    }
+    for (size_t k = 0; k < g->nmoved; ++k) {
+        const int32_t p = g->moved_list[k];
+        const double *cp = s->centre + 3 * (size_t)p;
+        const int32_t *row = s->nb + (size_t)p * s->nb_cap;
+        for (uint32_t q = 0; q < s->nb_count[p];) {
+            const int32_t m = row[q];
+            double d[3];
+            sph_min_image(s, s->centre + 3 * (size_t)m, cp, d);
+            const double reach = 0.5 * (s->sigma[p] + s->sigma[m]) + 2 * s->shell;
+            if (sph_dot3(d, d) < reach * reach) {
+                ++q;
+                continue;
+            }
+            sph_nb_remove(s, p, m); /* moves another entry to q */
+            sph_nb_remove(s, m, p);
+        }
+        g->moved[p] = 0;
+    }
+    for (size_t e = 0; e < g->nextra; ++e)
+        sph_cells_remove(&g->extra, (int32_t)e);
+    g->nmoved = g->nextra = 0;
+}
+
+/* ---- running a group ---- */
+
+/* The group of a neighbour whose group ran, that i's new segment (from time t) meets on
+ * one of its earlier segments (the kernel tested the current one), or -1. */
+static int32_t logged_neighbour_hit(hsbd_spheres *s, int32_t i, double t) {
+    sph_groups *g = &s->groups;
+    const double *xi = s->x + 3 * (size_t)i, *vi = s->v + 3 * (size_t)i; /* at t */
+    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    const uint32_t count = s->nb_count[i];
+    unsigned any = 0; /* usually none: one pass without a branch per entry */
+    for (uint32_t q = 0; q < count; ++q)
+        any |= g->history[row[q]];
+    if (!any) return -1;
+    for (uint32_t q = 0; q < count; ++q) {
+        const int32_t m = row[q];
+        if (!g->history[m]) continue;
+        const int32_t last = g->last_segment[m];
+        const double s_im = sph_contact_distance(s, i, m);
+        double end = g->seg[last].t; /* the segments before the current one */
+        for (int32_t k = g->seg[last].prev; k >= 0 && end > t; k = g->seg[k].prev) {
+            const sph_segment *e = &g->seg[k];
+            const double from = e->t > t ? e->t : t;
+            double xm[3], xi_from[3], r_im[3], v_im[3];
+            for (int a = 0; a < 3; ++a) {
+                xm[a] = e->x[a] + e->v[a] * (from - e->t);
+                xi_from[a] = xi[a] + vi[a] * (from - t);
+                v_im[a] = e->v[a] - vi[a];
+            }
+            sph_min_image(s, xm, xi_from, r_im);
+            if (sph_contact_time(r_im, v_im, s_im, end - from) >= 0)
+                return -2 - g->parent[find_root(g, m)];
+            end = e->t;
+        }
+    }
+    return -1;
+}
+
+/* New predictions for i (on a new segment from time t) in group a. Returns -1, or the
+ * group that i's segment reaches and that must join a with a re-run. */
+static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t) {
+    sph_groups *g = &s->groups;
+    const int32_t root_a = g->root[a];
+    const uint32_t hits = sph_row_hits(s, i, t);
+    for (uint32_t k = 0; k < hits; ++k) {
+        const int32_t j = s->scan_j[k], r = find_root(g, j);
+        if (r != root_a) {
+            if (g->parent[r] == -1) { /* j never met anyone: it joins as it is */
+                g->parent[r] = root_a;
+            } else {
+                const int32_t b = -2 - g->parent[r];
+                if (g->state[b] == GROUP_DONE) {
+                    /* a contact before j's current segment began lies on that segment's
+                     * backward extension, not on j's path: the log test decides */
+                    const int32_t last = g->last_segment[j];
+                    if (last >= 0 && t + s->scan_t[k] < g->seg[last].t) continue;
+                    return b;
+                }
+                if (g->first_time[b] < t) return b; /* it moved before now: re-run */
+                join_pending(s, a, b);
+            }
+        }
+        sph_push_event(s, t + s->scan_t[k], i, j);
+    }
+    const int32_t b = logged_neighbour_hit(s, i, t);
+    if (b >= 0) return b;
+    const double exit = sph_shell_exit_time(s, i, t);
+    if (exit >= 0) sph_push_event(s, exit, i, SPH_EVENT_SHELL);
+    return -1;
+}
+
+/* Runs group a (and the groups joined to it) from the step's start in time order.
+ * Returns -1 when done, or a group that must join a before it runs again. */
+static int32_t play_group(hsbd_spheres *s, int32_t a) {
+    sph_groups *g = &s->groups;
+    size_t hits = 0;
+    for (int32_t b = a; b >= 0; b = g->next_part[b])
+        hits += (size_t)g->count[b];
+    if (sph_calendar_start_for(&s->calendar, s->dt, 2 * hits, 8)) s->oom = 1;
+    for (int32_t b = a; b >= 0; b = g->next_part[b])
+        for (int32_t k = g->start[b]; k < g->start[b] + g->count[b]; ++k)
+            sph_push_event(s, g->by_t[k], g->by_i[k], g->by_j[k]);
+    g->collisions[a] = 0;
+    g->virial[a] = 0;
+    sph_event e;
+    uint64_t played = 0;
+    while (sph_calendar_pop(&s->calendar, &e)) {
+        if (s->counter[e.i] != e.ci || (e.j >= 0 && s->counter[e.j] != e.cj)) {
+            s->stats.stale_events++;
+            continue;
+        }
+        played++;
+        log_start(s, a, e.i);
+        int32_t joined;
+        if (e.j == SPH_EVENT_SHELL) {
+            sph_advance(s, e.i, e.t);
+            recentre_adding(s, e.i);
+            joined = predict_in_group(s, a, e.i, e.t);
+        } else {
+            log_start(s, a, e.j);
+            double virial;
+            if (!sph_collide_pair(s, &e, &virial)) continue;
+            g->collisions[a]++;
+            g->virial[a] += virial;
+            new_segment(s, e.i, e.t);
+            new_segment(s, e.j, e.t);
+            joined = predict_in_group(s, a, e.i, e.t);
+            if (joined < 0) joined = predict_in_group(s, a, e.j, e.t);
+        }
+        if (joined >= 0) { /* the re-run starts a new calendar */
+            g->played += played;
+            g->replayed += played;
+            return joined;
+        }
+    }
+    g->played += played;
+    return -1;
+}
+
+static void run_group(hsbd_spheres *s, int32_t a) {
+    sph_groups *g = &s->groups;
+    g->state[a] = GROUP_ACTIVE;
+    for (int32_t b; (b = play_group(s, a)) >= 0;)
+        join_and_rewind(s, a, b);
+    g->state[a] = GROUP_DONE;
+    for (int32_t k = g->first_segment[a]; k >= 0; k = g->seg[k].next_head) {
+        const int32_t p = g->seg[k].particle; /* several segments: the log test needed */
+        g->history[p] = g->seg[g->last_segment[p]].prev >= 0;
+    }
+    s->stats.collisions += g->collisions[a];
+    s->stats.virial += g->virial[a];
+}
+
+int sph_groups_run(hsbd_spheres *s) {
+    sph_groups *g = &s->groups;
+    const long largest = number_groups(s);
+    const int automatic = s->par.event_order == HSBD_EVENTS_AUTO;
+    if (largest < 0 || (automatic && largest * LARGEST_GROUP_SHARE > (long)g->nhits)) {
+        if (largest < 0) s->oom = 1;
+        if (sph_calendar_start_for(&s->calendar, s->dt, 2 * g->nhits, 64)) s->oom = 1;
+        for (size_t k = 0; k < g->nhits; ++k)
+            sph_push_event(s, g->hit_t[k], g->hit_i[k], g->hit_j[k]);
+        return 1;
+    }
+    for (size_t a = 0; a < g->ngroups; ++a)
+        if (g->state[a] == GROUP_PENDING) run_group(s, (int32_t)a);
+    settle_moved_shells(s);
+    if (automatic && g->replayed * REPLAY_SHARE > g->played) g->pause = PAUSE_STEPS;
+    return 0;
+}
