@@ -239,6 +239,7 @@ static const sphere_bench_case sphere_bench_cases[] = {
     {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4},
     {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3},
     {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4},
+    {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3}, /* scaling in N; events by group */
 };
 
 /* steps per second; *coll: collisions per step */

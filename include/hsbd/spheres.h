@@ -25,8 +25,9 @@ typedef enum hsbd_spheres_event_order {
 } hsbd_spheres_event_order;
 
 /* From this many particles on, AUTO runs the events group by group (bench/RESULTS.md:
- * below it the state fits in the caches and the global calendar is faster). */
-#define HSBD_SPHERES_GROUPS_MIN_N 65536
+ * below it the state, about 450 bytes per particle, fits in or near the caches and the
+ * global calendar is as fast or faster). */
+#define HSBD_SPHERES_GROUPS_MIN_N 131072
 
 typedef struct hsbd_spheres_params {
     size_t n;         /* number of particles N */
@@ -60,6 +61,7 @@ typedef struct hsbd_spheres_params {
      * bit-identical trajectories (tests/unit/test_spheres.c); AUTO (0) takes groups from
      * HSBD_SPHERES_GROUPS_MIN_N particles on, unless they grow too large to gain. */
     hsbd_spheres_event_order event_order;
+    size_t groups_min_n; /* AUTO: groups from this N on; 0: HSBD_SPHERES_GROUPS_MIN_N */
 } hsbd_spheres_params;
 
 /* Collision statistics accumulated since the last reset. */

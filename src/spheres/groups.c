@@ -32,7 +32,8 @@ int sph_groups_wanted(hsbd_spheres *s) {
     case HSBD_EVENTS_GROUPS:
         return 1;
     default:
-        if (s->n < HSBD_SPHERES_GROUPS_MIN_N) return 0;
+        if (s->n < (s->par.groups_min_n ? s->par.groups_min_n : HSBD_SPHERES_GROUPS_MIN_N))
+            return 0;
         if (s->groups.pause) return s->groups.pause--, 0;
         return 1;
     }
@@ -257,15 +258,19 @@ static void rewind_group(hsbd_spheres *s, int32_t a) {
     g->first_segment[a] = -1;
 }
 
+/* Takes back what a finished group b did: its statistics, its particles' moves. */
+static void undo_group(hsbd_spheres *s, int32_t b) {
+    sph_groups *g = &s->groups;
+    s->stats.collisions -= g->collisions[b];
+    s->stats.virial -= g->virial[b];
+    rewind_group(s, b);
+}
+
 /* Group b joins the running group a, whose events then start again from the step's
  * start (b's results, if it ran, are undone). */
 static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
     sph_groups *g = &s->groups;
-    if (g->state[b] == GROUP_DONE) {
-        s->stats.collisions -= g->collisions[b];
-        s->stats.virial -= g->virial[b];
-        rewind_group(s, b);
-    }
+    if (g->state[b] == GROUP_DONE) undo_group(s, b);
     rewind_group(s, a);
     g->parent[g->root[b]] = g->root[a];
     g->state[b] = GROUP_JOINED;
@@ -492,11 +497,19 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
     return -1;
 }
 
-static void run_group(hsbd_spheres *s, int32_t a) {
+/* Runs group a to the end of the step; returns 0, or -1 when AUTO gives up on groups
+ * for this step (re-runs cost more than the step's predicted pairs: the groups percolate
+ * as they run), group a then back on its start lines. */
+static int run_group(hsbd_spheres *s, int32_t a) {
     sph_groups *g = &s->groups;
     g->state[a] = GROUP_ACTIVE;
-    for (int32_t b; (b = play_group(s, a)) >= 0;)
+    for (int32_t b; (b = play_group(s, a)) >= 0;) {
         join_and_rewind(s, a, b);
+        if (s->par.event_order == HSBD_EVENTS_AUTO && g->replayed > g->nhits) {
+            g->state[a] = GROUP_PENDING;
+            return -1;
+        }
+    }
     g->state[a] = GROUP_DONE;
     for (int32_t k = g->first_segment[a]; k >= 0; k = g->seg[k].next_head) {
         const int32_t p = g->seg[k].particle; /* several segments: the log test needed */
@@ -504,6 +517,15 @@ static void run_group(hsbd_spheres *s, int32_t a) {
     }
     s->stats.collisions += g->collisions[a];
     s->stats.virial += g->virial[a];
+    return 0;
+}
+
+/* Every start-of-step event into the global calendar (which then runs the step). */
+static void hand_to_global_calendar(hsbd_spheres *s) {
+    sph_groups *g = &s->groups;
+    if (sph_calendar_start_for(&s->calendar, s->dt, 2 * g->nhits, 64)) s->oom = 1;
+    for (size_t k = 0; k < g->nhits; ++k)
+        sph_push_event(s, g->hit_t[k], g->hit_i[k], g->hit_j[k]);
 }
 
 int sph_groups_run(hsbd_spheres *s) {
@@ -512,13 +534,18 @@ int sph_groups_run(hsbd_spheres *s) {
     const int automatic = s->par.event_order == HSBD_EVENTS_AUTO;
     if (largest < 0 || (automatic && largest * LARGEST_GROUP_SHARE > (long)g->nhits)) {
         if (largest < 0) s->oom = 1;
-        if (sph_calendar_start_for(&s->calendar, s->dt, 2 * g->nhits, 64)) s->oom = 1;
-        for (size_t k = 0; k < g->nhits; ++k)
-            sph_push_event(s, g->hit_t[k], g->hit_i[k], g->hit_j[k]);
+        hand_to_global_calendar(s);
         return 1;
     }
-    for (size_t a = 0; a < g->ngroups; ++a)
-        if (g->state[a] == GROUP_PENDING) run_group(s, (int32_t)a);
+    for (size_t a = 0; a < g->ngroups; ++a) {
+        if (g->state[a] != GROUP_PENDING || run_group(s, (int32_t)a) == 0) continue;
+        for (size_t b = 0; b < g->ngroups; ++b) /* give up: the whole step back to its start */
+            if (g->state[b] == GROUP_DONE) undo_group(s, (int32_t)b);
+        settle_moved_shells(s);
+        hand_to_global_calendar(s);
+        g->pause = PAUSE_STEPS;
+        return 1;
+    }
     settle_moved_shells(s);
     if (automatic && g->replayed * REPLAY_SHARE > g->played) g->pause = PAUSE_STEPS;
     return 0;

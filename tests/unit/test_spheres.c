@@ -561,11 +561,11 @@ static void test_spatial_order(void) {
  * image counters, the same collisions; at least min_reruns groups ran again (so the
  * joining and rewinding are exercised, not only the easy path). */
 static void compare_event_orders(const char *name, hsbd_spheres_params p, int steps,
-                                 uint64_t min_reruns) {
+                                 uint64_t min_reruns, hsbd_spheres_event_order order) {
     hsbd_error err;
     p.event_order = HSBD_EVENTS_GLOBAL;
     hsbd_spheres *a = hsbd_spheres_alloc(&p, &err);
-    p.event_order = HSBD_EVENTS_GROUPS;
+    p.event_order = order;
     hsbd_spheres *b = hsbd_spheres_alloc(&p, &err);
     CHECK(a && b, "%s: alloc", name);
     if (!a || !b) return;
@@ -611,7 +611,7 @@ static void test_event_groups(void) {
                              .species = species,
                              .species_sigma = sig,
                              .species_diffusion = dif};
-    compare_event_orders("mixture phi 0.3", p, 300, 1);
+    compare_event_orders("mixture phi 0.3", p, 300, 1, HSBD_EVENTS_GROUPS);
     /* dense monodisperse spheres with long steps: the groups meet often */
     hsbd_spheres_params q = {.n = 864,
                              .dimension = 3,
@@ -623,7 +623,11 @@ static void test_event_groups(void) {
                              .hard_core = 1};
     const double side_q = cbrt(864 * PI / 6 / 0.5);
     q.box[0] = q.box[1] = q.box[2] = side_q;
-    compare_event_orders("spheres phi 0.5", q, 200, 20);
+    compare_event_orders("spheres phi 0.5", q, 200, 20, HSBD_EVENTS_GROUPS);
+    /* AUTO at this N: steps whose groups percolate as they run are given up part-way and
+     * handed to the global calendar, from the start of the step */
+    q.groups_min_n = 1;
+    compare_event_orders("spheres phi 0.5 (auto)", q, 200, 1, HSBD_EVENTS_AUTO);
     /* dense disks */
     hsbd_spheres_params d = {.n = 900,
                              .dimension = 2,
@@ -634,7 +638,7 @@ static void test_event_groups(void) {
                              .seed = 7,
                              .hard_core = 1};
     d.box[0] = d.box[1] = sqrt(900 * PI / 4 / 0.6);
-    compare_event_orders("disks phi 0.6", d, 200, 20);
+    compare_event_orders("disks phi 0.6", d, 200, 20, HSBD_EVENTS_GROUPS);
 }
 
 static void test_bad_params(void) {
