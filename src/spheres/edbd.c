@@ -368,13 +368,6 @@ static void add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
     }
 }
 
-static void set_centre(hsbd_spheres *s, int32_t i) {
-    const double *x = s->x + 3 * (size_t)i;
-    double *c = s->centre + 3 * (size_t)i;
-    for (int a = 0; a < 3; ++a)
-        c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
-}
-
 /* Moves i's shell to its current position and finds its neighbours (only i's pairs). */
 static void recentre(hsbd_spheres *s, int32_t i) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
@@ -382,7 +375,7 @@ static void recentre(hsbd_spheres *s, int32_t i) {
         sph_nb_remove(s, row[k], i);
     s->nb_count[i] = s->nb_upper[i] = 0;
     sph_cells_remove(&s->cells, i);
-    set_centre(s, i);
+    sph_set_centre(s, i);
     add_shell_neighbours(s, i, 0);
     if (sph_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i)) s->oom = 1;
     s->stats.shell_updates++;
@@ -394,7 +387,7 @@ int sph_rebuild_neighbours(hsbd_spheres *s) {
     for (size_t i = 0; i < s->n; ++i)
         s->nb_count[i] = s->nb_upper[i] = 0;
     for (size_t i = 0; i < s->n; ++i) {
-        set_centre(s, (int32_t)i);
+        sph_set_centre(s, (int32_t)i);
         if (sph_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) s->oom = 1;
     }
     for (size_t i = 0; i < s->n; ++i)
@@ -548,10 +541,7 @@ static void process_collision(hsbd_spheres *s, const sph_event *e) {
 void sph_run_events(hsbd_spheres *s) {
     sph_event e;
     while (sph_calendar_pop(&s->calendar, &e)) {
-        if (s->counter[e.i] != e.ci || (e.j >= 0 && s->counter[e.j] != e.cj)) {
-            s->stats.stale_events++;
-            continue;
-        }
+        if (sph_event_stale(s, &e)) continue;
         if (e.j == SPH_EVENT_SHELL) {
             sph_advance(s, e.i, e.t);
             recentre(s, e.i);

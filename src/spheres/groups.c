@@ -11,7 +11,6 @@
  * the step ends), so groups running out of time order never miss a pair. */
 #include "spheres/groups.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -281,6 +280,13 @@ static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
     s->stats.group_reruns++;
 }
 
+/* The start-of-step events of group b into the calendar. */
+static void push_group_hits(hsbd_spheres *s, int32_t b) {
+    const sph_groups *g = &s->groups;
+    for (int32_t k = g->start[b]; k < g->start[b] + g->count[b]; ++k)
+        sph_push_event(s, g->by_t[k], g->by_i[k], g->by_j[k]);
+}
+
 /* Group b, still on its start lines up to the present, joins the running group a. */
 static void join_pending(hsbd_spheres *s, int32_t a, int32_t b) {
     sph_groups *g = &s->groups;
@@ -288,8 +294,7 @@ static void join_pending(hsbd_spheres *s, int32_t a, int32_t b) {
     g->state[b] = GROUP_JOINED;
     g->next_part[b] = g->next_part[a]; /* b has no parts of its own yet */
     g->next_part[a] = b;
-    for (int32_t k = g->start[b]; k < g->start[b] + g->count[b]; ++k)
-        sph_push_event(s, g->by_t[k], g->by_i[k], g->by_j[k]);
+    push_group_hits(s, b);
 }
 
 /* ---- shells moved inside a step ---- */
@@ -333,10 +338,7 @@ static void recentre_adding(hsbd_spheres *s, int32_t i) {
         g->moved[i] = 1;
         g->moved_list[g->nmoved++] = i;
     }
-    const double *x = s->x + 3 * (size_t)i;
-    double *c = s->centre + 3 * (size_t)i;
-    for (int a = 0; a < 3; ++a)
-        c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
+    sph_set_centre(s, i);
     uint32_t found = sph_shells_near(s, &s->cells, s->sigma, i);
     for (uint32_t k = 0; k < found; ++k)
         add_pair_once(s, i, s->near[k]);
@@ -458,17 +460,13 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
         hits += (size_t)g->count[b];
     if (sph_calendar_start_for(&s->calendar, s->dt, 2 * hits, 8)) s->oom = 1;
     for (int32_t b = a; b >= 0; b = g->next_part[b])
-        for (int32_t k = g->start[b]; k < g->start[b] + g->count[b]; ++k)
-            sph_push_event(s, g->by_t[k], g->by_i[k], g->by_j[k]);
+        push_group_hits(s, b);
     g->collisions[a] = 0;
     g->virial[a] = 0;
     sph_event e;
     uint64_t played = 0;
     while (sph_calendar_pop(&s->calendar, &e)) {
-        if (s->counter[e.i] != e.ci || (e.j >= 0 && s->counter[e.j] != e.cj)) {
-            s->stats.stale_events++;
-            continue;
-        }
+        if (sph_event_stale(s, &e)) continue;
         played++;
         log_start(s, a, e.i);
         int32_t joined;

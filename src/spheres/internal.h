@@ -89,6 +89,14 @@ static inline void sph_advance(hsbd_spheres *s, int32_t i, double t) {
     s->t_local[i] = t;
 }
 
+/* Puts i's shell centre at its position, wrapped into the box. */
+static inline void sph_set_centre(hsbd_spheres *s, int32_t i) {
+    const double *x = s->x + 3 * (size_t)i;
+    double *c = s->centre + 3 * (size_t)i;
+    for (int a = 0; a < 3; ++a)
+        c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
+}
+
 /* The cached per-particle quantities that follow from dt and D: the noise amplitudes. */
 void sph_set_noise_amplitudes(hsbd_spheres *s);
 
@@ -103,6 +111,13 @@ double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t);
 /* Moves e's particles to e->t and applies the collision rule; returns 1 and the event's
  * virial term when they approach, 0 (nothing changed but the positions) otherwise. */
 int sph_collide_pair(hsbd_spheres *s, const sph_event *e, double *virial);
+/* An event predicted before one of its particles collided again: counted, to be dropped. */
+static inline int sph_event_stale(hsbd_spheres *s, const sph_event *e) {
+    const int stale = s->counter[e->i] != e->ci || (e->j >= 0 && s->counter[e->j] != e->cj);
+    s->stats.stale_events += (uint64_t)stale;
+    return stale;
+}
+
 /* i (at time t) against its row: the neighbours it reaches inside [t, dt) into
  * s->scan_j, their contact times after t into s->scan_t; returns their number. */
 uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t);
