@@ -1,8 +1,9 @@
 /* External force fields as small function tables shared by all integrators.
  *
- * A field adds its force (units kT / length) at n positions to an output array; the
+ * A field adds its force (energy / length) at n positions to an output array; the
  * integrators only see `add_force`, so new fields never touch them. Forces add up, so a
- * sum of fields is a list of terms. */
+ * sum of fields is a list of terms. Energies are absolute, in the units of the thermal
+ * energy kT the integrator is given (mobility D / kT): only U / kT matters. */
 #ifndef HSBD_FIELD_H
 #define HSBD_FIELD_H
 
@@ -18,7 +19,7 @@ typedef struct hsbd_field_ops {
     /* f[i] += force at x[i], for i < n */
     void (*add_force)(const hsbd_field_term *term, size_t n, const double *restrict x,
                       double *restrict f);
-    /* potential energy at x (kT); the force is its negative derivative */
+    /* potential energy at x (energy); the force is its negative derivative */
     double (*potential)(const hsbd_field_term *term, double x);
 } hsbd_field_ops;
 
@@ -40,9 +41,10 @@ hsbd_field_term hsbd_field_tilt(double force);
 /* harmonic trap U(x) = (k/2) d^2 with d = x - center; period > 0 (a ring of that length):
  * d is the nearest image, in [-period/2, period/2); period = 0: no images (walls). */
 hsbd_field_term hsbd_field_harmonic(double stiffness, double center, double period);
-/* Tabulated potential U(x) (kind 0) or force f(x) (kind 1): the table's natural cubic
- * spline; a force table's potential is minus its integral from the table's first x.
- * period > 0: x is taken modulo period (the table must cover [0, period]). */
+/* Tabulated potential U(x) (kind 0) or force f(x) (kind 1): the table's cubic spline; a
+ * force table's potential is minus its integral from the table's first x. period > 0: x
+ * is taken modulo period; the table must then span [0, period] and should be made
+ * periodic (hsbd_table_make_periodic), else the force jumps at x = 0 = period. */
 enum { HSBD_TABLE_POTENTIAL = 0, HSBD_TABLE_FORCE = 1 };
 hsbd_field_term hsbd_field_table(const hsbd_table *table, int kind, double period);
 

@@ -1,10 +1,12 @@
 /* Continuous pair forces between rods (Antonov Eqs. 27-28) and Baxter's sticky contact in
  * its power-law representation (Eqs. 29-32), as small function tables like the fields.
  *
- * A term gives the force f(r) (units kT / length) that the left rod of a pair exerts on
+ * A term gives the force f(r) (energy / length) that the left rod of a pair exerts on
  * the right one at centre distance r >= sigma (positive: repulsive; the left rod feels
- * -f), and the pair potential V(r) (kT) with f = -dV/dr. Beyond `range` both vanish, and
- * every term is continuous there (the BCD step needs continuous forces, Sec. IV). */
+ * -f), and the pair potential V(r) (energy) with f = -dV/dr. Energies are absolute, in
+ * the units of the thermal energy kT the integrator is given (its mobility is D / kT), so
+ * only V / kT matters. Beyond `range` both vanish, and every term is continuous there
+ * (the BCD step needs continuous forces, Sec. IV). */
 #ifndef HSBD_PAIR_H
 #define HSBD_PAIR_H
 
@@ -36,13 +38,16 @@ typedef struct hsbd_pair {
 } hsbd_pair;
 
 /* Baxter's sticky contact of strength gamma represented by delta_eps of order p > 1 and
- * width epsilon > 0 (Eq. 31): V = -ln(1 + gamma delta_eps(r - sigma)), force Eq. (32). */
-hsbd_pair_term hsbd_pair_sticky(double sigma, double gamma, double order, double epsilon);
-/* Screened Coulomb: V(r) = A sigma exp(-kappa (r - sigma)) / r (A: value at contact, kT),
+ * width epsilon > 0 (Eq. 31): V = -kT ln(1 + gamma delta_eps(r - sigma)), force Eq. (32)
+ * times kT. Baxter's model is defined by its Boltzmann factor 1 + gamma delta_eps, which
+ * does not depend on temperature: the term needs the kT of the system it acts in. */
+hsbd_pair_term hsbd_pair_sticky(double sigma, double gamma, double order, double epsilon,
+                                double kT);
+/* Screened Coulomb: V(r) = A sigma exp(-kappa (r - sigma)) / r (A: value at contact),
  * force-shifted to vanish continuously at the cutoff: f(r) - f(rc), V(r) - V(rc) + (r - rc) f(rc).
  */
 hsbd_pair_term hsbd_pair_yukawa(double sigma, double contact_value, double kappa, double cutoff);
-/* Lennard-Jones well with its minimum at contact, attractive outside the hard core:
+/* Lennard-Jones well (depth: energy) with its minimum at contact, attractive outside the hard core:
  * V(r) = depth ((sigma/r)^12 - 2 (sigma/r)^6), force-shifted at the cutoff like Yukawa. */
 hsbd_pair_term hsbd_pair_lj(double sigma, double depth, double cutoff);
 /* Tabulated force f(r) (natural cubic spline through the table's points; zero beyond its

@@ -20,15 +20,16 @@
 #include "hsbd/field.h"
 #include "hsbd/pair.h"
 
-/* How pairs that reach contact within a step are treated. */
+/* How pairs that reach contact within a step are treated. The default (0) is the rule
+ * the CLI uses too. */
 enum hsbd_contact_rule {
-    HSBD_CONTACT_STICKY = 0, /* the paper's BCD: overlapping free end points merge
-                                (perfectly inelastic); contacts crossed and left within
-                                the step are missed: an O(sqrt(dt)) layer at contact */
-    HSBD_CONTACT_REFLECT = 1 /* first each gap's Brownian bridge minimum is drawn and a
-                                crossing reflects the gap (exact for an isolated pair,
-                                any dt and constant force, design note 7); then the
-                                same regression resolves what still overlaps */
+    HSBD_CONTACT_REFLECT = 0, /* first each gap's Brownian bridge minimum is drawn and a
+                                 crossing reflects the gap (exact for an isolated pair,
+                                 any dt and constant force, design note 7); then the
+                                 same regression resolves what still overlaps */
+    HSBD_CONTACT_STICKY = 1   /* the paper's BCD: overlapping free end points merge
+                                 (perfectly inelastic); contacts crossed and left within
+                                 the step are missed: an O(sqrt(dt)) layer at contact */
 };
 
 enum hsbd_rods_boundary {

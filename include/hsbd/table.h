@@ -1,6 +1,7 @@
 /* Tabulated functions read from two-column text files (x, value), interpolated by a
- * natural cubic spline: continuous value and first two derivatives, exact integrals of the
- * interpolant. Used for tabulated external potentials/forces and pair forces. */
+ * cubic spline: continuous value and first two derivatives, exact integrals of the
+ * interpolant. The spline is natural (zero second derivative at the ends) unless made
+ * periodic. Used for tabulated external potentials/forces and pair forces. */
 #ifndef HSBD_TABLE_H
 #define HSBD_TABLE_H
 
@@ -18,6 +19,11 @@ hsbd_table *hsbd_table_alloc(size_t n, const double *x, const double *y, const c
  * columns ignored). Errors name the file and line. */
 hsbd_table *hsbd_table_load(const char *path, hsbd_error *err);
 void hsbd_table_free(hsbd_table *t);
+/* Turn the spline into the periodic one over [x_min, x_max] (value and first two
+ * derivatives continuous across the ends), for a function of period x_max - x_min. The
+ * end values must agree within 1e-9 of the largest |value| (HSBD_EINPUT naming `what`
+ * otherwise); the last value is then set to the first. */
+int hsbd_table_make_periodic(hsbd_table *t, const char *what, hsbd_error *err);
 
 size_t hsbd_table_size(const hsbd_table *t);
 double hsbd_table_x_min(const hsbd_table *t);

@@ -44,6 +44,8 @@ double hsbd_periodic_interp(const double *f, size_t m, double h, double x);
 double hsbd_periodic_bin_average(const double *f, size_t m, double h, double x, double width);
 
 /* ---- rods with a nearest-neighbour pair potential (range <= 2 sigma), exact ---- */
+/* The theory works in units of kT: pair and field terms given to it are read as U / kT
+ * (build them with kT = 1, e.g. hsbd_pair_sticky(..., 1.0)). */
 
 /* Homogeneous fluid (isobaric gap law, Takahashi): beta P and the pair density at
  * contact rho2(sigma+) = rho p(0+), p(h) the nearest-neighbour gap density. err may be NULL. */

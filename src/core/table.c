@@ -1,4 +1,4 @@
-/* Natural cubic spline tables (see include/hsbd/table.h). */
+/* Cubic spline tables, natural or periodic (see include/hsbd/table.h). */
 #include "hsbd/table.h"
 
 #include <errno.h>
@@ -42,12 +42,84 @@ static void spline_second_derivatives(hsbd_table *t, double *scratch) {
         m[i] -= c[i] * m[i + 1];
 }
 
+/* Thomas algorithm for the tridiagonal rows lo[i] u_{i-1} + d[i] u_i + up[i] u_{i+1} =
+ * rhs[i] (lo[0], up[m-1] unused), in place in rhs; c: m scratch values. */
+static void solve_tridiagonal(size_t m, const double *lo, const double *d, const double *up,
+                              double *rhs, double *c) {
+    c[0] = up[0] / d[0];
+    rhs[0] /= d[0];
+    for (size_t i = 1; i < m; ++i) {
+        const double den = d[i] - lo[i] * c[i - 1];
+        c[i] = i + 1 < m ? up[i] / den : 0.0;
+        rhs[i] = (rhs[i] - lo[i] * rhs[i - 1]) / den;
+    }
+    for (size_t i = m - 1; i-- > 0;)
+        rhs[i] -= c[i] * rhs[i + 1];
+}
+
+/* Second derivatives of the periodic spline through y_0 .. y_{n-1} = y_0: with m = n - 1
+ * intervals h_i, rows i = 0..m-1 read h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1}
+ * = 6 (s_i - s_{i-1}) with indices modulo m (s_i the slope of interval i). The cyclic
+ * system is solved as a tridiagonal one plus a rank-one correction (Sherman-Morrison).
+ * Returns -1 when out of memory. */
+static int spline_second_derivatives_periodic(hsbd_table *t) {
+    const size_t m = t->n - 1;
+    const double *x = t->x, *y = t->y;
+    double *M = t->m;
+    if (m < 2) { /* one interval: both ends hold the same value, a constant */
+        M[0] = M[1] = 0.0;
+        return 0;
+    }
+    double *w = malloc(6 * m * sizeof *w);
+    if (!w) return -1;
+    double *lo = w, *d = w + m, *up = w + 2 * m, *z = w + 3 * m, *c = w + 4 * m, *h = w + 5 * m;
+    for (size_t i = 0; i < m; ++i)
+        h[i] = x[i + 1] - x[i];
+    for (size_t i = 0; i < m; ++i) {
+        const size_t prev = i ? i - 1 : m - 1;
+        lo[i] = h[prev];
+        d[i] = 2.0 * (h[prev] + h[i]);
+        up[i] = h[i];
+        M[i] = 6.0 * ((y[i + 1] - y[i]) / h[i] - (y[prev + 1] - y[prev]) / h[prev]);
+    }
+    if (m == 2) { /* both off-diagonals couple the same two unknowns */
+        const double a = d[0], b = lo[0] + up[0], e = d[1], r0 = M[0], r1 = M[1];
+        const double det = a * e - b * b;
+        M[0] = (r0 * e - b * r1) / det;
+        M[1] = (a * r1 - b * r0) / det;
+    } else { /* corners: row 0 has lo[0] on M_{m-1}, row m-1 has up[m-1] on M_0 */
+        const double beta = lo[0], alpha = up[m - 1], gamma = -d[0];
+        d[0] -= gamma;
+        d[m - 1] -= alpha * beta / gamma;
+        for (size_t i = 0; i < m; ++i)
+            z[i] = 0.0;
+        z[0] = gamma;
+        z[m - 1] = alpha;
+        solve_tridiagonal(m, lo, d, up, M, c);
+        solve_tridiagonal(m, lo, d, up, z, c);
+        const double fact =
+            (M[0] + beta * M[m - 1] / gamma) / (1.0 + z[0] + beta * z[m - 1] / gamma);
+        for (size_t i = 0; i < m; ++i)
+            M[i] -= fact * z[i];
+    }
+    M[m] = M[0];
+    free(w);
+    return 0;
+}
+
 /* Integral of the spline over [x_k, x_k + a] inside interval k. */
 static double interval_integral(const hsbd_table *t, size_t k, double a) {
     const double h = t->x[k + 1] - t->x[k], b = h - a;
     const double c = t->y[k] / h - t->m[k] * h / 6.0, d = t->y[k + 1] / h - t->m[k + 1] * h / 6.0;
     return t->m[k] * (h * h * h * h - b * b * b * b) / (24.0 * h) +
            t->m[k + 1] * a * a * a * a / (24.0 * h) + c * (h * h - b * b) / 2.0 + d * a * a / 2.0;
+}
+
+/* cum[k]: integral of the spline from x[0] to x[k] */
+static void cumulative_integrals(hsbd_table *t) {
+    t->cum[0] = 0.0;
+    for (size_t k = 0; k + 1 < t->n; ++k)
+        t->cum[k + 1] = t->cum[k] + interval_integral(t, k, t->x[k + 1] - t->x[k]);
 }
 
 hsbd_table *hsbd_table_alloc(size_t n, const double *x, const double *y, const char *what,
@@ -86,10 +158,26 @@ hsbd_table *hsbd_table_alloc(size_t n, const double *x, const double *y, const c
     memcpy(t->y, y, n * sizeof *y);
     spline_second_derivatives(t, scratch);
     free(scratch);
-    t->cum[0] = 0.0;
-    for (size_t k = 0; k + 1 < n; ++k)
-        t->cum[k + 1] = t->cum[k] + interval_integral(t, k, t->x[k + 1] - t->x[k]);
+    cumulative_integrals(t);
     return t;
+}
+
+int hsbd_table_make_periodic(hsbd_table *t, const char *what, hsbd_error *err) {
+    const size_t n = t->n;
+    double scale = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        scale = fmax(scale, fabs(t->y[i]));
+    if (fabs(t->y[n - 1] - t->y[0]) > 1e-9 * scale)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: a periodic table needs equal values at its ends, but the "
+                              "value at x = %.17g is %.17g and at x = %.17g it is %.17g; allowed: "
+                              "a difference of at most 1e-9 of the largest |value| (%g)",
+                              what, t->x[0], t->y[0], t->x[n - 1], t->y[n - 1], scale);
+    t->y[n - 1] = t->y[0];
+    if (spline_second_derivatives_periodic(t) != 0)
+        return hsbd_error_set(err, HSBD_ENOMEM, "%s: out of memory for %zu points", what, n);
+    cumulative_integrals(t);
+    return HSBD_OK;
 }
 
 hsbd_table *hsbd_table_load(const char *path, hsbd_error *err) {

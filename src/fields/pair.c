@@ -7,34 +7,37 @@
 #include "hsbd/table.h"
 
 /* ---- Baxter sticky contact, power-law delta_eps ---------------------------------------- */
-enum { ST_SIGMA, ST_GAMMA, ST_ORDER, ST_EPS };
+enum { ST_SIGMA, ST_GAMMA, ST_ORDER, ST_EPS, ST_KT };
 
-/* Eq. (32), kT = 1: f = -gamma p (eps - h)^(p-1) / (eps^(p+1)/(p+1) + gamma (eps - h)^p),
- * h = r - sigma in [0, eps) */
+/* Eq. (32) times kT (the paper has kT = 1): f = -kT gamma p (eps - h)^(p-1) /
+ * (eps^(p+1)/(p+1) + gamma (eps - h)^p), h = r - sigma in [0, eps); energy/length */
 static double sticky_force(const hsbd_pair_term *t, double r) {
     if (r >= t->range) return 0.0;
     const double h = r - t->p[ST_SIGMA], eps = t->p[ST_EPS];
     const double g = t->p[ST_GAMMA], p = t->p[ST_ORDER], w = eps - (h > 0 ? h : 0.0);
     const double wp1 = pow(w, p - 1.0);
-    return -g * p * wp1 / (pow(eps, p + 1.0) / (p + 1.0) + g * wp1 * w);
+    return -t->p[ST_KT] * g * p * wp1 / (pow(eps, p + 1.0) / (p + 1.0) + g * wp1 * w);
 }
 
-/* Eqs. (30)-(31): V = -ln(1 + gamma delta_eps(h)), delta_eps = (p+1) (eps - h)^p / eps^(p+1) */
+/* Eqs. (30)-(31): V = -kT ln(1 + gamma delta_eps(h)), delta_eps = (p+1) (eps - h)^p /
+ * eps^(p+1): the Boltzmann factor 1 + gamma delta_eps does not depend on kT */
 static double sticky_potential(const hsbd_pair_term *t, double r) {
     if (r >= t->range) return 0.0;
     const double h = r - t->p[ST_SIGMA], eps = t->p[ST_EPS];
     const double g = t->p[ST_GAMMA], p = t->p[ST_ORDER], w = eps - (h > 0 ? h : 0.0);
-    return -log1p(g * (p + 1.0) * pow(w / eps, p) / eps);
+    return -t->p[ST_KT] * log1p(g * (p + 1.0) * pow(w / eps, p) / eps);
 }
 
 static const hsbd_pair_ops sticky_ops = {"sticky", sticky_force, sticky_potential};
 
-hsbd_pair_term hsbd_pair_sticky(double sigma, double gamma, double order, double epsilon) {
+hsbd_pair_term hsbd_pair_sticky(double sigma, double gamma, double order, double epsilon,
+                                double kT) {
     hsbd_pair_term t = {&sticky_ops, sigma + epsilon, {0}, NULL};
     t.p[ST_SIGMA] = sigma;
     t.p[ST_GAMMA] = gamma;
     t.p[ST_ORDER] = order;
     t.p[ST_EPS] = epsilon;
+    t.p[ST_KT] = kT;
     return t;
 }
 

@@ -55,13 +55,16 @@ static const key_spec schema[] = {
     {"system", "D", K_DOUBLE, OFF(system.diffusion), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
      "diffusion coefficient (length^2/time); mobility mu = D/kT"},
     {"system", "kT", K_DOUBLE, OFF(system.kT), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
-     "thermal energy (energy unit); the authors' dialect uses kT = D (their mu = 1)"},
+     "thermal energy, in the units of every energy of the configuration (field.amplitude, "
+     "field.force x length, field.stiffness x length^2, pair.strength, tabulated potentials "
+     "and forces): only energy / kT matters, and mobility mu = D/kT; the authors' dialect uses "
+     "kT = D (their mu = 1)"},
     {"system", "seed", K_UINT64, OFF(system.seed), 0, 18446744073709551615.0, 0, "1", 0,
      "random seed (64-bit); same seed and binary give byte-identical tables"},
     {"system", "hard_core", K_BOOL, OFF(system.hard_core), 0, 1, 0, "on", 0,
      "on: hard rods; off: free particles (benchmark bound, tests)"},
     {"system", "contact_rule", K_ENUM, OFF(system.contact_rule), 0, 0, 0, "reflect",
-     "sticky|reflect",
+     "reflect|sticky",
      "reflect: each gap's Brownian-bridge minimum is drawn first and a crossing reflects it "
      "(no O(sqrt(dt)) contact layer; validated, docs/validation.md); sticky: the paper's BCD "
      "as printed (inelastic mergers), needs ~100x smaller dt in dense systems"},
@@ -81,14 +84,14 @@ static const key_spec schema[] = {
      "depth strength at contact; table: force f(r) from pair.table. Analytic forms are "
      "force-shifted to vanish continuously at pair.cutoff"},
     {"pair", "strength", K_DOUBLE, OFF(pair.strength), -INF, INF, OPEN_MIN | OPEN_MAX, "1", 0,
-     "yukawa: V at contact (kT, > 0 repulsive); lj: well depth (kT)"},
+     "yukawa: V at contact (energy, units of system.kT; > 0 repulsive); lj: well depth (energy)"},
     {"pair", "kappa", K_DOUBLE, OFF(pair.kappa), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
      "yukawa inverse screening length (1/length)"},
     {"pair", "cutoff", K_DOUBLE, OFF(pair.cutoff), 0, INF, OPEN_MAX, "0", 0,
      "centre distance where yukawa/lj end, > sigma and <= L/2 (0: yukawa sigma + 5/kappa, "
      "lj 2.5 sigma); a table ends at its last r"},
     {"pair", "table", K_STRING, OFF(pair.table), 0, 0, 0, "", 0,
-     "pair.type = table: file with lines 'r f(r)' (force on the right rod, kT/length), r "
+     "pair.type = table: file with lines 'r f(r)' (force on the right rod, energy/length), r "
      "strictly increasing from <= sigma, f = 0 at the last r; natural cubic spline"},
     {"field", "type", K_TERMS, OFF(field.type), 0, 0, 0, "cosine",
      "none|cosine|tilt|harmonic|table",
@@ -97,20 +100,21 @@ static const key_spec schema[] = {
      "harmonic: U = (stiffness/2)(x - center)^2 (nearest image on a ring); table: U(x) or f(x) "
      "from field.table"},
     {"field", "amplitude", K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX, "6", 0,
-     "cosine amplitude U0 (kT), Antonov Eq. 21"},
+     "cosine amplitude U0 (energy, units of system.kT), Antonov Eq. 21"},
     {"field", "wavelength", K_DOUBLE, OFF(field.wavelength), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
      "cosine wavelength lambda; must divide L"},
     {"field", "force", K_DOUBLE, OFF(field.force), -INF, INF, OPEN_MIN | OPEN_MAX, "0", 0,
-     "constant force f (kT/length) of the tilt term; f < 0 pushes rods towards x = 0"},
+     "constant force f (energy/length) of the tilt term; f < 0 pushes rods towards x = 0"},
     {"field", "stiffness", K_DOUBLE, OFF(field.stiffness), 0, INF, OPEN_MAX, "1", 0,
-     "harmonic trap stiffness k (kT/length^2)"},
+     "harmonic trap stiffness k (energy/length^2)"},
     {"field", "center", K_DOUBLE, OFF(field.center), -INF, INF, OPEN_MIN | OPEN_MAX, "", 0,
      "harmonic trap centre (default: L/2)"},
     {"field", "table", K_STRING, OFF(field.table), 0, 0, 0, "", 0,
-     "field.type with table: file with lines 'x value', x strictly increasing and covering "
-     "[0, L]; natural cubic spline (continuous force)"},
+     "field.type with table: file with lines 'x value', x strictly increasing; on a ring x runs "
+     "from 0 to L exactly, the values at 0 and L agree and the spline is periodic (the force is "
+     "continuous across x = 0 = L); between walls x covers [0, L] and the spline is natural"},
     {"field", "table_kind", K_ENUM, OFF(field.table_kind), 0, 0, 0, "potential", "potential|force",
-     "what field.table holds: potential U(x) (kT; force -U') or force f(x) (kT/length)"},
+     "what field.table holds: potential U(x) (energy; force -U') or force f(x) (energy/length)"},
     {"species", "names", K_STRING, OFF(species.names_text), 0, 0, 0, "", 0,
      "a mixture: species names (letters, digits, '_'), separated by spaces or commas; empty: "
      "one species with system.sigma and system.D"},

@@ -46,7 +46,7 @@ static int build_pair(const hsbd_config *cfg, hsbd_table **table, hsbd_pair *pai
     const double sigma = cfg->system.sigma;
     if (cfg->contact.gamma > 0)
         hsbd_pair_add(pair, hsbd_pair_sticky(sigma, cfg->contact.gamma, cfg->contact.order,
-                                             cfg->contact.epsilon));
+                                             cfg->contact.epsilon, cfg->system.kT));
     switch (cfg->pair.type) {
     case HSBD_PAIR_YUKAWA:
         hsbd_pair_add(
@@ -100,8 +100,10 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
     return p;
 }
 
-/* Field terms from the configuration (field.type is a sum); a table is loaded and must
- * cover the box [0, L]. */
+/* Field terms from the configuration (field.type is a sum). A table is loaded; between
+ * walls it must cover the box [0, L] (natural spline); on a ring it must span exactly one
+ * period [0, L] with equal end values, and its spline is made periodic so that the force
+ * stays continuous across x = 0 = L (BCD needs continuous forces). */
 static int build_field(const hsbd_config *cfg, hsbd_table **table, hsbd_field *field,
                        hsbd_error *err) {
     const int t = cfg->field.type;
@@ -116,11 +118,21 @@ static int build_field(const hsbd_config *cfg, hsbd_table **table, hsbd_field *f
         *table = hsbd_table_load(cfg->field.table, err);
         if (!*table) return err->status;
         const double x0 = hsbd_table_x_min(*table), x1 = hsbd_table_x_max(*table);
-        if (x0 > 0 || x1 < L)
+        if (period == 0 && (x0 > 0 || x1 < L))
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "%s (field.table): x runs from %g to %g and does not cover the "
                                   "box; allowed: first x <= 0 and last x >= system.L = %g",
                                   cfg->field.table, x0, x1, L);
+        if (period > 0 && (fabs(x0) > 1e-9 * L || fabs(x1 - L) > 1e-9 * L))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s (field.table): x runs from %.17g to %.17g; on a ring "
+                                  "(system.boundary = periodic) the table spans one period: "
+                                  "allowed: first x = 0 and last x = system.L = %g",
+                                  cfg->field.table, x0, x1, L);
+        char what[HSBD_PATH_MAX + 64];
+        snprintf(what, sizeof what, "%s (field.table on a ring)", cfg->field.table);
+        if (period > 0 && hsbd_table_make_periodic(*table, what, err) != HSBD_OK)
+            return err->status;
         hsbd_field_add(field, hsbd_field_table(*table, cfg->field.table_kind, period));
     }
     return HSBD_OK;

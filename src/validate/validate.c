@@ -677,7 +677,8 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
     const int is_sticky = c->family == FAMILY_STICKY;
     if (is_sticky) { /* exact for the delta_eps model; Eqs. 34 for its eps -> 0 limit */
         pp.points = 2000;
-        hsbd_pair_add(&sticky, hsbd_pair_sticky(c->sigma, c->gamma, STICKY_ORDER, STICKY_EPSILON));
+        hsbd_pair_add(&sticky,
+                      hsbd_pair_sticky(c->sigma, c->gamma, STICKY_ORDER, STICKY_EPSILON, 1.0));
         if (hsbd_nn_transfer_solve(&pp, &sticky, &th, err) != HSBD_OK) return err->status;
         pp.gamma = c->gamma;
         if (hsbd_percus_solve(&pp, &baxter, err) != HSBD_OK) {

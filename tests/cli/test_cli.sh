@@ -78,7 +78,7 @@ expect_fail period "per.ini:" "sample.period = 0.3 must divide system.L" -- run 
 base_ini | sed 's/^bin_width = 0.05/bin_width = 0.3/' >bw.ini
 expect_fail bin-width "bw.ini:" "sample.bin_width = 0.3 must divide sample.period" -- run bw.ini
 with_line system 'contact_rule = bounce' >ft.ini
-expect_fail enum "ft.ini:" "system.contact_rule = 'bounce' is not known" "one of sticky|reflect" -- run ft.ini
+expect_fail enum "ft.ini:" "system.contact_rule = 'bounce' is not known" "one of reflect|sticky" -- run ft.ini
 for terms in cosinus cosine+cosine none+tilt 'cosine+'; do
     with_line field "type = $terms" >ft.ini
     expect_fail "field terms $terms" "ft.ini:" "field.type = '$terms' is not known" \
@@ -121,12 +121,20 @@ expect_fail authors-unknown "authtypo.cfg:2:" "unknown key 'lenght' outside any 
 printf '1.0\n1.2\n5\n' >pos.txt
 expect_fail positions-count "pos.txt" "3 positions for system.N = 20" -- run good.ini --set init.positions=pos.txt
 
-# fields: tables that do not cover the box or are not increasing, a table without a file
-printf '0 1\n20 0\n41 1\n' >ftab.txt
+# fields: tables that do not span the ring or the box, or are not increasing, ends that
+# disagree on a ring (the periodic spline needs them equal), a table without a file
+printf '0 1\n20 0\n40 1\n' >ftab.txt
 "$HSBD" run good.ini --set field.type=cosine+table --set field.table=ftab.txt --out "$T/ftab" "${QUICK[@]}" \
-    && ok || bad "field table covering the box did not run"
+    && ok || bad "field table spanning the ring did not run"
+printf '0 1\n20 0\n41 1\n' >flong.txt
+expect_fail field-table-ring-span "flong.txt" "on a ring" "last x = system.L = 40" -- run good.ini --set field.type=table --set field.table=flong.txt
+printf '0 1\n20 0\n40 1.5\n' >fends.txt
+expect_fail field-table-ring-ends "fends.txt" "equal values at its ends" "1.5" -- run good.ini --set field.type=table --set field.table=fends.txt
+"$HSBD" run good.ini --set system.boundary=walls --set field.type=table --set field.table=flong.txt --out "$T/fwall" "${QUICK[@]}" \
+    && ok || bad "field table covering the walls' box did not run"
 printf '0 1\n20 0\n30 1\n' >fshort.txt
-expect_fail field-table-cover "fshort.txt" "does not cover the box" "last x >= system.L = 40" -- run good.ini --set field.type=table --set field.table=fshort.txt
+expect_fail field-table-cover "fshort.txt" "on a ring" "first x = 0" -- run good.ini --set field.type=table --set field.table=fshort.txt
+expect_fail field-table-cover-walls "fshort.txt" "does not cover the box" "last x >= system.L = 40" -- run good.ini --set system.boundary=walls --set field.type=table --set field.table=fshort.txt
 printf '0 1\n20 0\n10 1\n50 0\n' >fsort.txt
 expect_fail field-table-unsorted "fsort.txt:3" "strictly increasing" -- run good.ini --set field.type=table --set field.table=fsort.txt
 printf '0 1\n20 nan\n50 0\n' >fnan.txt

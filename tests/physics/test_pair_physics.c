@@ -121,7 +121,7 @@ int main(void) {
                         .dt_equil = 2e-5,
                         .t_equil = 8,
                         .seed = 43};
-    hsbd_pair_add(&sticky.pair, hsbd_pair_sticky(0.5, 1.0, 3.0, 0.05));
+    hsbd_pair_add(&sticky.pair, hsbd_pair_sticky(0.5, 1.0, 3.0, 0.05, 1.0));
     run_case(&sticky);
     return test_finish("test_pair_physics");
 }

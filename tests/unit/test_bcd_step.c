@@ -161,7 +161,8 @@ static void test_library_step_vs_oracle(void) {
                             .kT = 0.7,
                             .dt = 1e-2,
                             .seed = 2024,
-                            .hard_core = 1};
+                            .hard_core = 1,
+                            .contact_rule = HSBD_CONTACT_STICKY};
     hsbd_field_add(&par.field, hsbd_field_cosine(6.0, 1.0));
     hsbd_field_add(&par.field, hsbd_field_tilt(0.8));
     hsbd_error err;
@@ -208,6 +209,7 @@ static void test_mixture_step_vs_oracle(int boundary) {
                             .dt = 1e-2,
                             .seed = 77,
                             .hard_core = 1,
+                            .contact_rule = HSBD_CONTACT_STICKY,
                             .boundary = boundary,
                             .nspecies = 2,
                             .species = species,

@@ -35,7 +35,7 @@ static void check_force_is_gradient(const char *name, const hsbd_pair *p, double
 static void test_sticky(void) {
     const double sigma = 0.2, gamma = 1, eps = 0.05, p = 3;
     hsbd_pair pair = {0};
-    hsbd_pair_add(&pair, hsbd_pair_sticky(sigma, gamma, p, eps));
+    hsbd_pair_add(&pair, hsbd_pair_sticky(sigma, gamma, p, eps, 1.0));
     check_force_is_gradient("sticky", &pair, sigma);
     /* Boltzmann factor at contact 1 + gamma (p+1)/eps (Eqs. 30-31) */
     CHECK_CLOSE(exp(-hsbd_pair_potential(&pair, sigma)), 1 + gamma * (p + 1) / eps, 1e-9);
@@ -118,6 +118,91 @@ static void test_table(void) {
 }
 
 /* a pair term whose force is zero everywhere leaves the step bit-identical */
+/* Largest |spline - f| and |spline' - f'| of a table of cos(2 pi x) over [0, 1] (near
+ * both ends included). */
+static void cosine_table_errors(const hsbd_table *t, double *value_err, double *slope_err) {
+    const double two_pi = 6.283185307179586;
+    *value_err = *slope_err = 0;
+    for (int k = 0; k <= 4000; ++k) {
+        const double q = k / 4000.0;
+        *value_err = fmax(*value_err, fabs(hsbd_table_value(t, q) - cos(two_pi * q)));
+        *slope_err = fmax(*slope_err, fabs(hsbd_table_derivative(t, q) + two_pi * sin(two_pi * q)));
+    }
+}
+
+/* The periodic spline of a periodic function: within the interpolation error bounds of
+ * cubic splines with exact end conditions (Hall & Meyer 1976: |s - f| <= 5/384 h^4
+ * max|f''''|, |s' - f'| <= 1/24 h^3 max|f''''|) everywhere, ends included, and its value,
+ * slope and curvature continuous across x = 0 = 1. The natural spline of the same points
+ * breaks the slope bound at the ends (it forces s'' = 0 where cos'' is largest), which is
+ * why a ring needs the periodic one. Also: a non-uniform grid, the smallest tables, and
+ * ends that disagree. */
+static void test_periodic_table(void) {
+    const double two_pi = 6.283185307179586, f4 = pow(two_pi, 4);
+    enum { NP = 21 };
+    double x[NP], y[NP];
+    for (int i = 0; i < NP; ++i)
+        x[i] = i / (NP - 1.0), y[i] = cos(two_pi * x[i]);
+    const double h = 1.0 / (NP - 1);
+    hsbd_error err;
+    hsbd_table *natural = hsbd_table_alloc(NP, x, y, "cos", &err);
+    hsbd_table *periodic = hsbd_table_alloc(NP, x, y, "cos", &err);
+    CHECK(hsbd_table_make_periodic(periodic, "cos", &err) == HSBD_OK, "%s", err.message);
+    double ev, es;
+    cosine_table_errors(periodic, &ev, &es);
+    printf("  periodic spline of cos, h = %g: |s - f| <= %.3g (bound %.3g), |s' - f'| <= %.3g "
+           "(bound %.3g)\n",
+           h, ev, 5.0 / 384 * pow(h, 4) * f4, es, pow(h, 3) * f4 / 24);
+    CHECK(ev <= 5.0 / 384 * pow(h, 4) * f4, "periodic value error %g", ev);
+    CHECK(es <= pow(h, 3) * f4 / 24, "periodic slope error %g", es);
+    const double d = 1e-7;
+    CHECK_CLOSE(hsbd_table_derivative(periodic, 0.0), hsbd_table_derivative(periodic, 1.0), 1e-12);
+    CHECK_CLOSE((hsbd_table_derivative(periodic, d) - hsbd_table_derivative(periodic, 0)) / d,
+                (hsbd_table_derivative(periodic, 1) - hsbd_table_derivative(periodic, 1 - d)) / d,
+                1e-3);
+    CHECK_CLOSE(hsbd_table_integral(periodic, 1.0), 0.0, 1e-6); /* cos integrates to 0 */
+    double nv, ns;
+    cosine_table_errors(natural, &nv, &ns);
+    printf("  natural spline of the same points: |s' - f'| <= %.3g at the ends\n", ns);
+    CHECK(ns > 10 * pow(h, 3) * f4 / 24, "the natural spline's end error %g should be large", ns);
+    hsbd_table_free(natural);
+    hsbd_table_free(periodic);
+    /* non-uniform knots x_i = u_i + 0.03 sin(2 pi u_i): the same bounds with the largest h */
+    double hmax = 0;
+    for (int i = 0; i < NP; ++i) {
+        const double u = i / (NP - 1.0);
+        x[i] = u + 0.03 * sin(two_pi * u), y[i] = cos(two_pi * x[i]);
+        if (i) hmax = fmax(hmax, x[i] - x[i - 1]);
+    }
+    x[NP - 1] = 1.0, y[NP - 1] = 1.0;
+    periodic = hsbd_table_alloc(NP, x, y, "cos", &err);
+    CHECK(hsbd_table_make_periodic(periodic, "cos", &err) == HSBD_OK, "%s", err.message);
+    cosine_table_errors(periodic, &ev, &es);
+    CHECK(ev <= 5.0 / 384 * pow(hmax, 4) * f4 && es <= pow(hmax, 3) * f4 / 24,
+          "non-uniform: errors %g, %g", ev, es);
+    CHECK_CLOSE(hsbd_table_derivative(periodic, 0.0), hsbd_table_derivative(periodic, 1.0), 1e-12);
+    hsbd_table_free(periodic);
+    /* three points (two intervals) and two points (a constant) */
+    const double x3[3] = {0, 0.4, 1}, y3[3] = {1, -1, 1};
+    hsbd_table *t3 = hsbd_table_alloc(3, x3, y3, "three", &err);
+    CHECK(hsbd_table_make_periodic(t3, "three", &err) == HSBD_OK, "%s", err.message);
+    CHECK_CLOSE(hsbd_table_value(t3, 0.4), -1.0, 1e-14);
+    CHECK_CLOSE(hsbd_table_derivative(t3, 0.0), hsbd_table_derivative(t3, 1.0), 1e-12);
+    hsbd_table_free(t3);
+    const double x2[2] = {0, 1}, y2[2] = {2, 2};
+    hsbd_table *t2 = hsbd_table_alloc(2, x2, y2, "two", &err);
+    CHECK(hsbd_table_make_periodic(t2, "two", &err) == HSBD_OK && hsbd_table_value(t2, 0.3) == 2,
+          "a two-point periodic table is a constant");
+    hsbd_table_free(t2);
+    /* ends that disagree are refused with both values named */
+    const double yb[3] = {1, -1, 1.01};
+    hsbd_table *tb = hsbd_table_alloc(3, x3, yb, "mismatch.tsv", &err);
+    CHECK(hsbd_table_make_periodic(tb, "mismatch.tsv", &err) == HSBD_EINPUT &&
+              strstr(err.message, "mismatch.tsv") && strstr(err.message, "1.01"),
+          "mismatched ends: %s", err.message);
+    hsbd_table_free(tb);
+}
+
 static void test_zero_pair_force_is_exact(void) {
     hsbd_rods_params a = {.n = 200,
                           .length = 200,
@@ -147,6 +232,7 @@ static void test_zero_pair_force_is_exact(void) {
 }
 
 int main(void) {
+    test_periodic_table();
     test_sticky();
     test_analytic();
     test_table();

@@ -253,7 +253,7 @@ static void test_sticky_eps_to_baxter(void) {
     const double eps[2] = {0.02, 0.01};
     for (int k = 0; k < 2; ++k) {
         hsbd_pair st = {0};
-        hsbd_pair_add(&st, hsbd_pair_sticky(sigma, gamma, 3, eps[k]));
+        hsbd_pair_add(&st, hsbd_pair_sticky(sigma, gamma, 3, eps[k], 1.0));
         CHECK(hsbd_nn_homogeneous_solve(&st, sigma, rho, &bp[k], &c[k], &err) == HSBD_OK, "%s",
               err.message);
     }
@@ -283,7 +283,7 @@ static void test_sticky_eps_to_baxter(void) {
     CHECK(hsbd_percus_solve(&p, &bax, &err) == HSBD_OK, "%s", err.message);
     for (int k = 0; k < 3; ++k) {
         hsbd_pair st = {0};
-        hsbd_pair_add(&st, hsbd_pair_sticky(sigma, gamma, 3, ef[k]));
+        hsbd_pair_add(&st, hsbd_pair_sticky(sigma, gamma, 3, ef[k], 1.0));
         p.points = k < 2 ? 2000 : 4000;
         CHECK(hsbd_nn_transfer_solve(&p, &st, &r[k], &err) == HSBD_OK, "%s", err.message);
     }
@@ -306,7 +306,7 @@ static void test_sticky_eps_to_baxter(void) {
         hsbd_percus_result_free(&r[k]);
     hsbd_percus_result r2;
     hsbd_pair s2 = {0};
-    hsbd_pair_add(&s2, hsbd_pair_sticky(sigma, gamma, 3, 0.02));
+    hsbd_pair_add(&s2, hsbd_pair_sticky(sigma, gamma, 3, 0.02, 1.0));
     /* U0 = 0: uniform, contact density as the homogeneous solution */
     p.amplitude = 0;
     p.points = 2000;
