@@ -227,7 +227,7 @@ static double bench_rate(const bench_case *c, int hard_core, int contact_rule, d
     return (double)n * (double)steps / (t - t0);
 }
 
-/* EDBD of monodisperse spheres (issue 5): 3D, D = sigma = 1, from an fcc lattice. */
+/* EDBD of monodisperse spheres: 3D, D = sigma = 1, from an fcc lattice. */
 typedef struct sphere_bench_case {
     const char *name;
     size_t n;

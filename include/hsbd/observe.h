@@ -153,4 +153,26 @@ size_t hsbd_clusters_max_size(const hsbd_clusters *c);
 void hsbd_clusters_means(const hsbd_clusters *c, double *mean_size, double *mean_size_err,
                          double *merges_per_step, double *merges_err);
 
+/* ---- disks / spheres: the EDBD scheme's assumptions (Scala Sec. II) ---- */
+/* Warned above these: Eq. 6 (mean step << diameter, the flat-wall collision), Eq. 3 (mean
+ * step << mean gap, binary collisions), and collisions per particle and step. The
+ * thresholds follow the measured time-step convergence (docs/spheres.md): at phi 0.3 a
+ * step of 0.14 sigma (0.7 of the mean gap) still gives the exact equation of state, while
+ * D_L is 0.6 % low once the step reaches half the mean gap. */
+#define HSBD_SCHEME_STEP_SIGMA_MAX 0.1
+#define HSBD_SCHEME_STEP_GAP_MAX   0.5
+#define HSBD_SCHEME_COLLISIONS_MAX 0.5
+enum { HSBD_WARNING_LEN = 256 };
+typedef struct hsbd_scheme_check {
+    double step_over_sigma;              /* largest <|dr_i|> / sigma_i over the particles, Eq. 6 */
+    double step_over_gap;                /* largest <|dr_i|> over rho^(-1/d) - <sigma>, Eq. 3 */
+    double collisions_per_particle_step; /* as measured (NaN: not yet) */
+} hsbd_scheme_check;
+/* From the view's diameters and D (<|dr_i|> = E|N_d| sqrt(2 D_i dt)) and a measured
+ * collision rate (NaN when not yet measured). */
+void hsbd_scheme_check_compute(const hsbd_spheres_view *v, double collisions_per_particle_step,
+                               hsbd_scheme_check *out);
+/* Up to max messages for the criteria beyond their thresholds; returns their number. */
+int hsbd_scheme_check_warnings(const hsbd_scheme_check *c, char (*msg)[HSBD_WARNING_LEN], int max);
+
 #endif

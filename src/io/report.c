@@ -21,6 +21,19 @@ void hsbd_write_value_columns(FILE *f, size_t rows, const double *x, size_t pair
     }
 }
 
+void hsbd_json_string(FILE *f, const char *s) {
+    fputc('"', f);
+    for (; *s; ++s) {
+        if (*s == '"' || *s == '\\')
+            fprintf(f, "\\%c", *s);
+        else if ((unsigned char)*s < 0x20)
+            fprintf(f, "\\u%04x", *s);
+        else
+            fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
 void hsbd_json_number(FILE *f, const char *key, double v, int comma) {
     if (isfinite(v))
         fprintf(f, "  \"%s\": %.10g%s\n", key, v, comma ? "," : "");

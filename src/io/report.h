@@ -17,6 +17,8 @@ void hsbd_write_table_header(FILE *f, const hsbd_config *cfg, const char *what,
 void hsbd_write_value_columns(FILE *f, size_t rows, const double *x, size_t pairs,
                               const double *val);
 /* "  "key": value," at the summary's indent; non-finite values as null. */
+/* a JSON string literal of s (quotes and control characters escaped) */
+void hsbd_json_string(FILE *f, const char *s);
 void hsbd_json_number(FILE *f, const char *key, double v, int comma);
 
 /* The status of a run whose own steps succeeded: the writers' error (write_rc, werr), or

@@ -34,6 +34,21 @@ typedef struct sphere_run {
     hsbd_spheres_stats prod_stats;
 } sphere_run;
 
+/* The scheme's assumptions (Scala Eqs. 3 and 6, collisions per particle-step) from the
+ * particles' own sizes and D; warnings on stderr (collisions: once measured). */
+static void warn_scheme(const sphere_run *s, double collisions_per_particle_step) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s->sys);
+    hsbd_scheme_check c;
+    hsbd_scheme_check_compute(&v, collisions_per_particle_step, &c);
+    char msg[3][HSBD_WARNING_LEN];
+    const int n = hsbd_scheme_check_warnings(&c, msg, 3);
+    for (int k = 0; k < n; ++k) {
+        const int measured = strstr(msg[k], "collisions per particle") != NULL;
+        if (measured == !isnan(collisions_per_particle_step))
+            fprintf(stderr, "hsbd: warning: %s\n", msg[k]);
+    }
+}
+
 static double cpu_seconds(void) {
     struct timespec t;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
@@ -303,6 +318,9 @@ static int equilibrate(sphere_run *s, hsbd_error *err) {
     }
     s->cpu_equil = cpu_seconds() - c0;
     hsbd_progress_end(&pr);
+    if (s->equil_done > 0)
+        warn_scheme(s, (double)hsbd_spheres_get_stats(s->sys).collisions /
+                           ((double)s->cfg->system.n * (double)s->equil_done));
     return rc;
 }
 
@@ -605,32 +623,20 @@ static int write_summary(sphere_run *s, const char *reason, hsbd_error *err) {
     hsbd_json_number(f, "collisions_per_second",
                      s->cpu_prod > 0 ? (double)st.collisions / s->cpu_prod : NAN, 1);
     hsbd_json_number(f, "time_per_cpu_second", s->cpu_prod > 0 ? t_prod / s->cpu_prod : NAN, 1);
-    /* diagnostics: the scheme's assumptions (Scala Eqs. 3 and 6) */
-    double dmax = cfg->system.diffusion, smin = cfg->system.sigma;
-    for (size_t k = 0; k < cfg->species.n; ++k) {
-        if (k == 0 || cfg->species.diffusion[k] > dmax) dmax = cfg->species.diffusion[k];
-        if (k == 0 || cfg->species.sigma[k] < smin) smin = cfg->species.sigma[k];
-    }
-    const double chi_mean = dim == 3 ? 1.5957691216057308 : 1.2533141373155003; /* E|N_d| */
-    const double mean_dr = chi_mean * sqrt(2 * dmax * cfg->run.dt);
-    double vol = 1;
-    for (int a = 0; a < dim; ++a)
-        vol *= cfg->system.box[a];
-    const double mean_gap = pow(vol / n, 1.0 / dim) - smin;
+    /* diagnostics: the scheme's assumptions (Scala Eqs. 3 and 6), the particles' own values */
     const double cpp = steps > 0 ? (double)st.collisions / (n * steps) : NAN;
+    hsbd_scheme_check check;
+    hsbd_scheme_check_compute(&v, cpp, &check);
     hsbd_json_number(f, "collisions_per_particle_step", cpp, 1);
-    hsbd_json_number(f, "mean_step_over_sigma", mean_dr / smin, 1);
-    hsbd_json_number(f, "mean_step_over_mean_gap", mean_gap > 0 ? mean_dr / mean_gap : INFINITY, 1);
+    hsbd_json_number(f, "mean_step_over_sigma", check.step_over_sigma, 1);
+    hsbd_json_number(f, "mean_step_over_mean_gap", check.step_over_gap, 1);
+    char warnings[3][HSBD_WARNING_LEN];
+    const int nw = hsbd_scheme_check_warnings(&check, warnings, 3);
     fprintf(f, "  \"warnings\": [");
-    int nw = 0;
-    if (cpp > 0.5)
-        fprintf(f,
-                "%s\"%.3g collisions per particle and step: the binary-collision picture "
-                "needs well below one (smaller run.dt)\"",
-                nw++ ? ", " : "", cpp);
-    if (mean_dr / smin > 0.1)
-        fprintf(f, "%s\"mean step %.3g sigma: Scala Eq. 6 needs << 1 (smaller run.dt)\"",
-                nw++ ? ", " : "", mean_dr / smin);
+    for (int k = 0; k < nw; ++k) {
+        fputs(k ? ", " : "", f);
+        hsbd_json_string(f, warnings[k]);
+    }
     fprintf(f, "],\n");
     hsbd_json_number(f, "shell_updates_per_particle_step",
                      steps > 0 ? (double)st.shell_updates / (n * steps) : NAN, 1);
@@ -702,6 +708,7 @@ int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_e
         release(&s);
         return rc;
     }
+    warn_scheme(&s, NAN);
     rc = equilibrate(&s, err);
     if (rc == HSBD_OK && !stop_requested(&s)) rc = produce(&s, err);
     rc = finish(&s, rc, err);

@@ -19,6 +19,7 @@
 #include "hsbd/run.h"
 #include "hsbd/theory.h"
 #include "hsbd/validate.h"
+#include "validate/report.h"
 
 enum family { FAMILY_PERCUS, FAMILY_STICKY, FAMILY_TONKS, FAMILY_SINGLE_FILE, FAMILY_SPHERES };
 /* spheres cases: one size, a binary (1 / 1.4, D ~ 1/sigma), Gaussian polydispersity 0.1 */
@@ -894,12 +895,7 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
         hsbd_outfile_discard(&tsv);
         return err->status;
     }
-    fprintf(tsv.f, "case\tobservable\tpoints\teff_dof\tchi2_dof\tmax_dev_sigma\tmean_rel_dev\t"
-                   "hotelling_p\tpass\n");
-    fprintf(md.f,
-            "| case | dt | t | observable | points (effective) | chi^2/dof | max dev / error | "
-            "mean rel. dev | result |\n"
-            "|---|---|---|---|---|---|---|---|---|\n");
+    validation_write_header(tsv.f, md.f);
     fprintf(report, "%-26s %-20s %6s %9s %9s %9s %9s %s\n", "case", "observable", "points",
             "chi2/dof", "max|d|/e", "rel.dev", "Hotell.p", "result");
     int all_pass = 1;
@@ -923,12 +919,18 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
             fprintf(report, "%-26s %-20s %6zu %9.3f %9.2f %8.2f%% %9.2g %s\n", c->name,
                     v[k].observable, v[k].points, v[k].chi2_dof, v[k].max_dev, 100 * v[k].mean_rel,
                     v[k].p_value, res);
-            fprintf(tsv.f, "%s\t%s\t%zu\t%.4g\t%.4g\t%.4g\t%.4g\t%s\n", c->name, v[k].observable,
-                    v[k].points, v[k].eff_dof, v[k].chi2_dof, v[k].max_dev, v[k].mean_rel, res);
-            fprintf(md.f,
-                    "| %s | %g | %g | %s | %zu (%.0f) | %.3f | %.2f | %.2f %% | %.2g | %s |\n",
-                    c->name, c->dt, c->t_total, v[k].observable, v[k].points, v[k].eff_dof,
-                    v[k].chi2_dof, v[k].max_dev, 100 * v[k].mean_rel, v[k].p_value, res);
+            const validation_row row = {.case_name = c->name,
+                                        .observable = v[k].observable,
+                                        .result = res,
+                                        .dt = c->dt,
+                                        .t_total = c->t_total,
+                                        .points = v[k].points,
+                                        .eff_dof = v[k].eff_dof,
+                                        .chi2_dof = v[k].chi2_dof,
+                                        .max_dev = v[k].max_dev,
+                                        .mean_rel = v[k].mean_rel,
+                                        .p_value = v[k].p_value};
+            validation_write_row(tsv.f, md.f, &row);
         }
     }
     if (hsbd_outfile_commit(&tsv, err) != HSBD_OK || hsbd_outfile_commit(&md, err) != HSBD_OK)

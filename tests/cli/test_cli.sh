@@ -343,6 +343,20 @@ expect_fail sph-poly-radius "noradius.xyz:" "radius" -- run poly.ini --set init.
 expect_fail sph-poly-width "species.polydispersity = 0.5" "0 <= polydispersity <= 0.3" -- run poly.ini --set species.polydispersity=0.5
 expect_fail sph-se-d "species.D is set, but species.D_law = stokes-einstein" -- run disk.ini --set species.D_law=stokes-einstein
 expect_fail sph-compress-dense "init.method = compress reaches" "init.method = lattice" -- run sph.ini --set system.packing_fraction=0.62 --set init.method=compress
+# the scheme's checks use the particles' own sizes and D: uniform polydispersity 0.2 with
+# Stokes-Einstein D gives particles of 0.654 sigma with D 1.53; at dt 1.25e-3 the nominal
+# step is 0.080 sigma (no warning) but theirs is 0.151 of their diameter (Scala Eq. 6),
+# warned on stderr at the start and listed in summary.json
+sph_ini | sed 's/dt = 1e-3/dt = 1.25e-3/' >se.ini
+printf '[species]\npolydispersity = 0.2\ndistribution = uniform\nD_law = stokes-einstein\n' >>se.ini
+if "$HSBD" run se.ini --out se --quiet 2>se.err && grep -q "warning: the mean step is 0.1[45]" se.err &&
+    grep -q "Scala Eq. 6" se.err && python3 -c "
+import json; d = json.load(open('se/summary.json'))
+assert 0.14 < d['mean_step_over_sigma'] < 0.16, d['mean_step_over_sigma']
+assert any('Eq. 6' in w for w in d['warnings'])" 2>/dev/null; then ok; else bad "spheres scheme check: $(cat se.err)"; fi
+# the mean gap at phi 0.45: a step of 0.7 of it is warned (Scala Eq. 3)
+if "$HSBD" run sph.ini --set system.packing_fraction=0.45 --set init.method=compress --set run.dt=2e-3 \
+       --out eq3 --quiet 2>eq3.err && grep -q "Scala Eq. 3" eq3.err; then ok; else bad "Eq. 3 warning: $(cat eq3.err)"; fi
 
 # the configuration reference in docs/ is the one the schema generates
 if "$HSBD" config-doc | diff -q - "$SRC/docs/config.md" >/dev/null; then ok; else bad "docs/config.md is stale: run 'build/hsbd config-doc > docs/config.md'"; fi
