@@ -145,7 +145,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->user_sigma);
     free(s->user_diffusion);
     free(s->user_species);
-    sph_cells_free(&s->cells);
+    hsbd_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
     sph_groups_free(&s->groups);
     free(s);
@@ -229,7 +229,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         }
     s->par.shell = s->shell;
     if (params->hard_core) {
-        if (sph_cells_init(&s->cells, s->dim, s->box, reach, n)) goto oom;
+        if (hsbd_cells_init(&s->cells, s->dim, s->box, reach, n)) goto oom;
         s->nb_cap = 16;
         s->nb_count = calloc(n, sizeof *s->nb_count);
         s->nb_upper = calloc(n, sizeof *s->nb_upper);
@@ -337,7 +337,7 @@ void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
     s->nb_count[i] = c - 1;
 }
 
-uint32_t sph_shells_near(hsbd_spheres *s, const sph_cells *cells, const double *point_sigma,
+uint32_t sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *point_sigma,
                          int32_t i) {
     const size_t room = 27 * (size_t)cells->cap + SPH_NEAR_PAD;
     if (room > s->near_cap) {
@@ -351,7 +351,7 @@ uint32_t sph_shells_near(hsbd_spheres *s, const sph_cells *cells, const double *
     }
     const double *ci = s->centre + 3 * (size_t)i;
     int32_t around[27];
-    const int nc = sph_cells_around(cells, ci, around);
+    const int nc = hsbd_cells_around(cells, ci, around);
     return s->cells_near(cells, around, nc, ci, s->box, point_sigma,
                          0.5 * s->sigma[i] + 2 * s->shell, s->near);
 }
@@ -374,21 +374,21 @@ static void recentre(hsbd_spheres *s, int32_t i) {
     for (uint32_t k = 0; k < s->nb_count[i]; ++k)
         sph_nb_remove(s, row[k], i);
     s->nb_count[i] = s->nb_upper[i] = 0;
-    sph_cells_remove(&s->cells, i);
+    hsbd_cells_remove(&s->cells, i);
     sph_set_centre(s, i);
     add_shell_neighbours(s, i, 0);
-    if (sph_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i)) s->oom = 1;
+    if (hsbd_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i)) s->oom = 1;
     s->stats.shell_updates++;
 }
 
 int sph_rebuild_neighbours(hsbd_spheres *s) {
     if (!s->par.hard_core) return HSBD_OK;
-    sph_cells_clear(&s->cells);
+    hsbd_cells_clear(&s->cells);
     for (size_t i = 0; i < s->n; ++i)
         s->nb_count[i] = s->nb_upper[i] = 0;
     for (size_t i = 0; i < s->n; ++i) {
         sph_set_centre(s, (int32_t)i);
-        if (sph_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) s->oom = 1;
+        if (hsbd_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) s->oom = 1;
     }
     for (size_t i = 0; i < s->n; ++i)
         add_shell_neighbours(s, (int32_t)i, 1);
@@ -431,8 +431,8 @@ double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t) {
     const double *v = s->v + 3 * (size_t)i;
     const double T = s->dt - t, r2 = s->shell * s->shell;
     double e[3] = {d[0] + v[0] * T, d[1] + v[1] * T, d[2] + v[2] * T};
-    if (sph_dot3(e, e) <= r2) return -1; /* the straight path stays inside (convex ball) */
-    const double vv = sph_dot3(v, v), b = sph_dot3(d, v), c = sph_dot3(d, d) - r2;
+    if (hsbd_dot3(e, e) <= r2) return -1; /* the straight path stays inside (convex ball) */
+    const double vv = hsbd_dot3(v, v), b = hsbd_dot3(d, v), c = hsbd_dot3(d, d) - r2;
     double h = (-b + sqrt(b * b - vv * c)) / vv; /* c < 0: one positive root */
     if (!(h >= 0)) h = 0;
     return t + h;
@@ -483,7 +483,7 @@ static void start_step_events(hsbd_spheres *s, int grouped) {
         sph_min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
         const double *v = s->v + 3 * i;
         const double e[3] = {d[0] + v[0] * dt, d[1] + v[1] * dt, d[2] + v[2] * dt};
-        if (sph_dot3(e, e) > r2) {
+        if (hsbd_dot3(e, e) > r2) {
             recentre(s, (int32_t)i);
             const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
             if (exit >= 0) start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL);
@@ -514,7 +514,7 @@ int sph_collide_pair(hsbd_spheres *s, const sph_event *e, double *virial) {
     sph_advance(s, j, e->t);
     double r[3];
     sph_min_image(s, s->x + 3 * (size_t)j, s->x + 3 * (size_t)i, r);
-    const double dist = sqrt(sph_dot3(r, r));
+    const double dist = sqrt(hsbd_dot3(r, r));
     const double nrm[3] = {r[0] / dist, r[1] / dist, r[2] / dist};
     double *vi = s->v + 3 * (size_t)i, *vj = s->v + 3 * (size_t)j;
     const double u = (vj[0] - vi[0]) * nrm[0] + (vj[1] - vi[1]) * nrm[1] + (vj[2] - vi[2]) * nrm[2];
@@ -650,7 +650,7 @@ double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite) {
             double r[3];
             sph_min_image(s, s->x + 3 * (size_t)j, s->x + 3 * i, r);
             const double sij = sph_contact_distance(s, (int32_t)i, j);
-            const double gap = (sqrt(sph_dot3(r, r)) - sij) / sij;
+            const double gap = (sqrt(hsbd_dot3(r, r)) - sij) / sij;
             if (gap < worst) worst = gap;
         }
     }

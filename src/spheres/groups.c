@@ -60,7 +60,7 @@ void sph_groups_free(sph_groups *g) {
     free(g->virial);
     free(g->collisions);
     free(g->seg);
-    sph_cells_free(&g->extra);
+    hsbd_cells_free(&g->extra);
     free(g->extra_particle);
     free(g->extra_sigma);
     free(g->moved_list);
@@ -89,7 +89,7 @@ static int alloc_particles(hsbd_spheres *s) {
     g->extra_sigma = calloc(g->extra_cap, sizeof *g->extra_sigma);
     if (!g->parent || !g->last_segment || !g->moved || !g->history || !g->moved_list ||
         !g->extra_particle || !g->extra_sigma ||
-        sph_cells_init(&g->extra, s->dim, s->box, s->sigma_max + 2 * s->shell, g->extra_cap)) {
+        hsbd_cells_init(&g->extra, s->dim, s->box, s->sigma_max + 2 * s->shell, g->extra_cap)) {
         sph_groups_free(g);
         return -1;
     }
@@ -318,12 +318,12 @@ static int add_extra_shell(hsbd_spheres *s, int32_t i) {
         const size_t cap = 2 * g->extra_cap;
         if (grow_array(&g->extra_particle, cap, sizeof *g->extra_particle) ||
             grow_array(&g->extra_sigma, cap, sizeof *g->extra_sigma) ||
-            sph_cells_reserve_points(&g->extra, cap))
+            hsbd_cells_reserve_points(&g->extra, cap))
             return -1;
         g->extra_cap = cap;
     }
     const int32_t e = (int32_t)g->nextra;
-    if (sph_cells_insert(&g->extra, e, s->centre + 3 * (size_t)i)) return -1;
+    if (hsbd_cells_insert(&g->extra, e, s->centre + 3 * (size_t)i)) return -1;
     g->extra_particle[e] = i;
     g->extra_sigma[e] = s->sigma[i];
     g->nextra++;
@@ -355,8 +355,8 @@ static void settle_moved_shells(hsbd_spheres *s) {
     sph_groups *g = &s->groups;
     for (size_t k = 0; k < g->nmoved; ++k) {
         const int32_t p = g->moved_list[k];
-        sph_cells_remove(&s->cells, p);
-        if (sph_cells_insert(&s->cells, p, s->centre + 3 * (size_t)p)) s->oom = 1;
+        hsbd_cells_remove(&s->cells, p);
+        if (hsbd_cells_insert(&s->cells, p, s->centre + 3 * (size_t)p)) s->oom = 1;
     }
     for (size_t k = 0; k < g->nmoved; ++k) {
         const int32_t p = g->moved_list[k];
@@ -367,7 +367,7 @@ static void settle_moved_shells(hsbd_spheres *s) {
             double d[3];
             sph_min_image(s, s->centre + 3 * (size_t)m, cp, d);
             const double reach = 0.5 * (s->sigma[p] + s->sigma[m]) + 2 * s->shell;
-            if (sph_dot3(d, d) < reach * reach) {
+            if (hsbd_dot3(d, d) < reach * reach) {
                 ++q;
                 continue;
             }
@@ -377,7 +377,7 @@ static void settle_moved_shells(hsbd_spheres *s) {
         g->moved[p] = 0;
     }
     for (size_t e = 0; e < g->nextra; ++e)
-        sph_cells_remove(&g->extra, (int32_t)e);
+        hsbd_cells_remove(&g->extra, (int32_t)e);
     g->nmoved = g->nextra = 0;
 }
 

@@ -11,7 +11,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "spheres/cells.h"
+#include "core/cellgrid.h"
 
 /* One logged straight segment of a particle: from time t at position x with velocity v.
  * The first segment of a particle in a step also keeps its shell centre c at the start. */
@@ -44,7 +44,7 @@ typedef struct sph_groups {
     sph_segment *seg;
     size_t seg_cap, nseg;
     /* shells added inside the step: a second grid of centres, entries -> particles */
-    sph_cells extra;
+    hsbd_cells extra;
     int32_t *extra_particle;
     double *extra_sigma;
     size_t extra_cap, nextra;

@@ -4,7 +4,7 @@
 
 #include "hsbd/spheres.h"
 #include "spheres/calendar.h"
-#include "spheres/cells.h"
+#include "core/cellgrid.h"
 #include "spheres/groups.h"
 #include "spheres/kernels.h"
 
@@ -29,7 +29,7 @@ struct hsbd_spheres {
     uint32_t nb_cap;
     uint32_t *nb_count, *nb_upper; /* entries of each row; those with j > i (first) */
     int32_t *nb;                   /* n x nb_cap */
-    sph_cells cells;               /* of the shell centres, cells >= sigma_max + 2 shell wide */
+    hsbd_cells cells;              /* of the shell centres, cells >= sigma_max + 2 shell wide */
     sph_calendar calendar;
     sph_predict_row_fn predict_row; /* scalar or AVX2 (the same results) */
     sph_cells_near_fn cells_near;   /* scalar or AVX2 */
@@ -64,7 +64,7 @@ struct hsbd_spheres {
 static inline void sph_min_image(const hsbd_spheres *s, const double *a, const double *b,
                                  double *r) {
     for (int k = 0; k < 3; ++k)
-        r[k] = sph_wrap_delta(a[k] - b[k], s->box[k]);
+        r[k] = hsbd_wrap_delta(a[k] - b[k], s->box[k]);
 }
 
 static inline double sph_contact_distance(const hsbd_spheres *s, int32_t i, int32_t j) {
@@ -125,7 +125,7 @@ void sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j);
 void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j);
 /* The points of `cells` whose shells overlap the shell of i (point_sigma: their sigma),
  * into s->near; returns their number. */
-uint32_t sph_shells_near(hsbd_spheres *s, const sph_cells *cells, const double *point_sigma,
+uint32_t sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *point_sigma,
                          int32_t i);
 /* The global calendar: runs every event in s->calendar in time order. */
 void sph_run_events(hsbd_spheres *s);
