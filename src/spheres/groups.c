@@ -14,7 +14,50 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "spheres/internal.h"
+#include "spheres/events.h"
+#include "spheres/neighbours.h"
+
+/* One logged straight segment of a particle: from time t at position x with velocity v.
+ * The first segment of a particle in a step also keeps its shell centre c at the start. */
+typedef struct sph_segment {
+    double t, x[3], v[3], c[3];
+    int32_t prev;      /* earlier segment of the same particle, -1 for the first */
+    int32_t next_head; /* first segments only: the next particle's in the same group, -1 */
+    int32_t particle;
+} sph_segment;
+
+struct sph_groups {
+    size_t n;
+    /* union-find over particles: >= 0 parent; roots hold -1 (no group) or -2 - group */
+    int32_t *parent;
+    int32_t *last_segment; /* per particle, -1 while it is on its start-of-step path */
+    uint8_t *moved;        /* per particle: re-centred inside the step (extra shells) */
+    uint8_t *history;      /* per particle: its group ran and it has several segments */
+    /* the start-of-step hits (j = SPH_EVENT_SHELL for a shell exit), then by group */
+    size_t hit_cap, nhits;
+    int32_t *hit_i, *hit_j, *hit_group;
+    double *hit_t;
+    int32_t *by_i, *by_j;
+    double *by_t;
+    /* groups: their hits by_*[start, start + count), state, constituents, rollback data */
+    size_t group_cap, ngroups;
+    int32_t *start, *count, *state, *root, *next_part, *first_segment;
+    double *first_time, *virial;
+    uint64_t *collisions;
+    /* the segment log of the step */
+    sph_segment *seg;
+    size_t seg_cap, nseg;
+    /* shells added inside the step: a second grid of centres, entries -> particles */
+    hsbd_cells extra;
+    int32_t *extra_particle;
+    double *extra_sigma;
+    size_t extra_cap, nextra;
+    int32_t *moved_list;
+    size_t nmoved;
+    uint64_t replayed; /* events of the step in runs that ended in a join */
+    uint64_t played;   /* all events of the step */
+    unsigned pause;    /* AUTO: steps left on the global calendar after costly re-runs */
+};
 
 enum { GROUP_PENDING, GROUP_ACTIVE, GROUP_DONE, GROUP_JOINED };
 
@@ -33,12 +76,13 @@ int sph_groups_wanted(hsbd_spheres *s) {
     default:
         if (s->n < (s->par.groups_min_n ? s->par.groups_min_n : HSBD_SPHERES_GROUPS_MIN_N))
             return 0;
-        if (s->groups.pause) return s->groups.pause--, 0;
+        if (s->groups && s->groups->pause) return s->groups->pause--, 0;
         return 1;
     }
 }
 
 void sph_groups_free(sph_groups *g) {
+    if (!g) return;
     free(g->parent);
     free(g->last_segment);
     free(g->moved);
@@ -64,7 +108,7 @@ void sph_groups_free(sph_groups *g) {
     free(g->extra_particle);
     free(g->extra_sigma);
     free(g->moved_list);
-    memset(g, 0, sizeof *g);
+    free(g);
 }
 
 /* realloc of an array of `cap` elements of `size` bytes; the old one stays on failure */
@@ -76,9 +120,10 @@ static int grow_array(void *p, size_t cap, size_t size) {
 }
 
 static int alloc_particles(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
-    if (g->n == s->n) return 0;
+    if (s->groups) return 0;
     const size_t n = s->n;
+    sph_groups *g = calloc(1, sizeof *g);
+    if (!g) return -1;
     g->parent = malloc(n * sizeof *g->parent);
     g->last_segment = malloc(n * sizeof *g->last_segment);
     g->moved = calloc(n, sizeof *g->moved);
@@ -94,12 +139,13 @@ static int alloc_particles(hsbd_spheres *s) {
         return -1;
     }
     g->n = n;
+    s->groups = g;
     return 0;
 }
 
 int sph_groups_begin(hsbd_spheres *s) {
     if (alloc_particles(s)) return -1;
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     memset(g->parent, 0xff, s->n * sizeof *g->parent); /* -1: a root without a group */
     memset(g->last_segment, 0xff, s->n * sizeof *g->last_segment);
     memset(g->history, 0, s->n * sizeof *g->history);
@@ -141,7 +187,7 @@ static int grow_hits(sph_groups *g) {
 }
 
 void sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (g->nhits == g->hit_cap && grow_hits(g)) {
         s->oom = 1;
         return;
@@ -171,7 +217,7 @@ static int grow_groups(sph_groups *g) {
 /* Numbers the groups in the order of their first hit (memory order, so space order) and
  * sorts the hits by group. Returns the largest group's hit count, or -1 (out of memory). */
 static long number_groups(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     for (size_t k = 0; k < g->nhits; ++k) {
         const int32_t r = find_root(g, g->hit_i[k]);
         if (g->parent[r] == -1) {
@@ -210,7 +256,7 @@ static long number_groups(hsbd_spheres *s) {
 /* ---- the segment log ---- */
 
 static int32_t new_segment(hsbd_spheres *s, int32_t p, double t) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (g->nseg == g->seg_cap) {
         const size_t cap = g->seg_cap ? 2 * g->seg_cap : 1024;
         if (grow_array(&g->seg, cap, sizeof *g->seg)) {
@@ -232,7 +278,7 @@ static int32_t new_segment(hsbd_spheres *s, int32_t p, double t) {
 
 /* Before a particle of group a first moves in the step: log its start (for a re-run). */
 static void log_start(hsbd_spheres *s, int32_t a, int32_t p) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (g->last_segment[p] >= 0) return;
     const int32_t k = new_segment(s, p, 0.0);
     if (k < 0) return;
@@ -243,7 +289,7 @@ static void log_start(hsbd_spheres *s, int32_t a, int32_t p) {
 
 /* Puts every particle group a moved back on its start-of-step line. */
 static void rewind_group(hsbd_spheres *s, int32_t a) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     for (int32_t k = g->first_segment[a]; k >= 0; k = g->seg[k].next_head) {
         const sph_segment *e = &g->seg[k];
         const int32_t p = e->particle;
@@ -259,7 +305,7 @@ static void rewind_group(hsbd_spheres *s, int32_t a) {
 
 /* Takes back what a finished group b did: its statistics, its particles' moves. */
 static void undo_group(hsbd_spheres *s, int32_t b) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     s->stats.collisions -= g->collisions[b];
     s->stats.virial -= g->virial[b];
     rewind_group(s, b);
@@ -268,7 +314,7 @@ static void undo_group(hsbd_spheres *s, int32_t b) {
 /* Group b joins the running group a, whose events then start again from the step's
  * start (b's results, if it ran, are undone). */
 static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (g->state[b] == GROUP_DONE) undo_group(s, b);
     rewind_group(s, a);
     g->parent[g->root[b]] = g->root[a];
@@ -282,14 +328,14 @@ static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
 
 /* The start-of-step events of group b into the calendar. */
 static void push_group_hits(hsbd_spheres *s, int32_t b) {
-    const sph_groups *g = &s->groups;
+    const sph_groups *g = s->groups;
     for (int32_t k = g->start[b]; k < g->start[b] + g->count[b]; ++k)
         sph_push_event(s, g->by_t[k], g->by_i[k], g->by_j[k]);
 }
 
 /* Group b, still on its start lines up to the present, joins the running group a. */
 static void join_pending(hsbd_spheres *s, int32_t a, int32_t b) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     g->parent[g->root[b]] = g->root[a];
     g->state[b] = GROUP_JOINED;
     g->next_part[b] = g->next_part[a]; /* b has no parts of its own yet */
@@ -313,7 +359,7 @@ static void add_pair_once(hsbd_spheres *s, int32_t i, int32_t j) {
 }
 
 static int add_extra_shell(hsbd_spheres *s, int32_t i) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (g->nextra == g->extra_cap) {
         const size_t cap = 2 * g->extra_cap;
         if (grow_array(&g->extra_particle, cap, sizeof *g->extra_particle) ||
@@ -333,7 +379,7 @@ static int add_extra_shell(hsbd_spheres *s, int32_t i) {
 /* Re-centres i's shell at its position, keeping the old one registered: pairs with
  * every shell (old or new) that overlaps the new one are added, none removed. */
 static void recentre_adding(hsbd_spheres *s, int32_t i) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (!g->moved[i]) {
         g->moved[i] = 1;
         g->moved_list[g->nmoved++] = i;
@@ -352,7 +398,7 @@ static void recentre_adding(hsbd_spheres *s, int32_t i) {
 /* At the end of a step: the moved shells go to the main grid at their last centres, the
  * pairs no longer in reach leave the rows, the extra shells are dropped. */
 static void settle_moved_shells(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     for (size_t k = 0; k < g->nmoved; ++k) {
         const int32_t p = g->moved_list[k];
         hsbd_cells_remove(&s->cells, p);
@@ -386,7 +432,7 @@ static void settle_moved_shells(hsbd_spheres *s) {
 /* The group of a neighbour whose group ran, that i's new segment (from time t) meets on
  * one of its earlier segments (the kernel tested the current one), or -1. */
 static int32_t logged_neighbour_hit(hsbd_spheres *s, int32_t i, double t) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     const double *xi = s->x + 3 * (size_t)i, *vi = s->v + 3 * (size_t)i; /* at t */
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     const uint32_t count = s->nb_count[i];
@@ -421,7 +467,7 @@ static int32_t logged_neighbour_hit(hsbd_spheres *s, int32_t i, double t) {
 /* New predictions for i (on a new segment from time t) in group a. Returns -1, or the
  * group that i's segment reaches and that must join a with a re-run. */
 static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     const int32_t root_a = g->root[a];
     const uint32_t hits = sph_row_hits(s, i, t);
     for (uint32_t k = 0; k < hits; ++k) {
@@ -454,7 +500,7 @@ static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t)
 /* Runs group a (and the groups joined to it) from the step's start in time order.
  * Returns -1 when done, or a group that must join a before it runs again. */
 static int32_t play_group(hsbd_spheres *s, int32_t a) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     size_t hits = 0;
     for (int32_t b = a; b >= 0; b = g->next_part[b])
         hits += (size_t)g->count[b];
@@ -499,7 +545,7 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
  * for this step (re-runs cost more than the step's predicted pairs: the groups percolate
  * as they run), group a then back on its start lines. */
 static int run_group(hsbd_spheres *s, int32_t a) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     g->state[a] = GROUP_ACTIVE;
     for (int32_t b; (b = play_group(s, a)) >= 0;) {
         join_and_rewind(s, a, b);
@@ -520,14 +566,14 @@ static int run_group(hsbd_spheres *s, int32_t a) {
 
 /* Every start-of-step event into the global calendar (which then runs the step). */
 static void hand_to_global_calendar(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (sph_calendar_start_for(&s->calendar, s->dt, 2 * g->nhits, 64)) s->oom = 1;
     for (size_t k = 0; k < g->nhits; ++k)
         sph_push_event(s, g->hit_t[k], g->hit_i[k], g->hit_j[k]);
 }
 
 int sph_groups_run(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     const long largest = number_groups(s);
     const int automatic = s->par.event_order == HSBD_EVENTS_AUTO;
     if (largest < 0 || (automatic && largest * LARGEST_GROUP_SHARE > (long)g->nhits)) {

@@ -6,7 +6,9 @@
 #include <string.h>
 
 #include "hsbd/rng.h"
-#include "spheres/internal.h"
+#include "spheres/neighbours.h"
+#include "spheres/order.h"
+#include "spheres/state.h"
 
 enum { INIT_COUNTER_RSI = 0, INIT_COUNTER_SHUFFLE = 1, INIT_COUNTER_SIZES = 2 };
 

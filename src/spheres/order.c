@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "spheres/internal.h"
+#include "spheres/order.h"
 
 /* Rank of each cell along the Z curve through the grid (cells outside the grid of the
  * next power-of-two size are skipped). */
