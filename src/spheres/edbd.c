@@ -107,6 +107,7 @@ static double default_shell(const hsbd_spheres *s, double dmax, double sigma_mea
 void hsbd_spheres_free(hsbd_spheres *s) {
     if (!s) return;
     free(s->x);
+    free(s->x_start);
     free(s->v);
     free(s->t_local);
     free(s->centre);
@@ -231,7 +232,8 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->scan_i = malloc(s->scan_cap * sizeof *s->scan_i);
         s->scan_j = malloc(s->scan_cap * sizeof *s->scan_j);
         s->scan_t = malloc(s->scan_cap * sizeof *s->scan_t);
-        if (!s->scan_i || !s->scan_j || !s->scan_t) goto oom;
+        s->x_start = malloc(3 * n * sizeof *s->x_start);
+        if (!s->scan_i || !s->scan_j || !s->scan_t || !s->x_start) goto oom;
         if (!params->keep_order) { /* the view's user-order copies */
             s->sort_enabled = 1;
             s->sort_clock = INFINITY; /* sort before the first step */
@@ -273,29 +275,28 @@ static void draw_velocities(hsbd_spheres *s) {
     }
 }
 
-/* A start-of-step event: into the calendar, or into the groups' hit list. */
-static void start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_t j) {
-    if (grouped)
-        sph_groups_add_hit(s, t, i, j);
-    else
-        sph_push_event(s, t, i, j);
+/* A start-of-step event: into the calendar, or into the groups' hit list. Returns 0, or
+ * -1 when out of memory. */
+static int start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_t j) {
+    return grouped ? sph_groups_add_hit(s, t, i, j) : sph_push_event(s, t, i, j);
 }
 
 /* Re-centre the shells of particles whose straight end point would leave them, then
- * predict every neighbour pair once (half scan) and the rare shell exits. */
-static void start_step_events(hsbd_spheres *s, int grouped) {
+ * predict every neighbour pair once (half scan) and the rare shell exits. Returns 0, or
+ * -1 when out of memory. */
+static int start_step_events(hsbd_spheres *s, int grouped) {
     const double dt = s->dt, r2 = s->shell * s->shell;
     const size_t n = s->n;
-    if (!grouped && sph_calendar_start(&s->calendar, dt)) s->oom = 1;
+    if (!grouped && sph_calendar_start(&s->calendar, dt)) return -1;
     for (size_t i = 0; i < n; ++i) {
         double d[3];
         sph_min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
         const double *v = s->v + 3 * i;
         const double e[3] = {d[0] + v[0] * dt, d[1] + v[1] * dt, d[2] + v[2] * dt};
         if (hsbd_dot3(e, e) > r2) {
-            sph_recentre(s, (int32_t)i);
+            if (sph_recentre(s, (int32_t)i)) return -1;
             const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
-            if (exit >= 0) start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL);
+            if (exit >= 0 && start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
         }
     }
     const sph_scan_query q = {.x = s->x,
@@ -312,9 +313,31 @@ static void start_step_events(hsbd_spheres *s, int grouped) {
             pairs += s->nb_upper[i1++];
         const uint32_t hits = s->half_scan(&q, i0, i1, s->scan_i, s->scan_j, s->scan_t);
         for (uint32_t k = 0; k < hits; ++k)
-            start_event(s, grouped, s->scan_t[k], s->scan_i[k], s->scan_j[k]);
+            if (start_event(s, grouped, s->scan_t[k], s->scan_i[k], s->scan_j[k])) return -1;
         i0 = i1;
     }
+    return 0;
+}
+
+/* Every event of the step, group by group or through the global calendar. Returns 0, or
+ * -1 when out of memory (the step is then cut short). */
+static int run_events(hsbd_spheres *s) {
+    const int grouped = sph_groups_wanted(s);
+    if ((grouped && sph_groups_begin(s)) || start_step_events(s, grouped)) return -1;
+    const int rc = grouped ? sph_groups_run(s) : 1;
+    return rc < 0 ? -1 : rc == 1 ? sph_global_run(s) : 0;
+}
+
+/* After an allocation failed inside a step: back to the state at its start (positions,
+ * local times, statistics), the shells moved in it forgotten, and the neighbour lists
+ * rebuilt from the start positions (at the next step if that fails too). */
+static int fail_step(hsbd_spheres *s, const hsbd_spheres_stats *stats_at_start) {
+    memcpy(s->x, s->x_start, 3 * s->n * sizeof *s->x);
+    memset(s->t_local, 0, s->n * sizeof *s->t_local);
+    s->stats = *stats_at_start;
+    sph_groups_abandon(s);
+    sph_rebuild_neighbours(s); /* when it fails, nb_stale stays set */
+    return HSBD_ENOMEM;
 }
 
 /* Every particle to t = dt, wrapped into the box with image counters. */
@@ -341,26 +364,33 @@ static void finish_step(hsbd_spheres *s) {
 
 /* Sorted again once the fastest particle could have moved about half a cell (rms
  * displacement sqrt(0.6) sigma_max): often enough to keep neighbours near in memory,
- * rarely enough that the renumbering costs little (under 1 %, bench/RESULTS.md). */
-static void keep_spatial_order(hsbd_spheres *s) {
-    if (!s->sort_enabled) return;
-    if (s->sort_clock >= 0.1 * s->sigma_max * s->sigma_max && sph_sort_spatially(s) == 0)
-        s->sort_clock = 0;
-    s->sort_clock += s->diffusion_max * s->dt;
+ * rarely enough that the renumbering costs little (under 1 %, bench/RESULTS.md). The
+ * clock advances after each step that succeeded. Returns 0, or -1 when out of memory
+ * (then nothing changed). */
+static int keep_spatial_order(hsbd_spheres *s) {
+    if (!s->sort_enabled || s->sort_clock < 0.1 * s->sigma_max * s->sigma_max) return 0;
+    if (sph_sort_spatially(s)) return -1;
+    s->sort_clock = 0;
+    return 0;
 }
 
-void hsbd_spheres_step(hsbd_spheres *s) {
-    keep_spatial_order(s);
+int hsbd_spheres_step(hsbd_spheres *s) {
+    if (s->par.hard_core) {
+        if (s->nb_stale && sph_rebuild_neighbours(s) != HSBD_OK) return HSBD_ENOMEM;
+        if (keep_spatial_order(s)) return HSBD_ENOMEM;
+    }
     draw_velocities(s);
     if (s->par.hard_core) {
-        const int grouped = sph_groups_wanted(s) && sph_groups_begin(s) == 0;
-        start_step_events(s, grouped);
-        if (!grouped || sph_groups_run(s) != 0) sph_global_run(s);
+        const hsbd_spheres_stats stats_at_start = s->stats;
+        memcpy(s->x_start, s->x, 3 * s->n * sizeof *s->x);
+        if (run_events(s)) return fail_step(s, &stats_at_start);
     }
+    if (s->sort_enabled) s->sort_clock += s->diffusion_max * s->dt;
     finish_step(s);
     s->step++;
     s->stats.steps++;
     s->time += s->dt;
+    return HSBD_OK;
 }
 
 /* ---- views and diagnostics ---- */

@@ -24,9 +24,9 @@ double hsbd_spheres_contact_time(const double r[3], const double v[3], double s,
 
 /* ---- predictions ---- */
 
-void sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j) {
+int sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j) {
     const sph_event e = {t, i, j, s->counter[i], j >= 0 ? s->counter[j] : 0};
-    if (sph_calendar_push(&s->calendar, e)) s->oom = 1;
+    return sph_calendar_push(&s->calendar, e);
 }
 
 uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t) {

@@ -5,8 +5,9 @@
 
 #include "spheres/state.h"
 
-/* Event (i, j) at time t into s->calendar, with the particles' collision counters. */
-void sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j);
+/* Event (i, j) at time t into s->calendar, with the particles' collision counters.
+ * Returns 0, or -1 when out of memory. */
+int sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j);
 /* The time (>= t) at which i, at local time t, leaves its shell before dt; -1 if never. */
 double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t);
 /* i (at time t) against its row: the neighbours it reaches inside [t, dt) into

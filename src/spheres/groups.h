@@ -12,13 +12,17 @@
 
 /* Whether this step should run group by group (the parameters, N, recent re-runs). */
 int sph_groups_wanted(hsbd_spheres *s);
-/* A new step: 0, or -1 when out of memory (then use the global calendar). */
+/* A new step. Returns 0, or -1 when out of memory. */
 int sph_groups_begin(hsbd_spheres *s);
-/* A start-of-step event: a pair predicted to touch, or a shell exit (j = SPH_EVENT_SHELL). */
-void sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j);
-/* Runs every group; returns 0, or 1 when it left the step to the global calendar (its
- * events pushed there: the groups were too large). */
+/* A start-of-step event: a pair predicted to touch, or a shell exit (j = SPH_EVENT_SHELL).
+ * Returns 0, or -1 when out of memory. */
+int sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j);
+/* Runs every group; returns 0, 1 when it left the step to the global calendar (its
+ * events pushed there: the groups were too large), or -1 when out of memory (the step
+ * is then cut short: the caller puts the particles back and calls sph_groups_abandon). */
 int sph_groups_run(hsbd_spheres *s);
+/* Forgets the shells moved inside a step that failed (the neighbour lists are rebuilt). */
+void sph_groups_abandon(hsbd_spheres *s);
 /* Frees the groups' state (NULL allowed). */
 void sph_groups_free(sph_groups *g);
 

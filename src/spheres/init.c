@@ -337,13 +337,12 @@ static int compress_from_rsi(hsbd_spheres *s, const double *final, double *growt
         /* a few collisions per particle and step: shorter steps as the gaps close */
         const uint64_t before = s->stats.collisions;
         hsbd_spheres_set_dt(s, dt);
-        hsbd_spheres_step(s);
+        if ((rc = hsbd_spheres_step(s)) != HSBD_OK) break;
         const double per_particle = (double)(s->stats.collisions - before) / (double)s->n;
         if (per_particle > 10) dt *= 0.5;
         if (per_particle < 2) dt = fmin(dt_max, 1.25 * dt);
     }
-    return rc == HSBD_ENOMEM ? hsbd_error_set(err, rc, "spheres: out of memory (neighbour lists)")
-                             : rc;
+    return rc == HSBD_ENOMEM ? hsbd_error_set(err, rc, "spheres: out of memory (compression)") : rc;
 }
 
 int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err) {

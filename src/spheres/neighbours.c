@@ -40,11 +40,8 @@ static int nb_grow(hsbd_spheres *s) {
 
 /* Row i holds its neighbours j > i first (nb_upper of them), then the others: the
  * per-step half scan then runs without a branch per entry. */
-void sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
-    if (s->nb_count[i] == s->nb_cap && nb_grow(s)) {
-        s->oom = 1;
-        return;
-    }
+int sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
+    if (s->nb_count[i] == s->nb_cap && nb_grow(s)) return -1;
     int32_t *row = s->nb + (size_t)i * s->nb_cap;
     const uint32_t c = s->nb_count[i]++;
     if (j > i) {
@@ -54,6 +51,7 @@ void sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
     } else {
         row[c] = j;
     }
+    return 0;
 }
 
 void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
@@ -73,47 +71,46 @@ void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
     s->nb_count[i] = c - 1;
 }
 
-uint32_t sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *point_sigma,
-                         int32_t i) {
+int sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *point_sigma, int32_t i,
+                    uint32_t *found) {
     const size_t room = 27 * (size_t)cells->cap + SPH_NEAR_PAD;
     if (room > s->near_cap) {
         int32_t *near = realloc(s->near, room * sizeof *near);
-        if (!near) {
-            s->oom = 1;
-            return 0;
-        }
+        if (!near) return -1;
         s->near = near;
         s->near_cap = room;
     }
     const double *ci = s->centre + 3 * (size_t)i;
     int32_t around[27];
     const int nc = hsbd_cells_around(cells, ci, around);
-    return s->cells_near(cells, around, nc, ci, s->box, point_sigma,
-                         0.5 * s->sigma[i] + 2 * s->shell, s->near);
+    *found = s->cells_near(cells, around, nc, ci, s->box, point_sigma,
+                           0.5 * s->sigma[i] + 2 * s->shell, s->near);
+    return 0;
 }
 
 /* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
  * sigma_ij + 2 shell (j > i only when upper_only), to both rows. */
-static void add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
-    const uint32_t found = sph_shells_near(s, &s->cells, s->sigma, i);
+static int add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
+    uint32_t found;
+    if (sph_shells_near(s, &s->cells, s->sigma, i, &found)) return -1;
     for (uint32_t k = 0; k < found; ++k) {
         const int32_t j = s->near[k];
         if (upper_only && j <= i) continue;
-        sph_nb_add(s, i, j);
-        sph_nb_add(s, j, i);
+        if (sph_nb_add(s, i, j) || sph_nb_add(s, j, i)) return -1;
     }
+    return 0;
 }
 
-void sph_recentre(hsbd_spheres *s, int32_t i) {
+int sph_recentre(hsbd_spheres *s, int32_t i) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     for (uint32_t k = 0; k < s->nb_count[i]; ++k)
         sph_nb_remove(s, row[k], i);
     s->nb_count[i] = s->nb_upper[i] = 0;
     hsbd_cells_remove(&s->cells, i);
     sph_set_centre(s, i);
-    add_shell_neighbours(s, i, 0);
-    if (hsbd_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i)) s->oom = 1;
     s->stats.shell_updates++;
+    if (add_shell_neighbours(s, i, 0)) return -1;
+    return hsbd_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i);
 }
 
 int sph_rebuild_neighbours(hsbd_spheres *s) {
@@ -121,11 +118,13 @@ int sph_rebuild_neighbours(hsbd_spheres *s) {
     hsbd_cells_clear(&s->cells);
     for (size_t i = 0; i < s->n; ++i)
         s->nb_count[i] = s->nb_upper[i] = 0;
+    s->nb_stale = 1; /* until every pair is in */
     for (size_t i = 0; i < s->n; ++i) {
         sph_set_centre(s, (int32_t)i);
-        if (hsbd_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) s->oom = 1;
+        if (hsbd_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) return HSBD_ENOMEM;
     }
     for (size_t i = 0; i < s->n; ++i)
-        add_shell_neighbours(s, (int32_t)i, 1);
-    return s->oom ? HSBD_ENOMEM : HSBD_OK;
+        if (add_shell_neighbours(s, (int32_t)i, 1)) return HSBD_ENOMEM;
+    s->nb_stale = 0;
+    return HSBD_OK;
 }

@@ -22,6 +22,7 @@ struct hsbd_spheres {
     double box[3], inv_box[3];
     /* per particle (x, v, centre, image: 3 per particle; z = 0 in 2D) */
     double *x;       /* position at the particle's local time t_local (wrapped at step ends) */
+    double *x_start; /* x at the start of the step: put back when the step fails */
     double *v;       /* fictive velocity of the current step */
     double *t_local; /* time within the step of x */
     double *centre;  /* neighbour-shell centre (wrapped) */
@@ -36,6 +37,7 @@ struct hsbd_spheres {
     uint32_t nb_cap;
     uint32_t *nb_count, *nb_upper; /* entries of each row; those with j > i (first) */
     int32_t *nb;                   /* n x nb_cap */
+    int nb_stale;                  /* the rows miss pairs (out of memory): rebuild them */
     hsbd_cells cells;              /* of the shell centres, cells >= sigma_max + 2 shell wide */
     sph_calendar calendar;
     sph_predict_row_fn predict_row; /* scalar or AVX2 (the same results) */
@@ -61,7 +63,6 @@ struct hsbd_spheres {
     int64_t *user_image;
     int *user_species;
     sph_groups *groups; /* local event processing (groups.c); NULL until first used */
-    int oom;            /* an allocation failed inside a step (the step is then not exact) */
     hsbd_spheres_stats stats;
 };
 

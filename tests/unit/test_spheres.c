@@ -394,7 +394,7 @@ static void run_no_overlap(const char *name, hsbd_spheres_params p, int lattice,
     CHECK(brute_min_gap(&v) >= -1e-9, "%s: initial overlap %g", name, brute_min_gap(&v));
     double worst = INFINITY;
     for (int k = 0; k < steps; ++k) {
-        hsbd_spheres_step(s);
+        CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
         if (k % 10 == 9) {
             v = hsbd_spheres_get_view(s);
             const double g = brute_min_gap(&v);
@@ -473,11 +473,11 @@ static void test_reproducible(void) {
     CHECK(hsbd_spheres_init_random(a, &err) == HSBD_OK, "init: %s", err.message);
     CHECK(hsbd_spheres_init_random(b, &err) == HSBD_OK, "init: %s", err.message);
     for (int k = 0; k < 100; ++k) {
-        hsbd_spheres_step(a);
-        if (k < 50) hsbd_spheres_step(b);
+        CHECK(hsbd_spheres_step(a) == HSBD_OK, "step");
+        if (k < 50) CHECK(hsbd_spheres_step(b) == HSBD_OK, "step");
     }
     for (int k = 50; k < 100; ++k)
-        hsbd_spheres_step(b);
+        CHECK(hsbd_spheres_step(b) == HSBD_OK, "step");
     const hsbd_spheres_view va = hsbd_spheres_get_view(a), vb = hsbd_spheres_get_view(b);
     CHECK(!memcmp(va.x, vb.x, 3 * p.n * sizeof *va.x), "two objects, same seed: positions differ");
     CHECK(!memcmp(va.image, vb.image, 3 * p.n * sizeof *va.image), "image counters differ");
@@ -528,8 +528,8 @@ static void test_spatial_order(void) {
     CHECK(hsbd_spheres_init_random(a, &err) == HSBD_OK, "init: %s", err.message);
     CHECK(hsbd_spheres_init_random(b, &err) == HSBD_OK, "init: %s", err.message);
     for (int k = 0; k < 400; ++k) { /* D t = 0.4: the order is sorted four times */
-        hsbd_spheres_step(a);
-        hsbd_spheres_step(b);
+        CHECK(hsbd_spheres_step(a) == HSBD_OK, "step");
+        CHECK(hsbd_spheres_step(b) == HSBD_OK, "step");
     }
     const hsbd_spheres_view va = hsbd_spheres_get_view(a), vb = hsbd_spheres_get_view(b);
     CHECK(!memcmp(va.x, vb.x, 3 * p.n * sizeof *va.x) &&
@@ -572,8 +572,8 @@ static void compare_event_orders(const char *name, hsbd_spheres_params p, int st
     CHECK(hsbd_spheres_init_lattice(a, &err) == HSBD_OK, "%s: init: %s", name, err.message);
     CHECK(hsbd_spheres_init_lattice(b, &err) == HSBD_OK, "%s: init: %s", name, err.message);
     for (int k = 0; k < steps; ++k) {
-        hsbd_spheres_step(a);
-        hsbd_spheres_step(b);
+        CHECK(hsbd_spheres_step(a) == HSBD_OK, "step");
+        CHECK(hsbd_spheres_step(b) == HSBD_OK, "step");
     }
     const hsbd_spheres_view va = hsbd_spheres_get_view(a), vb = hsbd_spheres_get_view(b);
     CHECK(!memcmp(va.x, vb.x, 3 * p.n * sizeof *va.x) &&
@@ -741,7 +741,7 @@ static void compress_case(const char *name, int dim, size_t n, double phi, doubl
         CHECK(v.step == 0 && v.time == 0 && v.dt == 1e-3, "%s: clock or dt not reset", name);
         CHECK(brute_min_gap(&v) >= -1e-9, "%s: overlap %g", name, brute_min_gap(&v));
         for (int k = 0; k < 50; ++k)
-            hsbd_spheres_step(s);
+            CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
         v = hsbd_spheres_get_view(s);
         CHECK(brute_min_gap(&v) >= -1e-9, "%s: overlap %g after 50 steps", name, brute_min_gap(&v));
     }

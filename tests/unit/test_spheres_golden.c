@@ -99,7 +99,7 @@ static uint64_t run_case(const golden_case *c, hsbd_spheres_event_order order) {
     }
     CHECK(rc == HSBD_OK, "%s: init: %s", c->name, err.message);
     for (int k = 0; k < c->steps && rc == HSBD_OK; ++k)
-        hsbd_spheres_step(s);
+        CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
     const uint64_t h = state_hash(s);
     const hsbd_spheres_stats st = hsbd_spheres_get_stats(s);
     CHECK(!p.hard_core || st.collisions > 0, "%s: no collisions", c->name);
