@@ -214,12 +214,12 @@ static double bench_rate(const bench_case *c, int hard_core, int contact_rule, d
     hsbd_rods_init_equilibrium(r);
     uint64_t batch = 1 + (uint64_t)(2e6 / (double)n), steps = 0;
     for (uint64_t k = 0; k < batch; ++k)
-        hsbd_rods_step(r, NULL); /* warm-up */
+        if (hsbd_rods_step(r, NULL) != HSBD_OK) return hsbd_rods_free(r), NAN; /* warm-up */
     const double t0 = now_seconds();
     double t = t0;
     while (t - t0 < seconds) {
         for (uint64_t k = 0; k < batch; ++k)
-            hsbd_rods_step(r, NULL);
+            if (hsbd_rods_step(r, NULL) != HSBD_OK) return hsbd_rods_free(r), NAN;
         steps += batch;
         t = now_seconds();
     }
@@ -268,14 +268,14 @@ static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, doubl
      * capacity the fluid needs (a short warm-up measured a lattice-like state at N 1e5) */
     const uint64_t warm = (uint64_t)fmax(5.0 * (double)batch, ceil(0.3 / c->dt));
     for (uint64_t k = 0; k < warm; ++k)
-        hsbd_spheres_step(s);
+        if (hsbd_spheres_step(s) != HSBD_OK) return hsbd_spheres_free(s), NAN;
     hsbd_spheres_reset_stats(s);
     uint64_t steps = 0;
     const double t0 = now_seconds();
     double t = t0;
     while (t - t0 < seconds) {
         for (uint64_t k = 0; k < batch; ++k)
-            hsbd_spheres_step(s);
+            if (hsbd_spheres_step(s) != HSBD_OK) return hsbd_spheres_free(s), NAN;
         steps += batch;
         t = now_seconds();
     }

@@ -116,8 +116,9 @@ int hsbd_rods_set_positions(hsbd_rods *rods, const double *x, hsbd_error *err);
 /* Change the time step (e.g. after a coarse equilibration); dt > 0. */
 void hsbd_rods_set_dt(hsbd_rods *rods, double dt);
 
-/* One BCD step of length dt; stats may be NULL. */
-void hsbd_rods_step(hsbd_rods *rods, hsbd_rods_step_stats *stats);
+/* One BCD step of length dt; stats may be NULL. Returns HSBD_OK: the step allocates
+ * nothing and cannot fail (an int like hsbd_spheres_step, whose steps can). */
+int hsbd_rods_step(hsbd_rods *rods, hsbd_rods_step_stats *stats);
 
 /* Clusters of touching rods after the last step: count and sizes (first cluster is the
  * one containing or following rod 0). Valid for hard-core runs after a step. */

@@ -93,6 +93,11 @@ typedef struct hsbd_spheres_view {
 
 typedef struct hsbd_spheres hsbd_spheres;
 
+/* Errors: every function that allocates returns HSBD_ENOMEM (and sets err, where it has
+ * one) when memory runs out; the object then stays valid to free. After a failed
+ * initialisation (init_*, set_positions) the positions are unspecified: initialise again
+ * before stepping. */
+
 /* Checks the parameters (N >= 1, dimension 2 or 3, sigma > 0, D >= 0 with some D > 0,
  * kT > 0, dt > 0, every box length >= 2 (sigma_max + 2 shell)); NULL on error with
  * HSBD_EINPUT and a message naming the parameter. */
@@ -129,8 +134,13 @@ int hsbd_spheres_draw_diameters(uint64_t seed, size_t n, const double *mean, dou
 double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t n,
                                      const double *sigma);
 
-/* One EDBD step of length dt. */
-void hsbd_spheres_step(hsbd_spheres *s);
+/* One EDBD step of length dt. Returns HSBD_OK, or HSBD_ENOMEM when an allocation failed
+ * inside the step. A step is exact or fails as a whole: after an error the object holds
+ * the state at the start of the failed step (positions, image counters, clock, statistics;
+ * views show it), and it can be freed, read, or stepped again (the same step: its noise
+ * follows the step number; the shells are rebuilt first, so the retried step agrees with
+ * an uninterrupted run to round-off, not bit for bit). */
+int hsbd_spheres_step(hsbd_spheres *s);
 void hsbd_spheres_set_dt(hsbd_spheres *s, double dt);
 
 hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s);
@@ -140,7 +150,8 @@ void hsbd_spheres_reset_stats(hsbd_spheres *s);
 double hsbd_spheres_shell(const hsbd_spheres *s);
 
 /* Smallest surface gap over all pairs within reach, relative to sigma_ij (negative:
- * overlap), and whether every coordinate is finite. Uses the neighbour lists: O(N). */
+ * overlap), and whether every coordinate is finite. Uses the neighbour lists: O(N) (when
+ * memory ran out even for rebuilding them after a failed step, the pairs still listed). */
 double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite);
 
 /* The Brownian collision rule on the normal components (Scala Sec. III; elastic with

@@ -558,7 +558,7 @@ static int equilibrate(run_state *s, hsbd_error *err) {
     const double t0 = hsbd_wall_seconds();
     int rc = HSBD_OK;
     for (uint64_t k = 0; k < n; ++k) {
-        hsbd_rods_step(s->rods, NULL);
+        if ((rc = hsbd_rods_step(s->rods, NULL)) != HSBD_OK) break;
         s->equil_done += 1; /* over all replicas */
         if (s->opt->check && (rc = check_hard_core(s, err)) != HSBD_OK) break;
         if ((k & 255) == 0) {
@@ -626,7 +626,7 @@ static int produce(run_state *s, hsbd_error *err) {
         if (replica_due(s, k) && (rc = start_replica(s, err)) != HSBD_OK) break;
         const int sample = (k + 1) % every == 0;
         hsbd_rods_step_stats st;
-        hsbd_rods_step(s->rods, sample && hard ? &st : NULL);
+        if ((rc = hsbd_rods_step(s->rods, sample && hard ? &st : NULL)) != HSBD_OK) break;
         s->steps_done = k + 1;
         if (s->opt->check && (rc = check_hard_core(s, err)) != HSBD_OK) break;
         if (sample) {

@@ -308,7 +308,11 @@ static int equilibrate(sphere_run *s, hsbd_error *err) {
     const double c0 = cpu_seconds();
     int rc = HSBD_OK;
     for (uint64_t k = 0; k < n; ++k) {
-        hsbd_spheres_step(s->sys);
+        if ((rc = hsbd_spheres_step(s->sys)) != HSBD_OK) {
+            rc = hsbd_error_set(err, rc, "spheres: out of memory in step %llu",
+                                (unsigned long long)hsbd_spheres_get_view(s->sys).step);
+            break;
+        }
         s->equil_done = k + 1;
         if (s->opt->check && (rc = check_state(s, 1, err)) != HSBD_OK) break;
         if ((k & 255) == 0) {
@@ -339,7 +343,11 @@ static int produce(sphere_run *s, hsbd_error *err) {
     const double c0 = cpu_seconds(), w0 = hsbd_wall_seconds();
     int rc = HSBD_OK;
     for (uint64_t k = 0; k < n; ++k) {
-        hsbd_spheres_step(s->sys);
+        if ((rc = hsbd_spheres_step(s->sys)) != HSBD_OK) {
+            rc = hsbd_error_set(err, rc, "spheres: out of memory in step %llu",
+                                (unsigned long long)hsbd_spheres_get_view(s->sys).step);
+            break;
+        }
         s->steps_done = k + 1;
         if (s->opt->check && (rc = check_state(s, 1, err)) != HSBD_OK) break;
         if ((k + 1) % every == 0) {

@@ -12,9 +12,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/cellgrid.h"
+#include "core/periodic.h"
 #include "hsbd/observe.h"
-#include "spheres/cells.h"
-#include "spheres/kernels.h"
 
 enum { GR_FIT_BINS = 10 };
 static const double HSBD_PI = 3.14159265358979323846;
@@ -27,7 +27,7 @@ struct hsbd_gr {
     double *weight;   /* npairs: C_ab of Z = 1 + sum_ab C_ab g_ab */
     hsbd_blocks *blocks;
     size_t nblocks;
-    sph_cells cells;
+    hsbd_cells cells;
     double *acc; /* counts of the current sample */
 };
 
@@ -60,7 +60,7 @@ void hsbd_gr_free(hsbd_gr *g) {
     free(g->expected);
     free(g->acc);
     hsbd_blocks_free(g->blocks);
-    sph_cells_free(&g->cells);
+    hsbd_cells_free(&g->cells);
     free(g);
 }
 
@@ -134,7 +134,7 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
     g->blocks = hsbd_blocks_alloc(g->npairs * row, nblocks, nsamples_total);
     g->nblocks = nblocks;
     if (!g->weight || !g->expected || !g->acc || !g->blocks ||
-        sph_cells_init(&g->cells, g->dim, g->box, g->r_max, g->n)) {
+        hsbd_cells_init(&g->cells, g->dim, g->box, g->r_max, g->n)) {
         hsbd_gr_free(g);
         return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
     }
@@ -155,22 +155,22 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
 int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
     const size_t row = g->bins + GR_FIT_BINS;
     memset(g->acc, 0, g->npairs * row * sizeof *g->acc);
-    sph_cells_clear(&g->cells);
+    hsbd_cells_clear(&g->cells);
     for (size_t i = 0; i < g->n; ++i)
-        if (sph_cells_insert(&g->cells, (int32_t)i, v->x + 3 * i)) return HSBD_ENOMEM;
+        if (hsbd_cells_insert(&g->cells, (int32_t)i, v->x + 3 * i)) return HSBD_ENOMEM;
     const double rmax2 = g->r_max * g->r_max, inv_w = 1.0 / g->width;
     const double h_inv = GR_FIT_BINS / g->fit_width;
     for (size_t i = 0; i < g->n; ++i) {
         int32_t around[27];
-        const int nc = sph_cells_around(&g->cells, v->x + 3 * i, around);
+        const int nc = hsbd_cells_around(&g->cells, v->x + 3 * i, around);
         const double *xi = v->x + 3 * i;
         for (int q = 0; q < nc; ++q)
-            for (uint32_t u = 0; u < sph_cells_count(&g->cells, around[q]); ++u) {
-                const int32_t j = sph_cells_ids(&g->cells, around[q])[u];
+            for (uint32_t u = 0; u < hsbd_cells_count(&g->cells, around[q]); ++u) {
+                const int32_t j = hsbd_cells_ids(&g->cells, around[q])[u];
                 if (j <= (int32_t)i) continue;
                 double r2 = 0;
                 for (int a = 0; a < g->dim; ++a) {
-                    const double d = sph_wrap_delta(v->x[3 * (size_t)j + a] - xi[a], g->box[a]);
+                    const double d = hsbd_wrap_delta(v->x[3 * (size_t)j + a] - xi[a], g->box[a]);
                     r2 += d * d;
                 }
                 if (r2 >= rmax2) continue;

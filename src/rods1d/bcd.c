@@ -491,7 +491,7 @@ static size_t blocks_size(const hsbd_rods *r, size_t a, size_t b) {
     return total;
 }
 
-void hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
+int hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
     compute_endpoints(r);
     if (r->par.hard_core) {
         const double *target = r->y;
@@ -516,6 +516,7 @@ void hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
     r->step += 1;
     r->time += r->par.dt;
     recenter(r);
+    return HSBD_OK;
 }
 
 void hsbd_rods_set_dt(hsbd_rods *r, double dt) {

@@ -6,24 +6,12 @@
 #include <string.h>
 
 #include "hsbd/rng.h"
-#include "spheres/internal.h"
-
-/* ---- collision rule and contact time (exposed for tests) ---- */
-
-void hsbd_spheres_collide(double di, double dj, const double n[3], double vi[3], double vj[3]) {
-    const double u = (vj[0] - vi[0]) * n[0] + (vj[1] - vi[1]) * n[1] + (vj[2] - vi[2]) * n[2];
-    const double dsum = di + dj;
-    if (!(u < 0) || !(dsum > 0)) return;
-    const double ai = 2.0 * di / dsum * u, aj = 2.0 * dj / dsum * u; /* masses 1/D: Sec. III */
-    for (int k = 0; k < 3; ++k) {
-        vi[k] += ai * n[k];
-        vj[k] -= aj * n[k];
-    }
-}
-
-double hsbd_spheres_contact_time(const double r[3], const double v[3], double s, double tmax) {
-    return sph_contact_time(r, v, s, tmax);
-}
+#include "spheres/events.h"
+#include "spheres/global.h"
+#include "spheres/groups.h"
+#include "spheres/neighbours.h"
+#include "spheres/order.h"
+#include "spheres/state.h"
 
 /* ---- parameters and allocation ---- */
 
@@ -119,6 +107,7 @@ static double default_shell(const hsbd_spheres *s, double dmax, double sigma_mea
 void hsbd_spheres_free(hsbd_spheres *s) {
     if (!s) return;
     free(s->x);
+    free(s->x_start);
     free(s->v);
     free(s->t_local);
     free(s->centre);
@@ -145,13 +134,14 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->user_sigma);
     free(s->user_diffusion);
     free(s->user_species);
-    sph_cells_free(&s->cells);
+    hsbd_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
-    sph_groups_free(&s->groups);
+    sph_groups_free(s->groups);
     free(s);
 }
 
-void sph_set_noise_amplitudes(hsbd_spheres *s) {
+/* The cached per-particle quantities that follow from dt and D: the noise amplitudes. */
+static void set_noise_amplitudes(hsbd_spheres *s) {
     for (size_t i = 0; i < s->n; ++i)
         s->noise_amp[i] = sqrt(2.0 * s->diffusion[i] / s->dt); /* v = dr/dt, <dr^2> = 2 D dt */
 }
@@ -213,7 +203,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->par.species_sigma = s->sp_sigma;
     s->par.species_diffusion = s->sp_diffusion;
     s->par.particle_sigma = s->par.particle_diffusion = NULL; /* s->sigma, s->diffusion hold them */
-    sph_set_noise_amplitudes(s);
+    set_noise_amplitudes(s);
     s->diffusion_max = dmax;
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
     const double reach = s->sigma_max + 2 * s->shell;
@@ -229,7 +219,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         }
     s->par.shell = s->shell;
     if (params->hard_core) {
-        if (sph_cells_init(&s->cells, s->dim, s->box, reach, n)) goto oom;
+        if (hsbd_cells_init(&s->cells, s->dim, s->box, reach, n)) goto oom;
         s->nb_cap = 16;
         s->nb_count = calloc(n, sizeof *s->nb_count);
         s->nb_upper = calloc(n, sizeof *s->nb_upper);
@@ -242,7 +232,8 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->scan_i = malloc(s->scan_cap * sizeof *s->scan_i);
         s->scan_j = malloc(s->scan_cap * sizeof *s->scan_j);
         s->scan_t = malloc(s->scan_cap * sizeof *s->scan_t);
-        if (!s->scan_i || !s->scan_j || !s->scan_t) goto oom;
+        s->x_start = malloc(3 * n * sizeof *s->x_start);
+        if (!s->scan_i || !s->scan_j || !s->scan_t || !s->x_start) goto oom;
         if (!params->keep_order) { /* the view's user-order copies */
             s->sort_enabled = 1;
             s->sort_clock = INFINITY; /* sort before the first step */
@@ -266,187 +257,7 @@ oom:
 void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
     s->dt = dt;
     s->par.dt = dt;
-    sph_set_noise_amplitudes(s);
-}
-
-/* ---- neighbour shells ---- */
-
-/* The next row capacity: about 1.5 times, a multiple of 4 and never a power of two from 32
- * on. Rows 128 or 256 bytes apart ran 25-30 % slower at N = 1e5 than rows of 96 to 192
- * bytes (bench/RESULTS.md); the first overflow came within a few hundred steps. */
-static uint32_t nb_next_cap(uint32_t cap) {
-    uint32_t next = cap + (cap / 2 + 3) / 4 * 4;
-    if ((next & (next - 1)) == 0) next += 4;
-    return next;
-}
-
-static int nb_grow(hsbd_spheres *s) {
-    const uint32_t cap = nb_next_cap(s->nb_cap);
-    if (cap > s->scan_cap) { /* the scans take at least one whole row */
-        int32_t *si = realloc(s->scan_i, cap * sizeof *si);
-        if (si) s->scan_i = si;
-        int32_t *sj = realloc(s->scan_j, cap * sizeof *sj);
-        if (sj) s->scan_j = sj;
-        double *st = realloc(s->scan_t, cap * sizeof *st);
-        if (st) s->scan_t = st;
-        if (!si || !sj || !st) return -1;
-        s->scan_cap = cap;
-    }
-    int32_t *nb = malloc(s->n * cap * sizeof *nb);
-    if (!nb) return -1;
-    for (size_t i = 0; i < s->n; ++i)
-        memcpy(nb + i * cap, s->nb + i * s->nb_cap, s->nb_count[i] * sizeof *nb);
-    free(s->nb);
-    s->nb = nb;
-    s->nb_cap = cap;
-    return 0;
-}
-
-/* Row i holds its neighbours j > i first (nb_upper of them), then the others: the
- * per-step half scan then runs without a branch per entry. */
-void sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
-    if (s->nb_count[i] == s->nb_cap && nb_grow(s)) {
-        s->oom = 1;
-        return;
-    }
-    int32_t *row = s->nb + (size_t)i * s->nb_cap;
-    const uint32_t c = s->nb_count[i]++;
-    if (j > i) {
-        const uint32_t up = s->nb_upper[i]++;
-        row[c] = row[up];
-        row[up] = j;
-    } else {
-        row[c] = j;
-    }
-}
-
-void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
-    int32_t *row = s->nb + (size_t)i * s->nb_cap;
-    const uint32_t c = s->nb_count[i];
-    uint32_t k = c;
-    for (uint32_t q = 0; q < c; ++q) /* no early exit: the position is unpredictable */
-        k = row[q] == j ? q : k;
-    if (k == c) return;
-    if (j > i) { /* keep the partition: last upper entry fills the hole */
-        const uint32_t up = --s->nb_upper[i];
-        row[k] = row[up];
-        row[up] = row[c - 1];
-    } else {
-        row[k] = row[c - 1];
-    }
-    s->nb_count[i] = c - 1;
-}
-
-uint32_t sph_shells_near(hsbd_spheres *s, const sph_cells *cells, const double *point_sigma,
-                         int32_t i) {
-    const size_t room = 27 * (size_t)cells->cap + SPH_NEAR_PAD;
-    if (room > s->near_cap) {
-        int32_t *near = realloc(s->near, room * sizeof *near);
-        if (!near) {
-            s->oom = 1;
-            return 0;
-        }
-        s->near = near;
-        s->near_cap = room;
-    }
-    const double *ci = s->centre + 3 * (size_t)i;
-    int32_t around[27];
-    const int nc = sph_cells_around(cells, ci, around);
-    return s->cells_near(cells, around, nc, ci, s->box, point_sigma,
-                         0.5 * s->sigma[i] + 2 * s->shell, s->near);
-}
-
-/* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
- * sigma_ij + 2 shell (j > i only when upper_only), to both rows. */
-static void add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
-    const uint32_t found = sph_shells_near(s, &s->cells, s->sigma, i);
-    for (uint32_t k = 0; k < found; ++k) {
-        const int32_t j = s->near[k];
-        if (upper_only && j <= i) continue;
-        sph_nb_add(s, i, j);
-        sph_nb_add(s, j, i);
-    }
-}
-
-/* Moves i's shell to its current position and finds its neighbours (only i's pairs). */
-static void recentre(hsbd_spheres *s, int32_t i) {
-    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
-    for (uint32_t k = 0; k < s->nb_count[i]; ++k)
-        sph_nb_remove(s, row[k], i);
-    s->nb_count[i] = s->nb_upper[i] = 0;
-    sph_cells_remove(&s->cells, i);
-    sph_set_centre(s, i);
-    add_shell_neighbours(s, i, 0);
-    if (sph_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i)) s->oom = 1;
-    s->stats.shell_updates++;
-}
-
-int sph_rebuild_neighbours(hsbd_spheres *s) {
-    if (!s->par.hard_core) return HSBD_OK;
-    sph_cells_clear(&s->cells);
-    for (size_t i = 0; i < s->n; ++i)
-        s->nb_count[i] = s->nb_upper[i] = 0;
-    for (size_t i = 0; i < s->n; ++i) {
-        sph_set_centre(s, (int32_t)i);
-        if (sph_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) s->oom = 1;
-    }
-    for (size_t i = 0; i < s->n; ++i)
-        add_shell_neighbours(s, (int32_t)i, 1);
-    return s->oom ? HSBD_ENOMEM : HSBD_OK;
-}
-
-/* ---- event prediction ---- */
-
-void sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j) {
-    const sph_event e = {t, i, j, s->counter[i], j >= 0 ? s->counter[j] : 0};
-    if (sph_calendar_push(&s->calendar, e)) s->oom = 1;
-}
-
-uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t) {
-    sph_row_query q = {.x = s->x,
-                       .v = s->v,
-                       .t_local = s->t_local,
-                       .sigma = s->sigma,
-                       .sigma_i = s->sigma[i],
-                       .t = t,
-                       .tmax = s->dt - t};
-    sph_position_at(s, i, t, q.xi);
-    for (int a = 0; a < 3; ++a) {
-        q.box[a] = s->box[a];
-        q.vi[a] = s->v[3 * (size_t)i + a];
-    }
-    return s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, s->nb_count[i], s->scan_j, s->scan_t);
-}
-
-/* Collisions of i (at time t) with its neighbours inside [t, dt): into the calendar. */
-static void predict_row(hsbd_spheres *s, int32_t i, double t) {
-    const uint32_t hits = sph_row_hits(s, i, t);
-    for (uint32_t k = 0; k < hits; ++k)
-        sph_push_event(s, t + s->scan_t[k], i, s->scan_j[k]);
-}
-
-double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t) {
-    double d[3];
-    sph_min_image(s, s->x + 3 * (size_t)i, s->centre + 3 * (size_t)i, d);
-    const double *v = s->v + 3 * (size_t)i;
-    const double T = s->dt - t, r2 = s->shell * s->shell;
-    double e[3] = {d[0] + v[0] * T, d[1] + v[1] * T, d[2] + v[2] * T};
-    if (sph_dot3(e, e) <= r2) return -1; /* the straight path stays inside (convex ball) */
-    const double vv = sph_dot3(v, v), b = sph_dot3(d, v), c = sph_dot3(d, d) - r2;
-    double h = (-b + sqrt(b * b - vv * c)) / vv; /* c < 0: one positive root */
-    if (!(h >= 0)) h = 0;
-    return t + h;
-}
-
-/* When i (at local time t) would leave its shell before dt: schedule that. */
-static void predict_shell_exit(hsbd_spheres *s, int32_t i, double t) {
-    const double exit = sph_shell_exit_time(s, i, t);
-    if (exit >= 0) sph_push_event(s, exit, i, SPH_EVENT_SHELL);
-}
-
-static void predict_particle(hsbd_spheres *s, int32_t i, double t) {
-    predict_row(s, i, t);
-    predict_shell_exit(s, i, t);
+    set_noise_amplitudes(s);
 }
 
 /* ---- the step ---- */
@@ -464,29 +275,28 @@ static void draw_velocities(hsbd_spheres *s) {
     }
 }
 
-/* A start-of-step event: into the calendar, or into the groups' hit list. */
-static void start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_t j) {
-    if (grouped)
-        sph_groups_add_hit(s, t, i, j);
-    else
-        sph_push_event(s, t, i, j);
+/* A start-of-step event: into the calendar, or into the groups' hit list. Returns 0, or
+ * -1 when out of memory. */
+static int start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_t j) {
+    return grouped ? sph_groups_add_hit(s, t, i, j) : sph_push_event(s, t, i, j);
 }
 
 /* Re-centre the shells of particles whose straight end point would leave them, then
- * predict every neighbour pair once (half scan) and the rare shell exits. */
-static void start_step_events(hsbd_spheres *s, int grouped) {
+ * predict every neighbour pair once (half scan) and the rare shell exits. Returns 0, or
+ * -1 when out of memory. */
+static int start_step_events(hsbd_spheres *s, int grouped) {
     const double dt = s->dt, r2 = s->shell * s->shell;
     const size_t n = s->n;
-    if (!grouped && sph_calendar_start(&s->calendar, dt)) s->oom = 1;
+    if (!grouped && sph_calendar_start(&s->calendar, dt)) return -1;
     for (size_t i = 0; i < n; ++i) {
         double d[3];
         sph_min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
         const double *v = s->v + 3 * i;
         const double e[3] = {d[0] + v[0] * dt, d[1] + v[1] * dt, d[2] + v[2] * dt};
-        if (sph_dot3(e, e) > r2) {
-            recentre(s, (int32_t)i);
+        if (hsbd_dot3(e, e) > r2) {
+            if (sph_recentre(s, (int32_t)i)) return -1;
             const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
-            if (exit >= 0) start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL);
+            if (exit >= 0 && start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
         }
     }
     const sph_scan_query q = {.x = s->x,
@@ -503,53 +313,31 @@ static void start_step_events(hsbd_spheres *s, int grouped) {
             pairs += s->nb_upper[i1++];
         const uint32_t hits = s->half_scan(&q, i0, i1, s->scan_i, s->scan_j, s->scan_t);
         for (uint32_t k = 0; k < hits; ++k)
-            start_event(s, grouped, s->scan_t[k], s->scan_i[k], s->scan_j[k]);
+            if (start_event(s, grouped, s->scan_t[k], s->scan_i[k], s->scan_j[k])) return -1;
         i0 = i1;
     }
+    return 0;
 }
 
-int sph_collide_pair(hsbd_spheres *s, const sph_event *e, double *virial) {
-    const int32_t i = e->i, j = e->j;
-    sph_advance(s, i, e->t);
-    sph_advance(s, j, e->t);
-    double r[3];
-    sph_min_image(s, s->x + 3 * (size_t)j, s->x + 3 * (size_t)i, r);
-    const double dist = sqrt(sph_dot3(r, r));
-    const double nrm[3] = {r[0] / dist, r[1] / dist, r[2] / dist};
-    double *vi = s->v + 3 * (size_t)i, *vj = s->v + 3 * (size_t)j;
-    const double u = (vj[0] - vi[0]) * nrm[0] + (vj[1] - vi[1]) * nrm[1] + (vj[2] - vi[2]) * nrm[2];
-    if (!(u < 0)) return 0; /* separating already (round-off): nothing to do */
-    const double di = s->diffusion[i], dj = s->diffusion[j];
-    hsbd_spheres_collide(di, dj, nrm, vi, vj);
-    /* sigma_ij times the displacement change of j along n over D_j: impulse / kT */
-    *virial = sph_contact_distance(s, i, j) * (-2.0 * u / (di + dj)) * (s->dt - e->t);
-    s->counter[i]++;
-    s->counter[j]++;
-    return 1;
+/* Every event of the step, group by group or through the global calendar. Returns 0, or
+ * -1 when out of memory (the step is then cut short). */
+static int run_events(hsbd_spheres *s) {
+    const int grouped = sph_groups_wanted(s);
+    if ((grouped && sph_groups_begin(s)) || start_step_events(s, grouped)) return -1;
+    const int rc = grouped ? sph_groups_run(s) : 1;
+    return rc < 0 ? -1 : rc == 1 ? sph_global_run(s) : 0;
 }
 
-static void process_collision(hsbd_spheres *s, const sph_event *e) {
-    const int32_t i = e->i, j = e->j;
-    double virial;
-    if (!sph_collide_pair(s, e, &virial)) return;
-    s->stats.virial += virial;
-    s->stats.collisions++;
-    predict_particle(s, i, e->t);
-    predict_particle(s, j, e->t);
-}
-
-void sph_run_events(hsbd_spheres *s) {
-    sph_event e;
-    while (sph_calendar_pop(&s->calendar, &e)) {
-        if (sph_event_stale(s, &e)) continue;
-        if (e.j == SPH_EVENT_SHELL) {
-            sph_advance(s, e.i, e.t);
-            recentre(s, e.i);
-            predict_particle(s, e.i, e.t);
-        } else {
-            process_collision(s, &e);
-        }
-    }
+/* After an allocation failed inside a step: back to the state at its start (positions,
+ * local times, statistics), the shells moved in it forgotten, and the neighbour lists
+ * rebuilt from the start positions (at the next step if that fails too). */
+static int fail_step(hsbd_spheres *s, const hsbd_spheres_stats *stats_at_start) {
+    memcpy(s->x, s->x_start, 3 * s->n * sizeof *s->x);
+    memset(s->t_local, 0, s->n * sizeof *s->t_local);
+    s->stats = *stats_at_start;
+    sph_groups_abandon(s);
+    sph_rebuild_neighbours(s); /* when it fails, nb_stale stays set */
+    return HSBD_ENOMEM;
 }
 
 /* Every particle to t = dt, wrapped into the box with image counters. */
@@ -576,26 +364,33 @@ static void finish_step(hsbd_spheres *s) {
 
 /* Sorted again once the fastest particle could have moved about half a cell (rms
  * displacement sqrt(0.6) sigma_max): often enough to keep neighbours near in memory,
- * rarely enough that the renumbering costs little (under 1 %, bench/RESULTS.md). */
-static void keep_spatial_order(hsbd_spheres *s) {
-    if (!s->sort_enabled) return;
-    if (s->sort_clock >= 0.1 * s->sigma_max * s->sigma_max && sph_sort_spatially(s) == 0)
-        s->sort_clock = 0;
-    s->sort_clock += s->diffusion_max * s->dt;
+ * rarely enough that the renumbering costs little (under 1 %, bench/RESULTS.md). The
+ * clock advances after each step that succeeded. Returns 0, or -1 when out of memory
+ * (then nothing changed). */
+static int keep_spatial_order(hsbd_spheres *s) {
+    if (!s->sort_enabled || s->sort_clock < 0.1 * s->sigma_max * s->sigma_max) return 0;
+    if (sph_sort_spatially(s)) return -1;
+    s->sort_clock = 0;
+    return 0;
 }
 
-void hsbd_spheres_step(hsbd_spheres *s) {
-    keep_spatial_order(s);
+int hsbd_spheres_step(hsbd_spheres *s) {
+    if (s->par.hard_core) {
+        if (s->nb_stale && sph_rebuild_neighbours(s) != HSBD_OK) return HSBD_ENOMEM;
+        if (keep_spatial_order(s)) return HSBD_ENOMEM;
+    }
     draw_velocities(s);
     if (s->par.hard_core) {
-        const int grouped = sph_groups_wanted(s) && sph_groups_begin(s) == 0;
-        start_step_events(s, grouped);
-        if (!grouped || sph_groups_run(s) != 0) sph_run_events(s);
+        const hsbd_spheres_stats stats_at_start = s->stats;
+        memcpy(s->x_start, s->x, 3 * s->n * sizeof *s->x);
+        if (run_events(s)) return fail_step(s, &stats_at_start);
     }
+    if (s->sort_enabled) s->sort_clock += s->diffusion_max * s->dt;
     finish_step(s);
     s->step++;
     s->stats.steps++;
     s->time += s->dt;
+    return HSBD_OK;
 }
 
 /* ---- views and diagnostics ---- */
@@ -650,7 +445,7 @@ double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite) {
             double r[3];
             sph_min_image(s, s->x + 3 * (size_t)j, s->x + 3 * i, r);
             const double sij = sph_contact_distance(s, (int32_t)i, j);
-            const double gap = (sqrt(sph_dot3(r, r)) - sij) / sij;
+            const double gap = (sqrt(hsbd_dot3(r, r)) - sij) / sij;
             if (gap < worst) worst = gap;
         }
     }

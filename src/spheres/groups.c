@@ -14,7 +14,50 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "spheres/internal.h"
+#include "spheres/events.h"
+#include "spheres/neighbours.h"
+
+/* One logged straight segment of a particle: from time t at position x with velocity v.
+ * The first segment of a particle in a step also keeps its shell centre c at the start. */
+typedef struct sph_segment {
+    double t, x[3], v[3], c[3];
+    int32_t prev;      /* earlier segment of the same particle, -1 for the first */
+    int32_t next_head; /* first segments only: the next particle's in the same group, -1 */
+    int32_t particle;
+} sph_segment;
+
+struct sph_groups {
+    size_t n;
+    /* union-find over particles: >= 0 parent; roots hold -1 (no group) or -2 - group */
+    int32_t *parent;
+    int32_t *last_segment; /* per particle, -1 while it is on its start-of-step path */
+    uint8_t *moved;        /* per particle: re-centred inside the step (extra shells) */
+    uint8_t *history;      /* per particle: its group ran and it has several segments */
+    /* the start-of-step hits (j = SPH_EVENT_SHELL for a shell exit), then by group */
+    size_t hit_cap, nhits;
+    int32_t *hit_i, *hit_j, *hit_group;
+    double *hit_t;
+    int32_t *by_i, *by_j;
+    double *by_t;
+    /* groups: their hits by_*[start, start + count), state, constituents, rollback data */
+    size_t group_cap, ngroups;
+    int32_t *start, *count, *state, *root, *next_part, *first_segment;
+    double *first_time, *virial;
+    uint64_t *collisions;
+    /* the segment log of the step */
+    sph_segment *seg;
+    size_t seg_cap, nseg;
+    /* shells added inside the step: a second grid of centres, entries -> particles */
+    hsbd_cells extra;
+    int32_t *extra_particle;
+    double *extra_sigma;
+    size_t extra_cap, nextra;
+    int32_t *moved_list;
+    size_t nmoved;
+    uint64_t replayed; /* events of the step in runs that ended in a join */
+    uint64_t played;   /* all events of the step */
+    unsigned pause;    /* AUTO: steps left on the global calendar after costly re-runs */
+};
 
 enum { GROUP_PENDING, GROUP_ACTIVE, GROUP_DONE, GROUP_JOINED };
 
@@ -33,12 +76,13 @@ int sph_groups_wanted(hsbd_spheres *s) {
     default:
         if (s->n < (s->par.groups_min_n ? s->par.groups_min_n : HSBD_SPHERES_GROUPS_MIN_N))
             return 0;
-        if (s->groups.pause) return s->groups.pause--, 0;
+        if (s->groups && s->groups->pause) return s->groups->pause--, 0;
         return 1;
     }
 }
 
 void sph_groups_free(sph_groups *g) {
+    if (!g) return;
     free(g->parent);
     free(g->last_segment);
     free(g->moved);
@@ -60,11 +104,11 @@ void sph_groups_free(sph_groups *g) {
     free(g->virial);
     free(g->collisions);
     free(g->seg);
-    sph_cells_free(&g->extra);
+    hsbd_cells_free(&g->extra);
     free(g->extra_particle);
     free(g->extra_sigma);
     free(g->moved_list);
-    memset(g, 0, sizeof *g);
+    free(g);
 }
 
 /* realloc of an array of `cap` elements of `size` bytes; the old one stays on failure */
@@ -76,9 +120,10 @@ static int grow_array(void *p, size_t cap, size_t size) {
 }
 
 static int alloc_particles(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
-    if (g->n == s->n) return 0;
+    if (s->groups) return 0;
     const size_t n = s->n;
+    sph_groups *g = calloc(1, sizeof *g);
+    if (!g) return -1;
     g->parent = malloc(n * sizeof *g->parent);
     g->last_segment = malloc(n * sizeof *g->last_segment);
     g->moved = calloc(n, sizeof *g->moved);
@@ -89,17 +134,18 @@ static int alloc_particles(hsbd_spheres *s) {
     g->extra_sigma = calloc(g->extra_cap, sizeof *g->extra_sigma);
     if (!g->parent || !g->last_segment || !g->moved || !g->history || !g->moved_list ||
         !g->extra_particle || !g->extra_sigma ||
-        sph_cells_init(&g->extra, s->dim, s->box, s->sigma_max + 2 * s->shell, g->extra_cap)) {
+        hsbd_cells_init(&g->extra, s->dim, s->box, s->sigma_max + 2 * s->shell, g->extra_cap)) {
         sph_groups_free(g);
         return -1;
     }
     g->n = n;
+    s->groups = g;
     return 0;
 }
 
 int sph_groups_begin(hsbd_spheres *s) {
     if (alloc_particles(s)) return -1;
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     memset(g->parent, 0xff, s->n * sizeof *g->parent); /* -1: a root without a group */
     memset(g->last_segment, 0xff, s->n * sizeof *g->last_segment);
     memset(g->history, 0, s->n * sizeof *g->history);
@@ -140,16 +186,14 @@ static int grow_hits(sph_groups *g) {
     return 0;
 }
 
-void sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j) {
-    sph_groups *g = &s->groups;
-    if (g->nhits == g->hit_cap && grow_hits(g)) {
-        s->oom = 1;
-        return;
-    }
+int sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j) {
+    sph_groups *g = s->groups;
+    if (g->nhits == g->hit_cap && grow_hits(g)) return -1;
     g->hit_i[g->nhits] = i;
     g->hit_j[g->nhits] = j;
     g->hit_t[g->nhits++] = t;
     if (j >= 0) unite(g, i, j);
+    return 0;
 }
 
 static int grow_groups(sph_groups *g) {
@@ -171,7 +215,7 @@ static int grow_groups(sph_groups *g) {
 /* Numbers the groups in the order of their first hit (memory order, so space order) and
  * sorts the hits by group. Returns the largest group's hit count, or -1 (out of memory). */
 static long number_groups(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     for (size_t k = 0; k < g->nhits; ++k) {
         const int32_t r = find_root(g, g->hit_i[k]);
         if (g->parent[r] == -1) {
@@ -210,13 +254,10 @@ static long number_groups(hsbd_spheres *s) {
 /* ---- the segment log ---- */
 
 static int32_t new_segment(hsbd_spheres *s, int32_t p, double t) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (g->nseg == g->seg_cap) {
         const size_t cap = g->seg_cap ? 2 * g->seg_cap : 1024;
-        if (grow_array(&g->seg, cap, sizeof *g->seg)) {
-            s->oom = 1;
-            return -1;
-        }
+        if (grow_array(&g->seg, cap, sizeof *g->seg)) return -1;
         g->seg_cap = cap;
     }
     sph_segment *e = &g->seg[g->nseg];
@@ -230,20 +271,22 @@ static int32_t new_segment(hsbd_spheres *s, int32_t p, double t) {
     return (int32_t)g->nseg++;
 }
 
-/* Before a particle of group a first moves in the step: log its start (for a re-run). */
-static void log_start(hsbd_spheres *s, int32_t a, int32_t p) {
-    sph_groups *g = &s->groups;
-    if (g->last_segment[p] >= 0) return;
+/* Before a particle of group a first moves in the step: log its start (for a re-run).
+ * Returns 0, or -1 when out of memory. */
+static int log_start(hsbd_spheres *s, int32_t a, int32_t p) {
+    sph_groups *g = s->groups;
+    if (g->last_segment[p] >= 0) return 0;
     const int32_t k = new_segment(s, p, 0.0);
-    if (k < 0) return;
+    if (k < 0) return -1;
     memcpy(g->seg[k].c, s->centre + 3 * (size_t)p, sizeof g->seg[k].c);
     g->seg[k].next_head = g->first_segment[a];
     g->first_segment[a] = k;
+    return 0;
 }
 
 /* Puts every particle group a moved back on its start-of-step line. */
 static void rewind_group(hsbd_spheres *s, int32_t a) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     for (int32_t k = g->first_segment[a]; k >= 0; k = g->seg[k].next_head) {
         const sph_segment *e = &g->seg[k];
         const int32_t p = e->particle;
@@ -259,7 +302,7 @@ static void rewind_group(hsbd_spheres *s, int32_t a) {
 
 /* Takes back what a finished group b did: its statistics, its particles' moves. */
 static void undo_group(hsbd_spheres *s, int32_t b) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     s->stats.collisions -= g->collisions[b];
     s->stats.virial -= g->virial[b];
     rewind_group(s, b);
@@ -268,7 +311,7 @@ static void undo_group(hsbd_spheres *s, int32_t b) {
 /* Group b joins the running group a, whose events then start again from the step's
  * start (b's results, if it ran, are undone). */
 static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (g->state[b] == GROUP_DONE) undo_group(s, b);
     rewind_group(s, a);
     g->parent[g->root[b]] = g->root[a];
@@ -280,21 +323,23 @@ static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
     s->stats.group_reruns++;
 }
 
-/* The start-of-step events of group b into the calendar. */
-static void push_group_hits(hsbd_spheres *s, int32_t b) {
-    const sph_groups *g = &s->groups;
+/* The start-of-step events of group b into the calendar. Returns 0, or -1 when out of
+ * memory (so do the functions below that return int). */
+static int push_group_hits(hsbd_spheres *s, int32_t b) {
+    const sph_groups *g = s->groups;
     for (int32_t k = g->start[b]; k < g->start[b] + g->count[b]; ++k)
-        sph_push_event(s, g->by_t[k], g->by_i[k], g->by_j[k]);
+        if (sph_push_event(s, g->by_t[k], g->by_i[k], g->by_j[k])) return -1;
+    return 0;
 }
 
 /* Group b, still on its start lines up to the present, joins the running group a. */
-static void join_pending(hsbd_spheres *s, int32_t a, int32_t b) {
-    sph_groups *g = &s->groups;
+static int join_pending(hsbd_spheres *s, int32_t a, int32_t b) {
+    sph_groups *g = s->groups;
     g->parent[g->root[b]] = g->root[a];
     g->state[b] = GROUP_JOINED;
     g->next_part[b] = g->next_part[a]; /* b has no parts of its own yet */
     g->next_part[a] = b;
-    push_group_hits(s, b);
+    return push_group_hits(s, b);
 }
 
 /* ---- shells moved inside a step ---- */
@@ -306,24 +351,23 @@ static int in_row(const hsbd_spheres *s, int32_t i, int32_t j) {
     return 0;
 }
 
-static void add_pair_once(hsbd_spheres *s, int32_t i, int32_t j) {
-    if (j == i || in_row(s, i, j)) return;
-    sph_nb_add(s, i, j);
-    sph_nb_add(s, j, i);
+static int add_pair_once(hsbd_spheres *s, int32_t i, int32_t j) {
+    if (j == i || in_row(s, i, j)) return 0;
+    return sph_nb_add(s, i, j) || sph_nb_add(s, j, i) ? -1 : 0;
 }
 
 static int add_extra_shell(hsbd_spheres *s, int32_t i) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     if (g->nextra == g->extra_cap) {
         const size_t cap = 2 * g->extra_cap;
         if (grow_array(&g->extra_particle, cap, sizeof *g->extra_particle) ||
             grow_array(&g->extra_sigma, cap, sizeof *g->extra_sigma) ||
-            sph_cells_reserve_points(&g->extra, cap))
+            hsbd_cells_reserve_points(&g->extra, cap))
             return -1;
         g->extra_cap = cap;
     }
     const int32_t e = (int32_t)g->nextra;
-    if (sph_cells_insert(&g->extra, e, s->centre + 3 * (size_t)i)) return -1;
+    if (hsbd_cells_insert(&g->extra, e, s->centre + 3 * (size_t)i)) return -1;
     g->extra_particle[e] = i;
     g->extra_sigma[e] = s->sigma[i];
     g->nextra++;
@@ -332,31 +376,39 @@ static int add_extra_shell(hsbd_spheres *s, int32_t i) {
 
 /* Re-centres i's shell at its position, keeping the old one registered: pairs with
  * every shell (old or new) that overlaps the new one are added, none removed. */
-static void recentre_adding(hsbd_spheres *s, int32_t i) {
-    sph_groups *g = &s->groups;
+static int recentre_adding(hsbd_spheres *s, int32_t i) {
+    sph_groups *g = s->groups;
     if (!g->moved[i]) {
         g->moved[i] = 1;
         g->moved_list[g->nmoved++] = i;
     }
     sph_set_centre(s, i);
-    uint32_t found = sph_shells_near(s, &s->cells, s->sigma, i);
-    for (uint32_t k = 0; k < found; ++k)
-        add_pair_once(s, i, s->near[k]);
-    found = sph_shells_near(s, &g->extra, g->extra_sigma, i);
-    for (uint32_t k = 0; k < found; ++k)
-        add_pair_once(s, i, g->extra_particle[s->near[k]]);
-    if (add_extra_shell(s, i)) s->oom = 1;
     s->stats.shell_updates++;
+    uint32_t found;
+    if (sph_shells_near(s, &s->cells, s->sigma, i, &found)) return -1;
+    for (uint32_t k = 0; k < found; ++k)
+        if (add_pair_once(s, i, s->near[k])) return -1;
+    if (sph_shells_near(s, &g->extra, g->extra_sigma, i, &found)) return -1;
+    for (uint32_t k = 0; k < found; ++k)
+        if (add_pair_once(s, i, g->extra_particle[s->near[k]])) return -1;
+    return add_extra_shell(s, i);
+}
+
+/* The shells added inside the step leave the second grid. */
+static void drop_extra_shells(sph_groups *g) {
+    for (size_t e = 0; e < g->nextra; ++e)
+        hsbd_cells_remove(&g->extra, (int32_t)e);
+    g->nextra = 0;
 }
 
 /* At the end of a step: the moved shells go to the main grid at their last centres, the
  * pairs no longer in reach leave the rows, the extra shells are dropped. */
-static void settle_moved_shells(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
+static int settle_moved_shells(hsbd_spheres *s) {
+    sph_groups *g = s->groups;
     for (size_t k = 0; k < g->nmoved; ++k) {
         const int32_t p = g->moved_list[k];
-        sph_cells_remove(&s->cells, p);
-        if (sph_cells_insert(&s->cells, p, s->centre + 3 * (size_t)p)) s->oom = 1;
+        hsbd_cells_remove(&s->cells, p);
+        if (hsbd_cells_insert(&s->cells, p, s->centre + 3 * (size_t)p)) return -1;
     }
     for (size_t k = 0; k < g->nmoved; ++k) {
         const int32_t p = g->moved_list[k];
@@ -367,7 +419,7 @@ static void settle_moved_shells(hsbd_spheres *s) {
             double d[3];
             sph_min_image(s, s->centre + 3 * (size_t)m, cp, d);
             const double reach = 0.5 * (s->sigma[p] + s->sigma[m]) + 2 * s->shell;
-            if (sph_dot3(d, d) < reach * reach) {
+            if (hsbd_dot3(d, d) < reach * reach) {
                 ++q;
                 continue;
             }
@@ -376,9 +428,9 @@ static void settle_moved_shells(hsbd_spheres *s) {
         }
         g->moved[p] = 0;
     }
-    for (size_t e = 0; e < g->nextra; ++e)
-        sph_cells_remove(&g->extra, (int32_t)e);
-    g->nmoved = g->nextra = 0;
+    g->nmoved = 0;
+    drop_extra_shells(g);
+    return 0;
 }
 
 /* ---- running a group ---- */
@@ -386,7 +438,7 @@ static void settle_moved_shells(hsbd_spheres *s) {
 /* The group of a neighbour whose group ran, that i's new segment (from time t) meets on
  * one of its earlier segments (the kernel tested the current one), or -1. */
 static int32_t logged_neighbour_hit(hsbd_spheres *s, int32_t i, double t) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     const double *xi = s->x + 3 * (size_t)i, *vi = s->v + 3 * (size_t)i; /* at t */
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     const uint32_t count = s->nb_count[i];
@@ -418,10 +470,13 @@ static int32_t logged_neighbour_hit(hsbd_spheres *s, int32_t i, double t) {
     return -1;
 }
 
-/* New predictions for i (on a new segment from time t) in group a. Returns -1, or the
- * group that i's segment reaches and that must join a with a re-run. */
+/* What predict_in_group and play_group return besides a group to join */
+enum { NO_JOIN = -1, OUT_OF_MEMORY = -2 };
+
+/* New predictions for i (on a new segment from time t) in group a. Returns NO_JOIN, the
+ * group that i's segment reaches and that must join a with a re-run, or OUT_OF_MEMORY. */
 static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     const int32_t root_a = g->root[a];
     const uint32_t hits = sph_row_hits(s, i, t);
     for (uint32_t k = 0; k < hits; ++k) {
@@ -439,28 +494,29 @@ static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t)
                     return b;
                 }
                 if (g->first_time[b] < t) return b; /* it moved before now: re-run */
-                join_pending(s, a, b);
+                if (join_pending(s, a, b)) return OUT_OF_MEMORY;
             }
         }
-        sph_push_event(s, t + s->scan_t[k], i, j);
+        if (sph_push_event(s, t + s->scan_t[k], i, j)) return OUT_OF_MEMORY;
     }
     const int32_t b = logged_neighbour_hit(s, i, t);
     if (b >= 0) return b;
     const double exit = sph_shell_exit_time(s, i, t);
-    if (exit >= 0) sph_push_event(s, exit, i, SPH_EVENT_SHELL);
-    return -1;
+    if (exit >= 0 && sph_push_event(s, exit, i, SPH_EVENT_SHELL)) return OUT_OF_MEMORY;
+    return NO_JOIN;
 }
 
 /* Runs group a (and the groups joined to it) from the step's start in time order.
- * Returns -1 when done, or a group that must join a before it runs again. */
+ * Returns NO_JOIN when done, a group that must join a before it runs again, or
+ * OUT_OF_MEMORY. */
 static int32_t play_group(hsbd_spheres *s, int32_t a) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     size_t hits = 0;
     for (int32_t b = a; b >= 0; b = g->next_part[b])
         hits += (size_t)g->count[b];
-    if (sph_calendar_start_for(&s->calendar, s->dt, 2 * hits, 8)) s->oom = 1;
+    if (sph_calendar_start_for(&s->calendar, s->dt, 2 * hits, 8)) return OUT_OF_MEMORY;
     for (int32_t b = a; b >= 0; b = g->next_part[b])
-        push_group_hits(s, b);
+        if (push_group_hits(s, b)) return OUT_OF_MEMORY;
     g->collisions[a] = 0;
     g->virial[a] = 0;
     sph_event e;
@@ -468,23 +524,23 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
     while (sph_calendar_pop(&s->calendar, &e)) {
         if (sph_event_stale(s, &e)) continue;
         played++;
-        log_start(s, a, e.i);
+        if (log_start(s, a, e.i)) return OUT_OF_MEMORY;
         int32_t joined;
         if (e.j == SPH_EVENT_SHELL) {
             sph_advance(s, e.i, e.t);
-            recentre_adding(s, e.i);
+            if (recentre_adding(s, e.i)) return OUT_OF_MEMORY;
             joined = predict_in_group(s, a, e.i, e.t);
         } else {
-            log_start(s, a, e.j);
+            if (log_start(s, a, e.j)) return OUT_OF_MEMORY;
             double virial;
             if (!sph_collide_pair(s, &e, &virial)) continue;
             g->collisions[a]++;
             g->virial[a] += virial;
-            new_segment(s, e.i, e.t);
-            new_segment(s, e.j, e.t);
+            if (new_segment(s, e.i, e.t) < 0 || new_segment(s, e.j, e.t) < 0) return OUT_OF_MEMORY;
             joined = predict_in_group(s, a, e.i, e.t);
-            if (joined < 0) joined = predict_in_group(s, a, e.j, e.t);
+            if (joined == NO_JOIN) joined = predict_in_group(s, a, e.j, e.t);
         }
+        if (joined == OUT_OF_MEMORY) return OUT_OF_MEMORY;
         if (joined >= 0) { /* the re-run starts a new calendar */
             g->played += played;
             g->replayed += played;
@@ -492,22 +548,24 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
         }
     }
     g->played += played;
-    return -1;
+    return NO_JOIN;
 }
 
-/* Runs group a to the end of the step; returns 0, or -1 when AUTO gives up on groups
- * for this step (re-runs cost more than the step's predicted pairs: the groups percolate
- * as they run), group a then back on its start lines. */
+/* Runs group a to the end of the step; returns 0, 1 when AUTO gives up on groups for this
+ * step (re-runs cost more than the step's predicted pairs: the groups percolate as they
+ * run), group a then back on its start lines, or -1 when out of memory. */
 static int run_group(hsbd_spheres *s, int32_t a) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     g->state[a] = GROUP_ACTIVE;
-    for (int32_t b; (b = play_group(s, a)) >= 0;) {
+    int32_t b;
+    while ((b = play_group(s, a)) >= 0) {
         join_and_rewind(s, a, b);
         if (s->par.event_order == HSBD_EVENTS_AUTO && g->replayed > g->nhits) {
             g->state[a] = GROUP_PENDING;
-            return -1;
+            return 1;
         }
     }
+    if (b == OUT_OF_MEMORY) return -1;
     g->state[a] = GROUP_DONE;
     for (int32_t k = g->first_segment[a]; k >= 0; k = g->seg[k].next_head) {
         const int32_t p = g->seg[k].particle; /* several segments: the log test needed */
@@ -519,32 +577,41 @@ static int run_group(hsbd_spheres *s, int32_t a) {
 }
 
 /* Every start-of-step event into the global calendar (which then runs the step). */
-static void hand_to_global_calendar(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
-    if (sph_calendar_start_for(&s->calendar, s->dt, 2 * g->nhits, 64)) s->oom = 1;
+static int hand_to_global_calendar(hsbd_spheres *s) {
+    sph_groups *g = s->groups;
+    if (sph_calendar_start_for(&s->calendar, s->dt, 2 * g->nhits, 64)) return -1;
     for (size_t k = 0; k < g->nhits; ++k)
-        sph_push_event(s, g->hit_t[k], g->hit_i[k], g->hit_j[k]);
+        if (sph_push_event(s, g->hit_t[k], g->hit_i[k], g->hit_j[k])) return -1;
+    return 0;
 }
 
 int sph_groups_run(hsbd_spheres *s) {
-    sph_groups *g = &s->groups;
+    sph_groups *g = s->groups;
     const long largest = number_groups(s);
     const int automatic = s->par.event_order == HSBD_EVENTS_AUTO;
-    if (largest < 0 || (automatic && largest * LARGEST_GROUP_SHARE > (long)g->nhits)) {
-        if (largest < 0) s->oom = 1;
-        hand_to_global_calendar(s);
-        return 1;
-    }
+    if (largest < 0) return -1;
+    if (automatic && largest * LARGEST_GROUP_SHARE > (long)g->nhits)
+        return hand_to_global_calendar(s) ? -1 : 1;
     for (size_t a = 0; a < g->ngroups; ++a) {
-        if (g->state[a] != GROUP_PENDING || run_group(s, (int32_t)a) == 0) continue;
+        if (g->state[a] != GROUP_PENDING) continue;
+        const int rc = run_group(s, (int32_t)a);
+        if (rc < 0) return -1;
+        if (rc == 0) continue;
         for (size_t b = 0; b < g->ngroups; ++b) /* give up: the whole step back to its start */
             if (g->state[b] == GROUP_DONE) undo_group(s, (int32_t)b);
-        settle_moved_shells(s);
-        hand_to_global_calendar(s);
         g->pause = PAUSE_STEPS;
-        return 1;
+        return settle_moved_shells(s) || hand_to_global_calendar(s) ? -1 : 1;
     }
-    settle_moved_shells(s);
+    if (settle_moved_shells(s)) return -1;
     if (automatic && g->replayed * REPLAY_SHARE > g->played) g->pause = PAUSE_STEPS;
     return 0;
+}
+
+void sph_groups_abandon(hsbd_spheres *s) {
+    sph_groups *g = s->groups;
+    if (!g) return;
+    for (size_t k = 0; k < g->nmoved; ++k)
+        g->moved[g->moved_list[k]] = 0;
+    g->nmoved = 0;
+    drop_extra_shells(g);
 }

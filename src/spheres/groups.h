@@ -8,53 +8,22 @@
 #ifndef HSBD_SPHERES_GROUPS_H
 #define HSBD_SPHERES_GROUPS_H
 
-#include <stddef.h>
-#include <stdint.h>
+#include "spheres/state.h"
 
-#include "spheres/cells.h"
-
-/* One logged straight segment of a particle: from time t at position x with velocity v.
- * The first segment of a particle in a step also keeps its shell centre c at the start. */
-typedef struct sph_segment {
-    double t, x[3], v[3], c[3];
-    int32_t prev;      /* earlier segment of the same particle, -1 for the first */
-    int32_t next_head; /* first segments only: the next particle's in the same group, -1 */
-    int32_t particle;
-} sph_segment;
-
-typedef struct sph_groups {
-    size_t n;
-    /* union-find over particles: >= 0 parent; roots hold -1 (no group) or -2 - group */
-    int32_t *parent;
-    int32_t *last_segment; /* per particle, -1 while it is on its start-of-step path */
-    uint8_t *moved;        /* per particle: re-centred inside the step (extra shells) */
-    uint8_t *history;      /* per particle: its group ran and it has several segments */
-    /* the start-of-step hits (j = SPH_EVENT_SHELL for a shell exit), then by group */
-    size_t hit_cap, nhits;
-    int32_t *hit_i, *hit_j, *hit_group;
-    double *hit_t;
-    int32_t *by_i, *by_j;
-    double *by_t;
-    /* groups: their hits by_*[start, start + count), state, constituents, rollback data */
-    size_t group_cap, ngroups;
-    int32_t *start, *count, *state, *root, *next_part, *first_segment;
-    double *first_time, *virial;
-    uint64_t *collisions;
-    /* the segment log of the step */
-    sph_segment *seg;
-    size_t seg_cap, nseg;
-    /* shells added inside the step: a second grid of centres, entries -> particles */
-    sph_cells extra;
-    int32_t *extra_particle;
-    double *extra_sigma;
-    size_t extra_cap, nextra;
-    int32_t *moved_list;
-    size_t nmoved;
-    uint64_t replayed; /* events of the step in runs that ended in a join */
-    uint64_t played;   /* all events of the step */
-    unsigned pause;    /* AUTO: steps left on the global calendar after costly re-runs */
-} sph_groups;
-
+/* Whether this step should run group by group (the parameters, N, recent re-runs). */
+int sph_groups_wanted(hsbd_spheres *s);
+/* A new step. Returns 0, or -1 when out of memory. */
+int sph_groups_begin(hsbd_spheres *s);
+/* A start-of-step event: a pair predicted to touch, or a shell exit (j = SPH_EVENT_SHELL).
+ * Returns 0, or -1 when out of memory. */
+int sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j);
+/* Runs every group; returns 0, 1 when it left the step to the global calendar (its
+ * events pushed there: the groups were too large), or -1 when out of memory (the step
+ * is then cut short: the caller puts the particles back and calls sph_groups_abandon). */
+int sph_groups_run(hsbd_spheres *s);
+/* Forgets the shells moved inside a step that failed (the neighbour lists are rebuilt). */
+void sph_groups_abandon(hsbd_spheres *s);
+/* Frees the groups' state (NULL allowed). */
 void sph_groups_free(sph_groups *g);
 
 #endif

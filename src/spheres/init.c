@@ -6,22 +6,24 @@
 #include <string.h>
 
 #include "hsbd/rng.h"
-#include "spheres/internal.h"
+#include "spheres/neighbours.h"
+#include "spheres/order.h"
+#include "spheres/state.h"
 
 enum { INIT_COUNTER_RSI = 0, INIT_COUNTER_SHUFFLE = 1, INIT_COUNTER_SIZES = 2 };
 
 /* Overlap of point x (diameter sg) with any inserted point of grid c (diameters sigma). */
-static int overlaps_any(const hsbd_spheres *s, const sph_cells *c, const double *pos,
+static int overlaps_any(const hsbd_spheres *s, const hsbd_cells *c, const double *pos,
                         const double x[3], double sg, int32_t self, int32_t *with) {
     int32_t around[27];
-    const int nc = sph_cells_around(c, x, around);
+    const int nc = hsbd_cells_around(c, x, around);
     for (int q = 0; q < nc; ++q)
-        for (uint32_t u = 0; u < sph_cells_count(c, around[q]); ++u) {
-            const int32_t j = sph_cells_ids(c, around[q])[u];
+        for (uint32_t u = 0; u < hsbd_cells_count(c, around[q]); ++u) {
+            const int32_t j = hsbd_cells_ids(c, around[q])[u];
             if (j == self) continue;
             double r2 = 0;
             for (int a = 0; a < 3; ++a) {
-                const double d = sph_wrap_delta(pos[3 * (size_t)j + a] - x[a], s->box[a]);
+                const double d = hsbd_wrap_delta(pos[3 * (size_t)j + a] - x[a], s->box[a]);
                 r2 += d * d;
             }
             const double sij = 0.5 * (sg + s->sigma[j]);
@@ -50,12 +52,12 @@ static int restore_user_order(hsbd_spheres *s, hsbd_error *err) {
 int hsbd_spheres_init_random(hsbd_spheres *s, hsbd_error *err) {
     if (restore_user_order(s, err) != HSBD_OK) return HSBD_ENOMEM;
     const size_t n = s->n;
-    sph_cells grid;
-    if (sph_cells_init(&grid, s->dim, s->box, s->sigma_max, n))
-        return sph_cells_free(&grid), hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
+    hsbd_cells grid;
+    if (hsbd_cells_init(&grid, s->dim, s->box, s->sigma_max, n))
+        return hsbd_cells_free(&grid), hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
     /* larger particles first: they are the hardest to place */
     size_t *order = malloc(n * sizeof *order);
-    if (!order) return sph_cells_free(&grid), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    if (!order) return hsbd_cells_free(&grid), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     for (size_t i = 0; i < n; ++i)
         order[i] = i;
     for (size_t i = 1; i < n; ++i) { /* insertion sort by diameter, stable: few species */
@@ -87,14 +89,14 @@ int hsbd_spheres_init_random(hsbd_spheres *s, hsbd_error *err) {
             double x[3] = {u[0] * s->box[0], u[1] * s->box[1], s->dim == 3 ? u[2] * s->box[2] : 0};
             if (!overlaps_any(s, &grid, s->x, x, s->sigma[i], -1, NULL)) {
                 memcpy(s->x + 3 * i, x, sizeof x);
-                if (sph_cells_insert(&grid, (int32_t)i, x))
+                if (hsbd_cells_insert(&grid, (int32_t)i, x))
                     rc = hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
                 break;
             }
         }
     }
     free(order);
-    sph_cells_free(&grid);
+    hsbd_cells_free(&grid);
     if (rc != HSBD_OK) return rc;
     reset_dynamics(s);
     return sph_rebuild_neighbours(s) == HSBD_OK
@@ -211,9 +213,9 @@ int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err
         }
     int rc = HSBD_OK;
     if (s->par.hard_core) {
-        sph_cells grid;
-        if (sph_cells_init(&grid, s->dim, s->box, s->sigma_max, n)) {
-            sph_cells_free(&grid);
+        hsbd_cells grid;
+        if (hsbd_cells_init(&grid, s->dim, s->box, s->sigma_max, n)) {
+            hsbd_cells_free(&grid);
             free(pos);
             return hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
         }
@@ -223,7 +225,7 @@ int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err
                 double r2 = 0;
                 for (int a = 0; a < 3; ++a) {
                     const double d =
-                        sph_wrap_delta(pos[3 * (size_t)j + a] - pos[3 * i + a], s->box[a]);
+                        hsbd_wrap_delta(pos[3 * (size_t)j + a] - pos[3 * i + a], s->box[a]);
                     r2 += d * d;
                 }
                 rc = hsbd_error_set(err, HSBD_EINPUT,
@@ -231,10 +233,10 @@ int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err
                                     "contact distance %.9g; allowed: no overlaps",
                                     j + 1, i + 1, sqrt(r2), 0.5 * (s->sigma[i] + s->sigma[j]));
             }
-            if (rc == HSBD_OK && sph_cells_insert(&grid, (int32_t)i, pos + 3 * i))
+            if (rc == HSBD_OK && hsbd_cells_insert(&grid, (int32_t)i, pos + 3 * i))
                 rc = hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory");
         }
-        sph_cells_free(&grid);
+        hsbd_cells_free(&grid);
     }
     if (rc == HSBD_OK) {
         memcpy(s->x, pos, 3 * n * sizeof *pos);
@@ -263,7 +265,7 @@ static size_t grow_into_gaps(hsbd_spheres *s, const double *final, double fracti
             double r2 = 0;
             for (int a = 0; a < 3; ++a) {
                 const double d =
-                    sph_wrap_delta(s->x[3 * (size_t)j + a] - s->x[3 * i + a], s->box[a]);
+                    hsbd_wrap_delta(s->x[3 * (size_t)j + a] - s->x[3 * i + a], s->box[a]);
                 r2 += d * d;
             }
             const double gap = sqrt(r2) - 0.5 * (s->sigma[i] + s->sigma[j]);
@@ -335,13 +337,12 @@ static int compress_from_rsi(hsbd_spheres *s, const double *final, double *growt
         /* a few collisions per particle and step: shorter steps as the gaps close */
         const uint64_t before = s->stats.collisions;
         hsbd_spheres_set_dt(s, dt);
-        hsbd_spheres_step(s);
+        if ((rc = hsbd_spheres_step(s)) != HSBD_OK) break;
         const double per_particle = (double)(s->stats.collisions - before) / (double)s->n;
         if (per_particle > 10) dt *= 0.5;
         if (per_particle < 2) dt = fmin(dt_max, 1.25 * dt);
     }
-    return rc == HSBD_ENOMEM ? hsbd_error_set(err, rc, "spheres: out of memory (neighbour lists)")
-                             : rc;
+    return rc == HSBD_ENOMEM ? hsbd_error_set(err, rc, "spheres: out of memory (compression)") : rc;
 }
 
 int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err) {

@@ -8,7 +8,7 @@ static inline void pair_geometry(const sph_row_query *q, int32_t j, double r[3],
     const double h = q->t - q->t_local[j];
     for (int a = 0; a < 3; ++a) {
         const double pj = xj[a] + vj[a] * h;
-        r[a] = sph_wrap_delta(pj - q->xi[a], q->box[a]);
+        r[a] = hsbd_wrap_delta(pj - q->xi[a], q->box[a]);
         v[a] = vj[a] - q->vi[a];
     }
 }
@@ -40,7 +40,7 @@ uint32_t sph_half_scan_scalar(const sph_scan_query *q, size_t i0, size_t i1, int
             const double *xj = q->x + 3 * (size_t)j, *vj = q->v + 3 * (size_t)j;
             double r[3], v[3];
             for (int a = 0; a < 3; ++a) {
-                r[a] = sph_wrap_delta(xj[a] - xi[a], q->box[a]);
+                r[a] = hsbd_wrap_delta(xj[a] - xi[a], q->box[a]);
                 v[a] = vj[a] - vi[a];
             }
             const double tc = sph_contact_time(r, v, 0.5 * (q->sigma[i] + q->sigma[j]), q->tmax);
@@ -54,21 +54,21 @@ uint32_t sph_half_scan_scalar(const sph_scan_query *q, size_t i0, size_t i1, int
     return hits;
 }
 
-uint32_t sph_cells_near_scalar(const sph_cells *cells, const int32_t *list, int nlist,
+uint32_t sph_cells_near_scalar(const hsbd_cells *cells, const int32_t *list, int nlist,
                                const double c[3], const double box[3], const double *sigma,
                                double reach_base, int32_t *out) {
     uint32_t found = 0;
     for (int q = 0; q < nlist; ++q) {
-        const uint32_t m = sph_cells_count(cells, list[q]);
-        const int32_t *id = sph_cells_ids(cells, list[q]);
-        const double *p = sph_cells_positions(cells, list[q]);
+        const uint32_t m = hsbd_cells_count(cells, list[q]);
+        const int32_t *id = hsbd_cells_ids(cells, list[q]);
+        const double *p = hsbd_cells_positions(cells, list[q]);
         for (uint32_t u = 0; u < m; ++u) {
             double r[3];
             for (int a = 0; a < 3; ++a)
-                r[a] = sph_wrap_delta(p[3 * u + a] - c[a], box[a]);
+                r[a] = hsbd_wrap_delta(p[3 * u + a] - c[a], box[a]);
             const double reach = reach_base + 0.5 * sigma[id[u]];
             out[found] = id[u];
-            found += sph_dot3(r, r) < reach * reach;
+            found += hsbd_dot3(r, r) < reach * reach;
         }
     }
     return found;
@@ -92,7 +92,7 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
 sph_predict_row_fn sph_predict_row_select(void) {
     return sph_predict_row_scalar;
 }
-uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nlist,
+uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int nlist,
                              const double c[3], const double box[3], const double *sigma,
                              double reach_base, int32_t *out) {
     return sph_cells_near_scalar(cells, list, nlist, c, box, sigma, reach_base, out);

@@ -11,19 +11,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "spheres/cells.h"
-
-static inline double sph_dot3(const double *a, const double *b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* Minimum-image difference along one axis, for |d| < 1.5 box (positions wrapped at the
- * start of a step move far less than half a box within it); branch-free selects. */
-static inline double sph_wrap_delta(double d, double box) {
-    const double half = 0.5 * box;
-    d = d > half ? d - box : d;
-    return d < -half ? d + box : d;
-}
+#include "core/cellgrid.h"
+#include "core/periodic.h"
 
 /* The hit test of sph_contact_time: |r + v t|^2 - s^2 = g + 2 b t + vv t^2 has a root in
  * [0, T] iff the pair approaches (b < 0) and either the value at T is <= 0 or the minimum
@@ -37,7 +26,7 @@ static inline int sph_contact_hit(double b, double g, double vv, double tmax) {
  * (about half the neighbour pairs approach: a branch on b alone mispredicts); the root
  * only for hits. */
 static inline double sph_contact_time(const double r[3], const double v[3], double s, double tmax) {
-    const double b = sph_dot3(r, v), g = sph_dot3(r, r) - s * s, vv = sph_dot3(v, v);
+    const double b = hsbd_dot3(r, v), g = hsbd_dot3(r, r) - s * s, vv = hsbd_dot3(v, v);
     if (__builtin_expect(!sph_contact_hit(b, g, vv, tmax), 1)) return -1;
     if (g <= 0) return 0; /* touching (round-off) and approaching */
     const double disc = b * b - vv * g;
@@ -93,14 +82,14 @@ sph_half_scan_fn sph_half_scan_select(void);
  * sigma[id] / 2)^2, in list and slot order, to out (room for the cells' total count plus
  * SPH_NEAR_PAD); returns their number. */
 enum { SPH_NEAR_PAD = 4 };
-typedef uint32_t (*sph_cells_near_fn)(const sph_cells *cells, const int32_t *list, int nlist,
+typedef uint32_t (*sph_cells_near_fn)(const hsbd_cells *cells, const int32_t *list, int nlist,
                                       const double c[3], const double box[3], const double *sigma,
                                       double reach_base, int32_t *out);
 
-uint32_t sph_cells_near_scalar(const sph_cells *cells, const int32_t *list, int nlist,
+uint32_t sph_cells_near_scalar(const hsbd_cells *cells, const int32_t *list, int nlist,
                                const double c[3], const double box[3], const double *sigma,
                                double reach_base, int32_t *out);
-uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nlist,
+uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int nlist,
                              const double c[3], const double box[3], const double *sigma,
                              double reach_base, int32_t *out);
 sph_cells_near_fn sph_cells_near_select(void);

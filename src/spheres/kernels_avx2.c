@@ -184,7 +184,7 @@ uint32_t sph_half_scan_avx2(const sph_scan_query *q, size_t i0, size_t i1, int32
     return hits;
 }
 
-uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nlist,
+uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int nlist,
                              const double c[3], const double box_in[3], const double *sigma,
                              double reach_base, int32_t *out) {
     __m256d box[3], half[3], neg_half[3], centre[3];
@@ -198,9 +198,9 @@ uint32_t sph_cells_near_avx2(const sph_cells *cells, const int32_t *list, int nl
     const __m256d base = _mm256_set1_pd(reach_base), one_half = _mm256_set1_pd(0.5);
     uint32_t found = 0;
     for (int q = 0; q < nlist; ++q) {
-        const uint32_t m = sph_cells_count(cells, list[q]);
-        const int32_t *id = sph_cells_ids(cells, list[q]);
-        const double *p = sph_cells_positions(cells, list[q]);
+        const uint32_t m = hsbd_cells_count(cells, list[q]);
+        const int32_t *id = hsbd_cells_ids(cells, list[q]);
+        const double *p = hsbd_cells_positions(cells, list[q]);
         /* The first four slots of every cell in one pass, even when fewer are filled (a
          * cell has at least four slots): no branch on the count, which varies from cell to
          * cell and would mispredict; fuller cells take more passes. */

@@ -12,11 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "spheres/internal.h"
+#include "spheres/order.h"
 
 /* Rank of each cell along the Z curve through the grid (cells outside the grid of the
  * next power-of-two size are skipped). */
-static int32_t *morton_cell_ranks(const sph_cells *c, int dim) {
+static int32_t *morton_cell_ranks(const hsbd_cells *c, int dim) {
     int32_t *rank = malloc(c->ncells * sizeof *rank);
     if (!rank) return NULL;
     int bits = 0;
@@ -49,7 +49,7 @@ static int spatial_permutation(hsbd_spheres *s, int32_t *new_to_old) {
         return -1;
     }
     for (size_t i = 0; i < n; ++i) {
-        rank_of[i] = s->cell_rank[sph_cells_index(&s->cells, s->x + 3 * i)];
+        rank_of[i] = s->cell_rank[hsbd_cells_index(&s->cells, s->x + 3 * i)];
         start[rank_of[i] + 1]++;
     }
     for (size_t r = 0; r < nc; ++r)

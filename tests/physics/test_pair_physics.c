@@ -73,14 +73,14 @@ static void run_case(const pair_case *pc) {
     const uint64_t steps = (uint64_t)llround(pc->t_sample / pc->dt);
     hsbd_rods_set_dt(rods, pc->dt_equil);
     for (uint64_t k = 0; k < equil; ++k)
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
     hsbd_rods_set_dt(rods, pc->dt); /* then 0.5 time units for the step's own distortion */
     for (uint64_t k = 0; k < (uint64_t)llround(0.5 / pc->dt); ++k)
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
     hsbd_profile *wide = hsbd_profile_alloc(1.0, 1.0, pc->window, nblocks, steps / every, &err);
     hsbd_profile *narrow = hsbd_profile_alloc(1.0, 1.0, 0.02, nblocks, steps / every, &err);
     for (uint64_t k = 1; k <= steps; ++k) {
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         if (k % every) continue;
         const hsbd_rods_view v = hsbd_rods_get_view(rods);
         hsbd_profile_sample(wide, &v);

@@ -62,14 +62,14 @@ int main(void) {
      * done at dt 1e-4, then 10 units at the production step for the fast modes */
     hsbd_rods_set_dt(rods, 1e-4);
     for (uint64_t k = 0; k < (uint64_t)(200 / 1e-4); ++k)
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
     hsbd_rods_set_dt(rods, dt);
     for (uint64_t k = 0; k < (uint64_t)(30 / dt); ++k)
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
     hsbd_profile *prof = hsbd_profile_alloc_spatial(1.0, 1.0 / NBINS, 0.02, 20, &err);
     const uint64_t steps = (uint64_t)(60 * scale / dt);
     for (uint64_t k = 1; k <= steps; ++k) {
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         if (k % 40) continue;
         const hsbd_rods_view view = hsbd_rods_get_view(rods);
         hsbd_profile_sample(prof, &view);

@@ -51,7 +51,7 @@ static void test_tonks_ring(void) {
     hsbd_profile *prof = hsbd_profile_alloc(1.0, 1.0 / NBINS, window, nblocks, steps / every, &err);
     hsbd_profile *whole = hsbd_profile_alloc(1.0, 1.0, window, nblocks, steps / every, &err);
     for (uint64_t k = 1; k <= steps; ++k) {
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         if (k % every) continue;
         const hsbd_rods_view v = hsbd_rods_get_view(rods);
         hsbd_profile_sample(prof, &v);
@@ -108,7 +108,7 @@ static void test_short_time_msd(void) {
     hsbd_rods_init_equilibrium(rods);
     hsbd_msd *msd = hsbd_msd_alloc(n, dt, steps, 0.01, 5, nblocks, &err);
     for (uint64_t k = 0; k < steps; ++k) {
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         const hsbd_rods_view v = hsbd_rods_get_view(rods);
         hsbd_msd_sample(msd, &v);
     }
@@ -155,7 +155,7 @@ static void test_drift(int hard_core) {
         prev += v.z[i] + v.offset[i] + v.unwrap;
     }
     for (uint64_t k = 0; k < steps; ++k) {
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         const hsbd_rods_view v = hsbd_rods_get_view(rods);
         double sum = 0;
         for (size_t i = 0; i < n; ++i)
@@ -198,7 +198,7 @@ static void test_reflect_two_rods(void) {
         hsbd_rods_init_equilibrium(rods);
         hsbd_blocks *hist = hsbd_blocks_alloc(NB, 20, steps);
         for (uint64_t k = 0; k < steps; ++k) {
-            hsbd_rods_step(rods, NULL);
+            CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
             const hsbd_rods_view v = hsbd_rods_get_view(rods);
             int b = (int)((v.z[1] - v.z[0]) / lf * NB);
             hsbd_blocks_acc(hist)[b < 0 ? 0 : b >= NB ? NB - 1 : b] += 1.0;

@@ -51,14 +51,14 @@ static outcome run_case(const hsbd_spheres_params *p, double t_equil, double t_t
     const uint64_t equil = (uint64_t)llround(t_equil / p->dt);
     const uint64_t steps = (uint64_t)llround(t_total / p->dt), every = 20;
     for (uint64_t k = 0; k < equil; ++k)
-        hsbd_spheres_step(s);
+        CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
     hsbd_spheres_view v = hsbd_spheres_get_view(s);
     hsbd_gr *gr = hsbd_gr_alloc(&v, 2.0, 0.05, 0.1, BLOCKS, steps / every, &err);
     hsbd_blocks *vir = hsbd_blocks_alloc(1, BLOCKS, steps / every);
     hsbd_spheres_reset_stats(s);
     double last = 0;
     for (uint64_t k = 1; k <= steps; ++k) {
-        hsbd_spheres_step(s);
+        CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
         if (k % every) continue;
         v = hsbd_spheres_get_view(s);
         hsbd_gr_sample(gr, &v);
@@ -207,7 +207,7 @@ static void test_short_time_msd(void) {
             hsbd_spheres_view v = hsbd_spheres_get_view(s);
             for (size_t i = 0; i < 3 * 2000; ++i)
                 prev[i] = v.x[i] + (double)v.image[i] * v.box[i % 3];
-            hsbd_spheres_step(s);
+            CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
             v = hsbd_spheres_get_view(s);
             for (size_t i = 0; i < 2000; ++i)
                 for (int a = 0; a < 3; ++a) {

@@ -83,13 +83,13 @@ static void run_box_case(const box_case *c) {
     const uint64_t equil = (uint64_t)llround(c->t_equil / c->dt);
     const uint64_t steps = (uint64_t)llround(c->t_sample / c->dt);
     for (uint64_t k = 0; k < equil; ++k)
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
     hsbd_profile *prof =
         hsbd_profile_alloc(c->length, c->bin_width, 0.02, nblocks, steps / every, &err);
     hsbd_contacts *con = hsbd_contacts_alloc(c->n, 1, nblocks, steps / every, &err);
     double min_gap = HUGE_VAL;
     for (uint64_t k = 1; k <= steps; ++k) {
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         if (k % every) continue;
         const hsbd_rods_view v = hsbd_rods_get_view(rods);
         hsbd_profile_sample(prof, &v);
@@ -202,7 +202,7 @@ static void run_mixture(void) {
         hsbd_msd_set_members(msd[a], count, members, &err);
     }
     for (uint64_t k = 1; k <= steps; ++k) {
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         if (k % every) continue;
         const hsbd_rods_view v = hsbd_rods_get_view(rods);
         hsbd_contacts_sample(con, &v);

@@ -183,7 +183,7 @@ static void test_library_step_vs_oracle(void) {
             force[i] += sqrt(2 * par.diffusion / par.dt) / mu * g[i];
         const double shift = v.unwrap;
         oracle_step(n, x, force, mob, par.sigma, par.length, par.dt, 1e-12);
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         const hsbd_rods_view w = hsbd_rods_get_view(rods);
         for (size_t i = 0; i < n; ++i) {
             const double d = fabs((w.z[i] + w.offset[i] + w.unwrap) - (x[i] + shift));
@@ -238,7 +238,7 @@ static void test_mixture_step_vs_oracle(int boundary) {
             force[i] += sqrt(2 * mob[i] * par.kT / par.dt) / mob[i] * g[i];
         const double shift = v.unwrap;
         merges += oracle_step_general(N, x, force, mob, sig, par.length, boundary, par.dt, 1e-12);
-        hsbd_rods_step(rods, NULL);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         const hsbd_rods_view w = hsbd_rods_get_view(rods);
         for (size_t i = 0; i < N; ++i) {
             const double d = fabs((w.z[i] + w.offset[i] + w.unwrap) - (x[i] + shift));
@@ -278,7 +278,7 @@ static void test_step_stats(int contact_rule) {
     size_t merges = 0, frag = 0, start = 0;
     for (int s = 0; s < 200; ++s) {
         hsbd_rods_step_stats st;
-        hsbd_rods_step(rods, &st);
+        CHECK(hsbd_rods_step(rods, &st) == HSBD_OK, "step");
         CHECK(st.fragments >= st.clusters_start && st.fragments >= st.clusters_end,
               "step %d: %zu clusters, %zu fragments, %zu at end", s, st.clusters_start,
               st.fragments, st.clusters_end);

@@ -152,7 +152,7 @@ static double kernel_pair_time(const kernel_fixture *f, int i, int j, double h, 
     double r[3], w[3];
     for (int a = 0; a < 3; ++a) {
         const double pj = f->x[3 * j + a] + f->v[3 * j + a] * h;
-        r[a] = sph_wrap_delta(pj - f->x[3 * i + a], f->box[a]);
+        r[a] = hsbd_wrap_delta(pj - f->x[3 * i + a], f->box[a]);
         w[a] = f->v[3 * j + a] - f->v[3 * i + a];
     }
     return sph_contact_time(r, w, 0.5 * (f->sigma[i] + f->sigma[j]), tmax);
@@ -313,13 +313,13 @@ static void test_cells_near_kernels(void) {
     hsbd_rng_normals(13, 99, 1, 0, 4 * N, g);
     const double box[3] = {5.0, 5.0, 4.0};
     double x[3 * N], sigma[N];
-    sph_cells cells;
-    CHECK(sph_cells_init(&cells, 3, box, 1.6, N) == 0, "cells allocated");
+    hsbd_cells cells;
+    CHECK(hsbd_cells_init(&cells, 3, box, 1.6, N) == 0, "cells allocated");
     for (int j = 0; j < N; ++j) {
         for (int a = 0; a < 3; ++a)
             x[3 * j + a] = fmod(fabs(g[4 * j + a]), 1.0) * box[a];
         sigma[j] = 0.6 + 0.2 * fmod(fabs(g[4 * j + 3]), 1.0);
-        CHECK(sph_cells_insert(&cells, j, x + 3 * j) == 0, "insert %d", j);
+        CHECK(hsbd_cells_insert(&cells, j, x + 3 * j) == 0, "insert %d", j);
     }
     CHECK(cells.cap > 4, "some cell holds more than one vector: cap %u", cells.cap);
     const int avx2 = __builtin_cpu_supports("avx2") != 0;
@@ -327,7 +327,7 @@ static void test_cells_near_kernels(void) {
     int total = 0;
     for (int i = 0; i < N; i += 7) {
         int32_t around[27];
-        const int nc = sph_cells_around(&cells, x + 3 * i, around);
+        const int nc = hsbd_cells_around(&cells, x + 3 * i, around);
         const double base = 0.5 * sigma[i] + 0.6;
         uint32_t nref = 0;
         for (int q = 0; q < nc; ++q) /* brute force in the kernels' order: cell, then slot */
@@ -335,7 +335,7 @@ static void test_cells_near_kernels(void) {
                 if (cells.cell_of[j] != around[q]) continue;
                 double r2 = 0;
                 for (int a = 0; a < 3; ++a) {
-                    const double d = sph_wrap_delta(x[3 * j + a] - x[3 * i + a], box[a]);
+                    const double d = hsbd_wrap_delta(x[3 * j + a] - x[3 * i + a], box[a]);
                     r2 += d * d;
                 }
                 const double reach = base + 0.5 * sigma[j];
@@ -362,7 +362,7 @@ static void test_cells_near_kernels(void) {
     }
     CHECK(total > 100, "points found: %d", total);
     free(out);
-    sph_cells_free(&cells);
+    hsbd_cells_free(&cells);
 }
 
 /* smallest gap over all pairs, relative to sigma_ij (brute force, minimum image) */
@@ -394,7 +394,7 @@ static void run_no_overlap(const char *name, hsbd_spheres_params p, int lattice,
     CHECK(brute_min_gap(&v) >= -1e-9, "%s: initial overlap %g", name, brute_min_gap(&v));
     double worst = INFINITY;
     for (int k = 0; k < steps; ++k) {
-        hsbd_spheres_step(s);
+        CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
         if (k % 10 == 9) {
             v = hsbd_spheres_get_view(s);
             const double g = brute_min_gap(&v);
@@ -473,11 +473,11 @@ static void test_reproducible(void) {
     CHECK(hsbd_spheres_init_random(a, &err) == HSBD_OK, "init: %s", err.message);
     CHECK(hsbd_spheres_init_random(b, &err) == HSBD_OK, "init: %s", err.message);
     for (int k = 0; k < 100; ++k) {
-        hsbd_spheres_step(a);
-        if (k < 50) hsbd_spheres_step(b);
+        CHECK(hsbd_spheres_step(a) == HSBD_OK, "step");
+        if (k < 50) CHECK(hsbd_spheres_step(b) == HSBD_OK, "step");
     }
     for (int k = 50; k < 100; ++k)
-        hsbd_spheres_step(b);
+        CHECK(hsbd_spheres_step(b) == HSBD_OK, "step");
     const hsbd_spheres_view va = hsbd_spheres_get_view(a), vb = hsbd_spheres_get_view(b);
     CHECK(!memcmp(va.x, vb.x, 3 * p.n * sizeof *va.x), "two objects, same seed: positions differ");
     CHECK(!memcmp(va.image, vb.image, 3 * p.n * sizeof *va.image), "image counters differ");
@@ -528,8 +528,8 @@ static void test_spatial_order(void) {
     CHECK(hsbd_spheres_init_random(a, &err) == HSBD_OK, "init: %s", err.message);
     CHECK(hsbd_spheres_init_random(b, &err) == HSBD_OK, "init: %s", err.message);
     for (int k = 0; k < 400; ++k) { /* D t = 0.4: the order is sorted four times */
-        hsbd_spheres_step(a);
-        hsbd_spheres_step(b);
+        CHECK(hsbd_spheres_step(a) == HSBD_OK, "step");
+        CHECK(hsbd_spheres_step(b) == HSBD_OK, "step");
     }
     const hsbd_spheres_view va = hsbd_spheres_get_view(a), vb = hsbd_spheres_get_view(b);
     CHECK(!memcmp(va.x, vb.x, 3 * p.n * sizeof *va.x) &&
@@ -572,8 +572,8 @@ static void compare_event_orders(const char *name, hsbd_spheres_params p, int st
     CHECK(hsbd_spheres_init_lattice(a, &err) == HSBD_OK, "%s: init: %s", name, err.message);
     CHECK(hsbd_spheres_init_lattice(b, &err) == HSBD_OK, "%s: init: %s", name, err.message);
     for (int k = 0; k < steps; ++k) {
-        hsbd_spheres_step(a);
-        hsbd_spheres_step(b);
+        CHECK(hsbd_spheres_step(a) == HSBD_OK, "step");
+        CHECK(hsbd_spheres_step(b) == HSBD_OK, "step");
     }
     const hsbd_spheres_view va = hsbd_spheres_get_view(a), vb = hsbd_spheres_get_view(b);
     CHECK(!memcmp(va.x, vb.x, 3 * p.n * sizeof *va.x) &&
@@ -741,7 +741,7 @@ static void compress_case(const char *name, int dim, size_t n, double phi, doubl
         CHECK(v.step == 0 && v.time == 0 && v.dt == 1e-3, "%s: clock or dt not reset", name);
         CHECK(brute_min_gap(&v) >= -1e-9, "%s: overlap %g", name, brute_min_gap(&v));
         for (int k = 0; k < 50; ++k)
-            hsbd_spheres_step(s);
+            CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
         v = hsbd_spheres_get_view(s);
         CHECK(brute_min_gap(&v) >= -1e-9, "%s: overlap %g after 50 steps", name, brute_min_gap(&v));
     }

@@ -1,4 +1,4 @@
-#include "spheres/cells.h"
+#include "core/cellgrid.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -6,7 +6,7 @@
 
 enum { CELLS_FIRST_CAP = 4 };
 
-int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, size_t npoints) {
+int hsbd_cells_init(hsbd_cells *c, int dim, const double box[3], double min_size, size_t npoints) {
     memset(c, 0, sizeof *c);
     c->dim = dim;
     c->ncells = 1;
@@ -24,16 +24,16 @@ int sph_cells_init(sph_cells *c, int dim, const double box[3], double min_size, 
     }
     c->cap = CELLS_FIRST_CAP;
     c->count = calloc(c->ncells, sizeof *c->count);
-    c->id = calloc(c->ncells * c->cap, sizeof *c->id); /* empty slots are read (cells.h) */
-    c->pos = calloc(3 * c->ncells * c->cap + 1, sizeof *c->pos); /* + 1: see cells.h */
+    c->id = calloc(c->ncells * c->cap, sizeof *c->id); /* empty slots are read (cellgrid.h) */
+    c->pos = calloc(3 * c->ncells * c->cap + 1, sizeof *c->pos); /* + 1: see cellgrid.h */
     c->cell_of = malloc(npoints * sizeof *c->cell_of);
     c->slot_of = malloc(npoints * sizeof *c->slot_of);
     if (!c->count || !c->id || !c->pos || !c->cell_of || !c->slot_of) return -1;
-    sph_cells_clear(c);
+    hsbd_cells_clear(c);
     return 0;
 }
 
-int sph_cells_reserve_points(sph_cells *c, size_t npoints) {
+int hsbd_cells_reserve_points(hsbd_cells *c, size_t npoints) {
     if (npoints <= c->npoints) return 0;
     int32_t *cell_of = realloc(c->cell_of, npoints * sizeof *cell_of);
     if (cell_of) c->cell_of = cell_of;
@@ -46,7 +46,7 @@ int sph_cells_reserve_points(sph_cells *c, size_t npoints) {
     return 0;
 }
 
-void sph_cells_free(sph_cells *c) {
+void hsbd_cells_free(hsbd_cells *c) {
     free(c->count);
     free(c->id);
     free(c->pos);
@@ -55,13 +55,13 @@ void sph_cells_free(sph_cells *c) {
     memset(c, 0, sizeof *c);
 }
 
-void sph_cells_clear(sph_cells *c) {
+void hsbd_cells_clear(hsbd_cells *c) {
     memset(c->count, 0, c->ncells * sizeof *c->count);
     for (size_t i = 0; i < c->npoints; ++i)
         c->cell_of[i] = -1;
 }
 
-static int axis_cell(const sph_cells *c, int a, double x) {
+static int axis_cell(const hsbd_cells *c, int a, double x) {
     const double q = x * c->inv_width[a];
     int k = (int)q; /* truncation: floor for the wrapped (non-negative) positions */
     if (q < 0) k = (int)floor(q);
@@ -69,14 +69,14 @@ static int axis_cell(const sph_cells *c, int a, double x) {
     return k < 0 ? k + c->nc[a] : k;
 }
 
-int32_t sph_cells_index(const sph_cells *c, const double x[3]) {
+int32_t hsbd_cells_index(const hsbd_cells *c, const double x[3]) {
     const int kx = axis_cell(c, 0, x[0]), ky = axis_cell(c, 1, x[1]);
     const int kz = c->dim == 3 ? axis_cell(c, 2, x[2]) : 0;
     return (int32_t)((kz * c->nc[1] + ky) * c->nc[0] + kx);
 }
 
 /* Twice the slots per cell, every cell copied over. */
-static int grow(sph_cells *c) {
+static int grow(hsbd_cells *c) {
     const uint32_t cap = 2 * c->cap;
     int32_t *id = calloc(c->ncells * cap, sizeof *id);
     double *pos = calloc(3 * c->ncells * cap + 1, sizeof *pos);
@@ -97,8 +97,8 @@ static int grow(sph_cells *c) {
     return 0;
 }
 
-int sph_cells_insert(sph_cells *c, int32_t i, const double x[3]) {
-    const int32_t k = sph_cells_index(c, x);
+int hsbd_cells_insert(hsbd_cells *c, int32_t i, const double x[3]) {
+    const int32_t k = hsbd_cells_index(c, x);
     if (c->count[k] == c->cap && grow(c)) return -1;
     const uint32_t u = c->count[k]++;
     const size_t slot = (size_t)k * c->cap + u;
@@ -109,7 +109,7 @@ int sph_cells_insert(sph_cells *c, int32_t i, const double x[3]) {
     return 0;
 }
 
-void sph_cells_remove(sph_cells *c, int32_t i) {
+void hsbd_cells_remove(hsbd_cells *c, int32_t i) {
     const int32_t k = c->cell_of[i];
     if (k < 0) return;
     const size_t base = (size_t)k * c->cap, slot = base + (uint32_t)c->slot_of[i];
@@ -129,7 +129,7 @@ static inline int axis_step(int k, int d, int n) {
     return k < 0 ? k + n : k >= n ? k - n : k;
 }
 
-int sph_cells_around(const sph_cells *c, const double x[3], int32_t out[27]) {
+int hsbd_cells_around(const hsbd_cells *c, const double x[3], int32_t out[27]) {
     int kc[3] = {axis_cell(c, 0, x[0]), axis_cell(c, 1, x[1]), 0};
     if (c->dim == 3) kc[2] = axis_cell(c, 2, x[2]);
     int count = 0;

@@ -1,0 +1,27 @@
+/* The pieces of event processing both schedulers use, the global calendar (global.c) and
+ * the groups (groups.c): internal to src/spheres. */
+#ifndef HSBD_SPHERES_EVENTS_H
+#define HSBD_SPHERES_EVENTS_H
+
+#include "spheres/state.h"
+
+/* Event (i, j) at time t into s->calendar, with the particles' collision counters.
+ * Returns 0, or -1 when out of memory. */
+int sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j);
+/* The time (>= t) at which i, at local time t, leaves its shell before dt; -1 if never. */
+double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t);
+/* i (at time t) against its row: the neighbours it reaches inside [t, dt) into
+ * s->scan_j, their contact times after t into s->scan_t; returns their number. */
+uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t);
+/* Moves e's particles to e->t and applies the collision rule; returns 1 and the event's
+ * virial term when they approach, 0 (nothing changed but the positions) otherwise. */
+int sph_collide_pair(hsbd_spheres *s, const sph_event *e, double *virial);
+
+/* An event predicted before one of its particles collided again: counted, to be dropped. */
+static inline int sph_event_stale(hsbd_spheres *s, const sph_event *e) {
+    const int stale = s->counter[e->i] != e->ci || (e->j >= 0 && s->counter[e->j] != e->cj);
+    s->stats.stale_events += (uint64_t)stale;
+    return stale;
+}
+
+#endif

@@ -1,0 +1,48 @@
+/* The global calendar (internal to src/spheres): every event of the step in one
+ * time-ordered calendar for the whole box; after a collision both partners' rows are
+ * tested again, after a shell exit the particle's shell is re-centred. */
+#include "spheres/global.h"
+
+#include "spheres/events.h"
+#include "spheres/neighbours.h"
+
+/* Collisions of i (at time t) with its neighbours inside [t, dt): into the calendar. */
+static int predict_row(hsbd_spheres *s, int32_t i, double t) {
+    const uint32_t hits = sph_row_hits(s, i, t);
+    for (uint32_t k = 0; k < hits; ++k)
+        if (sph_push_event(s, t + s->scan_t[k], i, s->scan_j[k])) return -1;
+    return 0;
+}
+
+/* When i (at local time t) would leave its shell before dt: schedule that. */
+static int predict_shell_exit(hsbd_spheres *s, int32_t i, double t) {
+    const double exit = sph_shell_exit_time(s, i, t);
+    return exit >= 0 ? sph_push_event(s, exit, i, SPH_EVENT_SHELL) : 0;
+}
+
+static int predict_particle(hsbd_spheres *s, int32_t i, double t) {
+    return predict_row(s, i, t) || predict_shell_exit(s, i, t) ? -1 : 0;
+}
+
+static int process_collision(hsbd_spheres *s, const sph_event *e) {
+    const int32_t i = e->i, j = e->j;
+    double virial;
+    if (!sph_collide_pair(s, e, &virial)) return 0;
+    s->stats.virial += virial;
+    s->stats.collisions++;
+    return predict_particle(s, i, e->t) || predict_particle(s, j, e->t) ? -1 : 0;
+}
+
+int sph_global_run(hsbd_spheres *s) {
+    sph_event e;
+    while (sph_calendar_pop(&s->calendar, &e)) {
+        if (sph_event_stale(s, &e)) continue;
+        if (e.j == SPH_EVENT_SHELL) {
+            sph_advance(s, e.i, e.t);
+            if (sph_recentre(s, e.i) || predict_particle(s, e.i, e.t)) return -1;
+        } else if (process_collision(s, &e)) {
+            return -1;
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,130 @@
+/* Neighbour shells (internal to src/spheres): every particle owns a shell of radius
+ * `shell` around a centre fixed at its last update, and i, j are neighbours when their
+ * shells overlap, |c_i - c_j| < sigma_ij + 2 shell. The symmetric rows (j > i first), the
+ * cell grid of the centres, re-centring one shell, and a full rebuild. */
+#include "spheres/neighbours.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* The next row capacity: about 1.5 times, a multiple of 4 and never a power of two from 32
+ * on. Rows 128 or 256 bytes apart ran 25-30 % slower at N = 1e5 than rows of 96 to 192
+ * bytes (bench/RESULTS.md); the first overflow came within a few hundred steps. */
+static uint32_t nb_next_cap(uint32_t cap) {
+    uint32_t next = cap + (cap / 2 + 3) / 4 * 4;
+    if ((next & (next - 1)) == 0) next += 4;
+    return next;
+}
+
+static int nb_grow(hsbd_spheres *s) {
+    const uint32_t cap = nb_next_cap(s->nb_cap);
+    if (cap > s->scan_cap) { /* the scans take at least one whole row */
+        int32_t *si = realloc(s->scan_i, cap * sizeof *si);
+        if (si) s->scan_i = si;
+        int32_t *sj = realloc(s->scan_j, cap * sizeof *sj);
+        if (sj) s->scan_j = sj;
+        double *st = realloc(s->scan_t, cap * sizeof *st);
+        if (st) s->scan_t = st;
+        if (!si || !sj || !st) return -1;
+        s->scan_cap = cap;
+    }
+    int32_t *nb = malloc(s->n * cap * sizeof *nb);
+    if (!nb) return -1;
+    for (size_t i = 0; i < s->n; ++i)
+        memcpy(nb + i * cap, s->nb + i * s->nb_cap, s->nb_count[i] * sizeof *nb);
+    free(s->nb);
+    s->nb = nb;
+    s->nb_cap = cap;
+    return 0;
+}
+
+/* Row i holds its neighbours j > i first (nb_upper of them), then the others: the
+ * per-step half scan then runs without a branch per entry. */
+int sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
+    if (s->nb_count[i] == s->nb_cap && nb_grow(s)) return -1;
+    int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    const uint32_t c = s->nb_count[i]++;
+    if (j > i) {
+        const uint32_t up = s->nb_upper[i]++;
+        row[c] = row[up];
+        row[up] = j;
+    } else {
+        row[c] = j;
+    }
+    return 0;
+}
+
+void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
+    int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    const uint32_t c = s->nb_count[i];
+    uint32_t k = c;
+    for (uint32_t q = 0; q < c; ++q) /* no early exit: the position is unpredictable */
+        k = row[q] == j ? q : k;
+    if (k == c) return;
+    if (j > i) { /* keep the partition: last upper entry fills the hole */
+        const uint32_t up = --s->nb_upper[i];
+        row[k] = row[up];
+        row[up] = row[c - 1];
+    } else {
+        row[k] = row[c - 1];
+    }
+    s->nb_count[i] = c - 1;
+}
+
+int sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *point_sigma, int32_t i,
+                    uint32_t *found) {
+    const size_t room = 27 * (size_t)cells->cap + SPH_NEAR_PAD;
+    if (room > s->near_cap) {
+        int32_t *near = realloc(s->near, room * sizeof *near);
+        if (!near) return -1;
+        s->near = near;
+        s->near_cap = room;
+    }
+    const double *ci = s->centre + 3 * (size_t)i;
+    int32_t around[27];
+    const int nc = hsbd_cells_around(cells, ci, around);
+    *found = s->cells_near(cells, around, nc, ci, s->box, point_sigma,
+                           0.5 * s->sigma[i] + 2 * s->shell, s->near);
+    return 0;
+}
+
+/* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
+ * sigma_ij + 2 shell (j > i only when upper_only), to both rows. */
+static int add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
+    uint32_t found;
+    if (sph_shells_near(s, &s->cells, s->sigma, i, &found)) return -1;
+    for (uint32_t k = 0; k < found; ++k) {
+        const int32_t j = s->near[k];
+        if (upper_only && j <= i) continue;
+        if (sph_nb_add(s, i, j) || sph_nb_add(s, j, i)) return -1;
+    }
+    return 0;
+}
+
+int sph_recentre(hsbd_spheres *s, int32_t i) {
+    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    for (uint32_t k = 0; k < s->nb_count[i]; ++k)
+        sph_nb_remove(s, row[k], i);
+    s->nb_count[i] = s->nb_upper[i] = 0;
+    hsbd_cells_remove(&s->cells, i);
+    sph_set_centre(s, i);
+    s->stats.shell_updates++;
+    if (add_shell_neighbours(s, i, 0)) return -1;
+    return hsbd_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i);
+}
+
+int sph_rebuild_neighbours(hsbd_spheres *s) {
+    if (!s->par.hard_core) return HSBD_OK;
+    hsbd_cells_clear(&s->cells);
+    for (size_t i = 0; i < s->n; ++i)
+        s->nb_count[i] = s->nb_upper[i] = 0;
+    s->nb_stale = 1; /* until every pair is in */
+    for (size_t i = 0; i < s->n; ++i) {
+        sph_set_centre(s, (int32_t)i);
+        if (hsbd_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) return HSBD_ENOMEM;
+    }
+    for (size_t i = 0; i < s->n; ++i)
+        if (add_shell_neighbours(s, (int32_t)i, 1)) return HSBD_ENOMEM;
+    s->nb_stale = 0;
+    return HSBD_OK;
+}

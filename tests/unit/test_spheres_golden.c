@@ -1,0 +1,213 @@
+/* EDBD trajectories recorded bit for bit: fixed-seed systems run through the public API,
+ * and an FNV-1a hash over the user-order positions, image counters and the collision
+ * statistics (collisions, shell updates, stale events, group re-runs, the bytes of the
+ * virial) compared with the value recorded from commit b91ebeb, before the engine's files
+ * were rearranged. Any change of the arithmetic or of the order of events changes the
+ * hash; a deliberate change of the trajectories must record new values (run with
+ * HSBD_GOLDEN_PRINT=1 to print them) and say why in its commit.
+ *
+ * Cases: monodisperse spheres at phi 0.3 and 0.5, a binary mixture with immobile
+ * obstacles (D = 0), dense 2D disks, polydisperse spheres with Stokes-Einstein D, a common
+ * drift, spheres compressed to phi 0.55, given positions, and the free-particle mode;
+ * each with the global calendar and group by group. */
+#include <inttypes.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../test_util.h"
+#include "hsbd/spheres.h"
+
+static const double PI = 3.14159265358979323846;
+
+enum { INIT_LATTICE, INIT_RANDOM, INIT_COMPRESS, INIT_POSITIONS };
+
+typedef struct golden_case {
+    const char *name;
+    hsbd_spheres_params par;
+    int init, steps;
+} golden_case;
+
+static uint64_t fnv1a(uint64_t h, const void *data, size_t bytes) {
+    const unsigned char *p = data;
+    for (size_t k = 0; k < bytes; ++k) {
+        h ^= p[k];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+static const uint64_t FNV_BASIS = 0xcbf29ce484222325ull;
+
+/* The positions and image counters in user order. */
+static uint64_t positions_hash(const hsbd_spheres *s) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s);
+    const uint64_t h = fnv1a(FNV_BASIS, v.x, 3 * v.n * sizeof *v.x);
+    return fnv1a(h, v.image, 3 * v.n * sizeof *v.image);
+}
+
+/* The positions, then the statistics (the virial's bytes last). */
+static uint64_t state_hash(const hsbd_spheres *s) {
+    const hsbd_spheres_stats st = hsbd_spheres_get_stats(s);
+    const uint64_t counts[4] = {st.collisions, st.shell_updates, st.stale_events, st.group_reruns};
+    const uint64_t h = fnv1a(positions_hash(s), counts, sizeof counts);
+    return fnv1a(h, &st.virial, sizeof st.virial);
+}
+
+static double side_for(int dim, size_t n, double mean_volume, double phi) {
+    return pow((double)n * mean_volume / phi, 1.0 / dim);
+}
+
+/* Lattice positions of the same box (for the given-positions case), user order. */
+static int lattice_positions(const hsbd_spheres_params *p, double *x) {
+    hsbd_error err;
+    hsbd_spheres *s = hsbd_spheres_alloc(p, &err);
+    if (!s || hsbd_spheres_init_lattice(s, &err) != HSBD_OK) return hsbd_spheres_free(s), -1;
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s);
+    memcpy(x, v.x, 3 * p->n * sizeof *x);
+    hsbd_spheres_free(s);
+    return 0;
+}
+
+/* Runs case c with the given event order; returns the state hash. */
+static uint64_t run_case(const golden_case *c, hsbd_spheres_event_order order) {
+    hsbd_spheres_params p = c->par;
+    p.event_order = order;
+    hsbd_error err;
+    hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+    CHECK(s != NULL, "%s: alloc: %s", c->name, err.message);
+    if (!s) return 0;
+    int rc = HSBD_OK;
+    double *x = NULL;
+    switch (c->init) {
+    case INIT_LATTICE:
+        rc = hsbd_spheres_init_lattice(s, &err);
+        break;
+    case INIT_RANDOM:
+        rc = hsbd_spheres_init_random(s, &err);
+        break;
+    case INIT_COMPRESS:
+        rc = hsbd_spheres_init_compress(s, &err);
+        break;
+    default:
+        x = malloc(3 * p.n * sizeof *x);
+        rc = x && lattice_positions(&p, x) == 0 ? hsbd_spheres_set_positions(s, x, &err)
+                                                : HSBD_ENOMEM;
+        free(x);
+    }
+    CHECK(rc == HSBD_OK, "%s: init: %s", c->name, err.message);
+    for (int k = 0; k < c->steps && rc == HSBD_OK; ++k)
+        CHECK(hsbd_spheres_step(s) == HSBD_OK, "step");
+    const uint64_t h = state_hash(s);
+    const hsbd_spheres_stats st = hsbd_spheres_get_stats(s);
+    CHECK(!p.hard_core || st.collisions > 0, "%s: no collisions", c->name);
+    hsbd_spheres_free(s);
+    return h;
+}
+
+int main(void) {
+    static int species[600];
+    for (int i = 0; i < 600; ++i) /* one in 4 large, one in 37 an obstacle */
+        species[i] = i % 37 == 3 ? 2 : i % 4 == 0;
+    static const double sp_sigma[3] = {1.0, 1.4, 1.2}, sp_diffusion[3] = {1.0, 1.0 / 1.4, 0.0};
+    const double mix_volume = PI / 6 * (0.75 * 1.0 + 0.25 * 1.4 * 1.4 * 1.4);
+
+    static double poly_sigma[500], poly_diffusion[500], ones[500];
+    for (int i = 0; i < 500; ++i)
+        ones[i] = 1.0;
+    hsbd_error err;
+    CHECK(hsbd_spheres_draw_diameters(31, 500, ones, 0.1, HSBD_SIZES_GAUSSIAN, poly_sigma, &err) ==
+              HSBD_OK,
+          "diameters: %s", err.message);
+    double poly_volume = 0;
+    for (int i = 0; i < 500; ++i) {
+        poly_diffusion[i] = 1.0 / poly_sigma[i]; /* Stokes-Einstein */
+        poly_volume += PI / 6 * pow(poly_sigma[i], 3) / 500;
+    }
+
+    const hsbd_spheres_params mono = {
+        .n = 500, .dimension = 3, .sigma = 1, .diffusion = 1, .kT = 1, .dt = 1e-3, .hard_core = 1};
+    golden_case cases[] = {
+        {"3D phi 0.3", mono, INIT_LATTICE, 300},
+        {"3D phi 0.5", mono, INIT_LATTICE, 300},
+        {"binary mixture with obstacles phi 0.3", mono, INIT_RANDOM, 300},
+        {"2D disks phi 0.6", mono, INIT_LATTICE, 300},
+        {"polydisperse 0.1, Stokes-Einstein, phi 0.35", mono, INIT_RANDOM, 300},
+        {"drift (3, -2, 1), phi 0.3, dt 2e-3", mono, INIT_LATTICE, 250},
+        {"compressed to phi 0.55", mono, INIT_COMPRESS, 100},
+        {"given positions, phi 0.4", mono, INIT_POSITIONS, 200},
+        {"free particles", mono, INIT_RANDOM, 100},
+    };
+    golden_case *c = cases;
+    c->par.seed = 11;
+    c->par.box[0] = c->par.box[1] = c->par.box[2] = side_for(3, 500, PI / 6, 0.3);
+    ++c;
+    c->par.seed = 12;
+    c->par.box[0] = c->par.box[1] = c->par.box[2] = side_for(3, 500, PI / 6, 0.5);
+    ++c;
+    c->par.n = 600;
+    c->par.seed = 13;
+    c->par.nspecies = 3;
+    c->par.species = species;
+    c->par.species_sigma = sp_sigma;
+    c->par.species_diffusion = sp_diffusion;
+    c->par.box[0] = c->par.box[1] = c->par.box[2] = side_for(3, 600, mix_volume, 0.3);
+    ++c;
+    c->par.n = 400;
+    c->par.dimension = 2;
+    c->par.seed = 14;
+    c->par.box[0] = c->par.box[1] = side_for(2, 400, PI / 4, 0.6);
+    ++c;
+    c->par.seed = 15;
+    c->par.particle_sigma = poly_sigma;
+    c->par.particle_diffusion = poly_diffusion;
+    c->par.box[0] = c->par.box[1] = c->par.box[2] = side_for(3, 500, poly_volume, 0.35);
+    ++c;
+    c->par.seed = 16;
+    c->par.dt = 2e-3;
+    c->par.drift[0] = 3, c->par.drift[1] = -2, c->par.drift[2] = 1;
+    c->par.box[0] = c->par.box[1] = c->par.box[2] = side_for(3, 500, PI / 6, 0.3);
+    ++c;
+    c->par.n = 300;
+    c->par.seed = 17;
+    c->par.box[0] = c->par.box[1] = c->par.box[2] = side_for(3, 300, PI / 6, 0.55);
+    ++c;
+    c->par.seed = 18;
+    c->par.keep_order = 1;
+    c->par.box[0] = c->par.box[1] = c->par.box[2] = side_for(3, 500, PI / 6, 0.4);
+    ++c;
+    c->par.seed = 19;
+    c->par.hard_core = 0;
+    c->par.box[0] = c->par.box[1] = c->par.box[2] = side_for(3, 500, PI / 6, 0.3);
+
+    /* recorded from b91ebeb (HSBD_GOLDEN_PRINT=1) */
+    static const uint64_t recorded[][2] = {
+        {0x6bc212fd1ee57cc6ull, 0x89614b4e12900b0aull}, /* 3D phi 0.3 */
+        {0xd7324e8229e2b4c7ull, 0xbf5d3d259b66a631ull}, /* 3D phi 0.5 */
+        {0x5a053a5eddc464e1ull, 0x3a0a0fee3b05e9f3ull}, /* binary mixture with obstacles */
+        {0x0f7b93eed94fd581ull, 0x044c8e2bd7dccddfull}, /* 2D disks phi 0.6 */
+        {0x3ff360229fec9bb4ull, 0xc25357938308387full}, /* polydisperse */
+        {0xfd3e06cd5bae3a08ull, 0xe50f470ec47f557bull}, /* drift */
+        {0xd15864f208d1cf43ull, 0xf9e2df1d736ddafcull}, /* compressed to phi 0.55 */
+        {0x053fdb0697a127c0ull, 0x51d440b11f2c1e8full}, /* given positions, phi 0.4 */
+        {0x50211f81032ba882ull, 0x50211f81032ba882ull}, /* free particles */
+    };
+    const size_t ncases = sizeof cases / sizeof cases[0];
+    CHECK(sizeof recorded / sizeof recorded[0] == ncases, "one recorded pair per case");
+    const int print = getenv("HSBD_GOLDEN_PRINT") != NULL;
+    for (size_t k = 0; k < ncases; ++k) {
+        const uint64_t global = run_case(&cases[k], HSBD_EVENTS_GLOBAL);
+        const uint64_t groups = run_case(&cases[k], HSBD_EVENTS_GROUPS);
+        if (print)
+            printf("        {0x%016" PRIx64 "ull, 0x%016" PRIx64 "ull}, /* %s */\n", global, groups,
+                   cases[k].name);
+        CHECK(global == recorded[k][0],
+              "%s, global calendar: hash %016" PRIx64 ", recorded %016" PRIx64, cases[k].name,
+              global, recorded[k][0]);
+        CHECK(groups == recorded[k][1], "%s, groups: hash %016" PRIx64 ", recorded %016" PRIx64,
+              cases[k].name, groups, recorded[k][1]);
+    }
+    return test_finish("test_spheres_golden");
+}
