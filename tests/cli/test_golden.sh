@@ -104,8 +104,9 @@ fingerprint() { # every result file of a run directory: one hash per file
         [ -e "$f" ] || continue
         printf '%s %s\n' "$(grep -v '^#' "$f" | sha256sum | cut -c1-16)" "$(basename "$f")"
     done
+    # summary.json: its lines without timings, as a set (the order of the fields is free)
     printf '%s summary.json\n' "$(grep -v -E 'second|"git"|"version"|"dir"' "$dir/summary.json" |
-        sha256sum | cut -c1-16)"
+        sed 's/,$//' | sort | sha256sum | cut -c1-16)"
 }
 
 out=$T/got.sha256
