@@ -95,6 +95,8 @@ typedef struct hsbd_config {
         char dir[HSBD_PATH_MAX];
         int trajectory;
         double trajectory_every;
+        int checkpoints;         /* write checkpoints (resumable runs) */
+        double checkpoint_every; /* simulated time between them (0: by wall time) */
     } output;
     struct {
         char positions[HSBD_PATH_MAX];

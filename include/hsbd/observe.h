@@ -175,4 +175,24 @@ void hsbd_scheme_check_compute(const hsbd_spheres_view *v, double collisions_per
 /* Up to max messages for the criteria beyond their thresholds; returns their number. */
 int hsbd_scheme_check_warnings(const hsbd_scheme_check *c, char (*msg)[HSBD_WARNING_LEN], int max);
 
+/* The long-time diffusion coefficient D_L from an MSD of d-dimensional coordinates: the
+ * slope between its largest lag (with at least two origins) and a tenth of it, over 2 d;
+ * NaN when there are too few lags. */
+void hsbd_msd_long_time_diffusion(const hsbd_msd *m, int dimension, double *dl, double *err);
+
+/* Size classes: per species HSBD_SIZE_CLASSES bins of its diameters (one class when
+ * monodisperse), each with its members' mean diameter and number fraction of all
+ * particles; the equations of state of mixtures are evaluated over them. */
+enum { HSBD_SIZE_CLASSES = 64, HSBD_SIZE_CLASS_SPECIES = 16 };
+typedef struct hsbd_size_classes {
+    size_t n, first[HSBD_SIZE_CLASS_SPECIES + 1]; /* species k: first[k] .. first[k+1] */
+    double x[HSBD_SIZE_CLASS_SPECIES * HSBD_SIZE_CLASSES];
+    double sigma[HSBD_SIZE_CLASS_SPECIES * HSBD_SIZE_CLASSES];
+    int polydisperse;
+} hsbd_size_classes;
+void hsbd_size_classes_build(const hsbd_spheres_view *v, size_t nspecies, hsbd_size_classes *c);
+/* BMCSL's g_ab(sigma_ab+) (3D) over the classes of species a and b at number density rho,
+ * weighted by x x' sigma^3 as the simulated contact value is */
+double hsbd_size_classes_bmcsl_contact(const hsbd_size_classes *c, double rho, size_t a, size_t b);
+
 #endif

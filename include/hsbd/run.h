@@ -15,11 +15,13 @@ typedef struct hsbd_run_options {
     const volatile sig_atomic_t *stop;
 } hsbd_run_options;
 
-/* Runs a finalized configuration into cfg->output.dir. HSBD_EINPUT for bad input
- * (nothing is written then), HSBD_EINTERRUPT when stopped (valid partial results and
- * "completed": false in summary.json). */
+/* Runs a finalized configuration (rods or spheres, system.model) into cfg->output.dir.
+ * HSBD_EINPUT for bad input (nothing is written then), HSBD_EINTERRUPT when stopped
+ * (valid partial results and "completed": false in summary.json, and a checkpoint to
+ * continue from). */
+int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
+/* The same, by model (kept for callers that name it). */
 int hsbd_run_rods(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
-/* The same for system.model = spheres (EDBD of disks / spheres). */
 int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
 
 #endif

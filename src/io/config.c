@@ -191,6 +191,14 @@ static const key_spec schema[] = {
      "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD)"},
     {"output", "trajectory_every", K_DOUBLE, OFF(output.trajectory_every), 0, INF, OPEN_MAX, "0", 0,
      "time between trajectory frames (0: t_total/100, at least run.dt)"},
+    {"output", "checkpoints", K_BOOL, OFF(output.checkpoints), 0, 1, 0, "on", 0,
+     "write checkpoints into the run directory (checkpoint.hsbd, the one before it kept as "
+     "checkpoint.prev.hsbd), so that 'hsbd resume DIR' continues an interrupted run bit for "
+     "bit; taking one never changes the results"},
+    {"output", "checkpoint_every", K_DOUBLE, OFF(output.checkpoint_every), 0, INF, OPEN_MAX, "0",
+     0,
+     "simulated time between checkpoints (0: one every 10 minutes of wall time, so that an "
+     "interruption loses at most that much); a stopped or finished run always writes one"},
     {"init", "positions", K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
      "file with initial positions; rods: one per line ('#' comments), default an exact "
      "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "hsbd/observe.h"
+#include "observe/checkpoint.h"
 
 struct hsbd_blocks {
     size_t nvalues, nblocks;
@@ -159,4 +160,33 @@ size_t hsbd_blocks_block_means(const hsbd_blocks *b, int shape, double *out) {
                 row[j] *= mean_total / sk;
     }
     return b->nblocks;
+}
+
+/* ---- checkpoints ---- */
+void hsbd_blocks_save(const hsbd_blocks *b, hsbd_writer *w) {
+    hsbd_put_tag(w, "blocks");
+    const uint64_t shape[4] = {b->nvalues, b->nblocks, (uint64_t)b->spatial, b->nsamples_total};
+    hsbd_put_u64s(w, shape, 4);
+    hsbd_put_u64(w, b->nsamples);
+    hsbd_put_f64s(w, b->acc, b->nvalues);
+    hsbd_put_f64s(w, b->block_sum, b->nvalues * b->nblocks);
+    hsbd_put_u64s(w, b->block_n, b->nblocks);
+}
+
+int hsbd_blocks_load(hsbd_blocks *b, hsbd_reader *r) {
+    uint64_t shape[4];
+    if (hsbd_get_tag(r, "blocks") || hsbd_get_u64s(r, shape, 4)) return -1;
+    if (shape[0] != b->nvalues || shape[1] != b->nblocks || shape[2] != (uint64_t)b->spatial ||
+        shape[3] != b->nsamples_total)
+        return hsbd_reader_fail(r, "error blocks of another shape");
+    uint64_t ns;
+    if (hsbd_get_u64(r, &ns)) return -1;
+    if (!b->spatial && ns > b->nsamples_total)
+        return hsbd_reader_fail(r, "more samples than planned");
+    b->nsamples = ns;
+    if (hsbd_get_f64s(r, b->acc, b->nvalues) ||
+        hsbd_get_f64s(r, b->block_sum, b->nvalues * b->nblocks) ||
+        hsbd_get_u64s(r, b->block_n, b->nblocks))
+        return -1;
+    return 0;
 }

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 
 #include "hsbd/observe.h"
+#include "observe/checkpoint.h"
 
 struct hsbd_clusters {
     size_t n;
@@ -59,4 +60,19 @@ void hsbd_clusters_means(const hsbd_clusters *c, double *mean_size, double *mean
     hsbd_blocks_result(c->means, mean, err);
     *mean_size = mean[0], *mean_size_err = err[0];
     *merges_per_step = mean[1], *merges_err = err[1];
+}
+
+/* ---- checkpoints ---- */
+void hsbd_clusters_save(const hsbd_clusters *c, hsbd_writer *w) {
+    hsbd_put_tag(w, "clusters");
+    hsbd_put_f64s(w, c->hist, c->n + 1);
+    hsbd_put_f64(w, c->total);
+    hsbd_blocks_save(c->means, w);
+}
+
+int hsbd_clusters_load(hsbd_clusters *c, hsbd_reader *r) {
+    if (hsbd_get_tag(r, "clusters") || hsbd_get_f64s(r, c->hist, c->n + 1) ||
+        hsbd_get_f64(r, &c->total))
+        return -1;
+    return hsbd_blocks_load(c->means, r);
 }

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "hsbd/observe.h"
+#include "observe/checkpoint.h"
 
 struct hsbd_contacts {
     size_t n, nspecies;
@@ -76,4 +77,16 @@ void hsbd_contacts_pair(const hsbd_contacts *c, size_t a, size_t b, double *val,
 
 void hsbd_contacts_wall(const hsbd_contacts *c, int right, double *val, double *err) {
     result_at(c, c->nspecies * c->nspecies + (right ? 1 : 0), val, err);
+}
+
+/* ---- checkpoints ---- */
+void hsbd_contacts_save(const hsbd_contacts *c, hsbd_writer *w) {
+    hsbd_put_tag(w, "contacts");
+    hsbd_put_u64(w, c->nspecies);
+    hsbd_blocks_save(c->blocks, w);
+}
+
+int hsbd_contacts_load(hsbd_contacts *c, hsbd_reader *r) {
+    if (hsbd_get_tag(r, "contacts") || hsbd_get_count(r, c->nspecies, "contact species")) return -1;
+    return hsbd_blocks_load(c->blocks, r);
 }

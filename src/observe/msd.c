@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "hsbd/observe.h"
+#include "observe/checkpoint.h"
 
 struct hsbd_msd {
     size_t n, nlags, slots, nblocks;
@@ -270,4 +271,49 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
         return;
     }
     origin_blocks(val, c, m->nblocks, msd, err);
+}
+
+/* ---- checkpoints ---- */
+void hsbd_msd_save(const hsbd_msd *m, hsbd_writer *w) {
+    hsbd_put_tag(w, "msd");
+    const uint64_t shape[6] = {m->n,           m->nlags, m->slots,
+                               m->max_origins, m->nseg,  m->fs_value != NULL};
+    hsbd_put_u64s(w, shape, 6);
+    hsbd_put_u64(w, m->sample);
+    hsbd_put_f64s(w, m->snap, m->slots * m->n);
+    hsbd_put_u64s(w, m->snap_at, m->slots);
+    hsbd_put_f64s(w, m->value, m->nlags * m->max_origins);
+    uint64_t *count = malloc(m->nlags * sizeof *count);
+    if (!count) {
+        w->oom = 1;
+        return;
+    }
+    for (size_t k = 0; k < m->nlags; ++k)
+        count[k] = m->count[k];
+    hsbd_put_u64s(w, count, m->nlags);
+    free(count);
+    if (m->nseg) hsbd_put_f64s(w, m->seg_sum, m->nlags * m->nseg);
+    if (m->fs_value) hsbd_put_f64s(w, m->fs_value, m->nlags * m->max_origins);
+}
+
+int hsbd_msd_load(hsbd_msd *m, hsbd_reader *r) {
+    uint64_t shape[6], sample;
+    if (hsbd_get_tag(r, "msd") || hsbd_get_u64s(r, shape, 6) || hsbd_get_u64(r, &sample)) return -1;
+    if (shape[0] != m->n || shape[1] != m->nlags || shape[2] != m->slots ||
+        shape[3] != m->max_origins || shape[4] != m->nseg || shape[5] != (m->fs_value != NULL))
+        return hsbd_reader_fail(r, "an MSD of another shape");
+    m->sample = sample;
+    if (hsbd_get_f64s(r, m->snap, m->slots * m->n) || hsbd_get_u64s(r, m->snap_at, m->slots) ||
+        hsbd_get_f64s(r, m->value, m->nlags * m->max_origins) ||
+        hsbd_get_count(r, m->nlags, "msd counts"))
+        return -1;
+    for (size_t k = 0; k < m->nlags; ++k) {
+        uint64_t c;
+        if (hsbd_get_u64(r, &c)) return -1;
+        if (c > m->max_origins) return hsbd_reader_fail(r, "msd: more origins than room");
+        m->count[k] = (size_t)c;
+    }
+    if (m->nseg && hsbd_get_f64s(r, m->seg_sum, m->nlags * m->nseg)) return -1;
+    if (m->fs_value && hsbd_get_f64s(r, m->fs_value, m->nlags * m->max_origins)) return -1;
+    return 0;
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "hsbd/observe.h"
+#include "observe/checkpoint.h"
 
 struct hsbd_profile {
     double period, bin_width, contact_width;
@@ -290,4 +291,27 @@ uint64_t hsbd_profile_nonfinite(const hsbd_profile *p) {
 
 double hsbd_profile_min_gap(const hsbd_profile *p) {
     return p->min_gap;
+}
+
+/* ---- checkpoints ---- */
+void hsbd_profile_save(const hsbd_profile *p, hsbd_writer *w) {
+    hsbd_put_tag(w, "profile");
+    hsbd_put_u64(w, p->nbins);
+    hsbd_put_f64(w, p->periods);
+    hsbd_put_f64(w, p->min_gap);
+    hsbd_put_u64(w, p->nonfinite);
+    const hsbd_blocks *acc[] = {p->density, p->contact, p->impulse, p->extrap};
+    for (int k = 0; k < 4; ++k)
+        hsbd_blocks_save(acc[k], w);
+}
+
+int hsbd_profile_load(hsbd_profile *p, hsbd_reader *r) {
+    if (hsbd_get_tag(r, "profile") || hsbd_get_count(r, p->nbins, "profile bins") ||
+        hsbd_get_f64(r, &p->periods) || hsbd_get_f64(r, &p->min_gap) ||
+        hsbd_get_u64(r, &p->nonfinite))
+        return -1;
+    hsbd_blocks *acc[] = {p->density, p->contact, p->impulse, p->extrap};
+    for (int k = 0; k < 4; ++k)
+        if (hsbd_blocks_load(acc[k], r)) return -1;
+    return 0;
 }

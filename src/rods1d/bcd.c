@@ -7,6 +7,7 @@
 #include "hsbd/isotonic.h"
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
+#include "rods1d/checkpoint.h"
 
 enum { STEP_CHUNK = 256 }; /* rods per inner batch; even, so RNG pairs align */
 
@@ -576,4 +577,41 @@ double hsbd_rods_min_gap(const hsbd_rods *r, int *all_finite) {
     if (r->walls && r->z[0] < m) m = r->z[0];
     if (all_finite) *all_finite = finite;
     return m < DBL_MAX ? m : r->free_length;
+}
+
+/* ---- checkpoints ---- */
+void hsbd_rods_save(const hsbd_rods *r, hsbd_writer *w) {
+    hsbd_put_tag(w, "rods");
+    hsbd_put_u64(w, r->par.n);
+    hsbd_put_f64s(w, r->z, r->par.n);
+    hsbd_put_i64(w, r->wraps);
+    hsbd_put_u64(w, r->step);
+    hsbd_put_f64(w, r->time);
+    hsbd_put_f64(w, r->par.dt);
+    if (r->species) hsbd_put_ints(w, r->species, r->par.n);
+}
+
+int hsbd_rods_load(hsbd_rods *r, hsbd_reader *rd) {
+    const size_t n = r->par.n;
+    double dt;
+    if (hsbd_get_tag(rd, "rods") || hsbd_get_count(rd, n, "rods") || hsbd_get_f64s(rd, r->z, n) ||
+        hsbd_get_i64(rd, &r->wraps) || hsbd_get_u64(rd, &r->step) || hsbd_get_f64(rd, &r->time) ||
+        hsbd_get_f64(rd, &dt))
+        return -1;
+    if (r->species && hsbd_get_ints(rd, r->species, n)) return -1;
+    for (size_t i = 0; r->species && i < n; ++i)
+        if (r->species[i] < 0 || (size_t)r->species[i] >= r->par.nspecies)
+            return hsbd_reader_fail(rd, "rods: a species index out of range");
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(r->z[i]) || (i > 0 && r->z[i] < r->z[i - 1]))
+            return hsbd_reader_fail(rd, "rods: positions not finite or out of order");
+    if (r->walls && (r->z[0] < 0 || r->z[n - 1] > r->free_length))
+        return hsbd_reader_fail(rd, "rods: positions beyond the walls");
+    if (!r->walls && r->z[n - 1] > r->z[0] + r->free_length + 1e-9 * r->par.length)
+        return hsbd_reader_fail(rd, "rods: positions out of order around the ring");
+    if (!(dt > 0) || !isfinite(dt) || !isfinite(r->time))
+        return hsbd_reader_fail(rd, "rods: time step or time not valid");
+    r->par.dt = dt;
+    compute_offsets(r); /* the species along the line decide the offsets and frictions */
+    return 0;
 }

@@ -1,0 +1,109 @@
+/* One run lifecycle for every model: equilibrate, then produce, with operations that run on
+ * triggers (sampling, g(r), trajectory frames, currents), replicas, checkpoints, progress,
+ * stop on a signal, and the final tables. A model (src/run/rods.c, spheres.c) only builds
+ * its system and observers and registers its operations; everything about the run's life
+ * is here, once. */
+#ifndef HSBD_RUN_RUN_H
+#define HSBD_RUN_RUN_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "core/serial.h"
+#include "hsbd/config.h"
+#include "hsbd/error.h"
+#include "hsbd/io.h"
+#include "hsbd/run.h"
+
+typedef struct run run;
+
+/* An operation: called after every `every`-th production step (counted from the start of
+ * production over all replicas), in registration order. */
+typedef int (*run_action)(run *r, void *ctx, hsbd_error *err);
+typedef struct run_op {
+    const char *name;
+    uint64_t every;
+    run_action act;
+    void *ctx;
+} run_op;
+
+/* A file the run appends to while it goes (trajectory frames, currents): written under
+ * its temporary name, flushed and cut back at checkpoints, renamed at the end. */
+typedef struct run_stream {
+    const char *name;
+    hsbd_outfile file;
+    int64_t committed; /* bytes on disk at the last checkpoint */
+    /* writes the file's header when a run opens it (may be NULL) */
+    void (*header)(const struct run *r, FILE *f);
+} run_stream;
+
+/* What a model provides. Every function gets the run; the model's own state is r->m. */
+typedef struct run_model {
+    const char *name; /* "rods", "spheres" */
+    double particles; /* particle-steps per step, for rates */
+    /* one step (r->stage and r->steps_done say which: the model may collect extra
+     * statistics for a step its sampling follows) */
+    int (*step)(run *r, hsbd_error *err);
+    /* the equilibration's own time step on (1) or off (0); may be NULL */
+    void (*equilibration_dt)(run *r, int on);
+    /* the state is sane (finite, no overlap when `strict`) */
+    int (*check)(run *r, int strict, hsbd_error *err);
+    /* replicas: a fresh initial state for replica k >= 1, and origins of time-dependent
+     * observers cut; may be NULL when the model has no replicas */
+    int (*start_replica)(run *r, size_t k, hsbd_error *err);
+    /* a replica's equilibration is over (its reference sums); may be NULL */
+    void (*replica_ready)(run *r);
+    /* production begins (statistics reset, reference sums); may be NULL */
+    void (*start_production)(run *r);
+    /* checkpoints: the state and the observers' accumulators */
+    void (*save)(const run *r, hsbd_writer *w);
+    int (*load)(run *r, hsbd_reader *rd);
+    /* final tables and the model's part of summary.json */
+    int (*write_tables)(run *r, hsbd_error *err);
+    void (*write_summary)(run *r, FILE *f);
+    void (*release)(run *r);
+} run_model;
+
+enum { RUN_MAX_OPS = 16, RUN_MAX_STREAMS = 4 };
+enum run_stage { RUN_EQUILIBRATING = 0, RUN_PRODUCING = 1, RUN_DONE = 2 };
+
+struct run {
+    const hsbd_config *cfg;
+    const hsbd_run_options *opt;
+    run_model model;
+    void *m;
+    run_op ops[RUN_MAX_OPS];
+    size_t nops;
+    run_stream streams[RUN_MAX_STREAMS];
+    size_t nstreams;
+    /* where the run is; all of it goes into a checkpoint */
+    int stage;
+    uint64_t stage_steps;    /* steps done in the current equilibration */
+    uint64_t steps_done;     /* production steps */
+    uint64_t equil_done;     /* equilibration steps over all replicas */
+    size_t replicas_started; /* sample.blocking = replicas: blocks begun */
+    double wall_equil, wall_prod, cpu_equil, cpu_prod;
+    uint64_t resumes; /* times this run was continued from a checkpoint */
+    int resuming;     /* built to load a checkpoint: no initial state is made */
+    int completed;
+    int min_gap_valid;
+};
+
+/* Registration, for the models' build functions. */
+int run_add_op(run *r, const char *name, uint64_t every, run_action act, void *ctx,
+               hsbd_error *err);
+/* A stream file in the run directory; returns it (NULL and an error when full). */
+run_stream *run_add_stream(run *r, const char *name, hsbd_error *err);
+/* Steps between calls for a period of simulated time (at least 1); 0 for period 0. */
+uint64_t run_every(const hsbd_config *cfg, double period);
+
+/* Builders of the two models: fill r->model and r->m (called before the run directory is
+ * touched: everything that can refuse the input happens here). */
+int run_rods_build(run *r, hsbd_error *err);
+int run_spheres_build(run *r, hsbd_error *err);
+
+/* The common fields of summary.json (program, version, completion, steps, timings); the
+ * model then adds its own. */
+void run_write_summary_head(const run *r, FILE *f, const char *stop_reason);
+
+#endif

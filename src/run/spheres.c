@@ -1,0 +1,600 @@
+/* The spheres model of the run lifecycle: builds the EDBD system of hard disks or spheres
+ * (species, polydispersity, initial state) and its observers (g(r) and contact values,
+ * MSD and F_s(k, t) per species, the collisional virial, trajectories) and registers them
+ * with the lifecycle. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hsbd/io.h"
+#include "hsbd/observe.h"
+#include "hsbd/spheres.h"
+#include "hsbd/theory.h"
+#include "io/tables.h"
+#include "run/run.h"
+
+typedef struct spheres_model {
+    hsbd_spheres *sys;
+    int *species;
+    size_t ns;         /* species (1 for one species) */
+    double *unwrapped; /* d N unwrapped coordinates for the MSD */
+    hsbd_gr *gr;
+    hsbd_msd *msd;
+    hsbd_msd *msd_species[HSBD_MAX_SPECIES];
+    hsbd_blocks *virial; /* collisional virial per sampled interval */
+    double virial_last;
+    run_stream *trajectory;
+} spheres_model;
+
+static spheres_model *model_of(const run *r) {
+    return r->m;
+}
+
+static const char *species_name(const run *r, size_t k) {
+    return r->cfg->species.n ? r->cfg->species.name[k] : "S";
+}
+
+/* ---- set-up ---- */
+
+/* init.positions for spheres: extended XYZ, first line N, second a comment (hsbd writes
+ * the lattice there), then "name x y [z] ..." per particle. Species come from the names. */
+static int read_xyz(const run *r, spheres_model *m, double *x, double *sigma, hsbd_error *err) {
+    const hsbd_config *cfg = r->cfg;
+    const char *path = cfg->init.positions;
+    FILE *f = fopen(path, "r");
+    if (!f) return hsbd_error_set(err, HSBD_EINPUT, "init.positions: cannot read '%s'", path);
+    char line[4096];
+    size_t lineno = 0, n = (size_t)cfg->system.n;
+    int rc = HSBD_OK;
+    long long count = -1;
+    if (fgets(line, sizeof line, f)) ++lineno, count = strtoll(line, NULL, 10);
+    if (count != (long long)n) {
+        fclose(f);
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:%zu: the XYZ file has %lld particles; allowed: system.N = %zu",
+                              path, lineno, count, n);
+    }
+    if (fgets(line, sizeof line, f)) ++lineno; /* comment line */
+    size_t have[HSBD_MAX_SPECIES] = {0};
+    for (size_t i = 0; i < n && rc == HSBD_OK; ++i) {
+        if (!fgets(line, sizeof line, f)) {
+            rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%zu: file ends after %zu of %zu particles",
+                                path, lineno, i, n);
+            break;
+        }
+        ++lineno;
+        char name[64];
+        double c[3] = {0, 0, 0}, radius = NAN;
+        const int got = sscanf(line, "%63s %lf %lf %lf %lf", name, &c[0], &c[1], &c[2], &radius);
+        const int dim = (int)cfg->system.dimension;
+        if (got < 1 + dim || !isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2])) {
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s:%zu: expected 'name x y%s' with finite coordinates", path,
+                                lineno, dim == 3 ? " z" : "");
+            break;
+        }
+        if (cfg->species.polydispersity > 0) { /* the diameters come with the positions */
+            if (got < 5 || !(radius > 0) || !isfinite(radius)) {
+                rc = hsbd_error_set(err, HSBD_EINPUT,
+                                    "%s:%zu: species.polydispersity > 0 (%s) reads each "
+                                    "diameter from the file: expected 'name x y z radius' with "
+                                    "radius > 0, as hsbd writes trajectories",
+                                    path, lineno,
+                                    hsbd_config_origin(cfg, "species", "polydispersity"));
+                break;
+            }
+            sigma[i] = 2 * radius;
+        }
+        int sp = 0;
+        if (cfg->species.n) {
+            sp = -1;
+            for (size_t k = 0; k < cfg->species.n; ++k)
+                if (!strcmp(name, cfg->species.name[k])) sp = (int)k;
+            if (sp < 0) {
+                rc = hsbd_error_set(err, HSBD_EINPUT,
+                                    "%s:%zu: unknown species name '%s'; allowed: the names of "
+                                    "species.names",
+                                    path, lineno, name);
+                break;
+            }
+        }
+        m->species[i] = sp;
+        have[sp]++;
+        memcpy(x + 3 * i, c, sizeof c);
+    }
+    fclose(f);
+    for (size_t k = 0; rc == HSBD_OK && k < cfg->species.n; ++k)
+        if (have[k] != (size_t)cfg->species.count[k])
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s: the file has %zu particles of species %s, species.count / "
+                                "fraction asks for %lld",
+                                path, have[k], cfg->species.name[k],
+                                (long long)cfg->species.count[k]);
+    return rc;
+}
+
+/* The initial state: init.positions, or init.method (random, lattice, compression). */
+static int place_particles(const run *r, spheres_model *m, double *x, hsbd_error *err) {
+    const hsbd_config *cfg = r->cfg;
+    char why[sizeof err->message];
+    int rc;
+    if (x) {
+        rc = hsbd_spheres_set_positions(m->sys, x, err);
+        if (rc != HSBD_OK) {
+            snprintf(why, sizeof why, "%s", err->message);
+            hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
+        }
+        return rc;
+    }
+    static const char *const method[] = {"auto", "random", "lattice", "compress"};
+    rc = cfg->init.method == HSBD_INIT_LATTICE    ? hsbd_spheres_init_lattice(m->sys, err)
+         : cfg->init.method == HSBD_INIT_COMPRESS ? hsbd_spheres_init_compress(m->sys, err)
+                                                  : hsbd_spheres_init_random(m->sys, err);
+    if (rc == HSBD_EINPUT) {
+        snprintf(why, sizeof why, "%s", err->message);
+        hsbd_error_set(err, rc, "%s: init.method = %s: %s",
+                       hsbd_config_origin(cfg, "init", "method"), method[cfg->init.method], why);
+    }
+    return rc;
+}
+
+static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
+    const hsbd_config *cfg = r->cfg;
+    const size_t n = (size_t)cfg->system.n;
+    m->ns = cfg->species.n ? cfg->species.n : 1;
+    m->species = calloc(n, sizeof *m->species);
+    double *x = NULL, *sigma = malloc(2 * n * sizeof *sigma), *diffusion = sigma + n;
+    if (!m->species || !sigma)
+        return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    /* species in blocks (initial states place particles randomly), sizes and D */
+    if (hsbd_config_particles(cfg, m->species, sigma, diffusion, err) != HSBD_OK)
+        return free(sigma), err->status;
+    if (cfg->init.positions[0] && !r->resuming) {
+        x = malloc(3 * n * sizeof *x);
+        if (!x) return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        if (read_xyz(r, m, x, sigma, err) != HSBD_OK) return free(x), free(sigma), err->status;
+        for (size_t i = 0; i < n; ++i) { /* the file's species (and diameters) */
+            const size_t k = (size_t)m->species[i];
+            const double sk = cfg->species.n ? cfg->species.sigma[k] : cfg->system.sigma;
+            if (!(cfg->species.polydispersity > 0)) sigma[i] = sk;
+            diffusion[i] = cfg->species.n ? cfg->species.diffusion[k] : cfg->system.diffusion;
+            if (cfg->species.d_law == HSBD_D_STOKES_EINSTEIN) diffusion[i] *= sk / sigma[i];
+        }
+    }
+    hsbd_spheres_params p = {.n = n,
+                             .dimension = (int)cfg->system.dimension,
+                             .sigma = cfg->system.sigma,
+                             .diffusion = cfg->system.diffusion,
+                             .kT = cfg->system.kT,
+                             .dt = cfg->run.dt,
+                             .seed = cfg->system.seed,
+                             .hard_core = cfg->system.hard_core,
+                             .shell = cfg->system.shell,
+                             .nspecies = cfg->species.n,
+                             .species = m->species,
+                             .species_sigma = cfg->species.sigma,
+                             .species_diffusion = cfg->species.diffusion,
+                             .particle_sigma = sigma,
+                             .particle_diffusion = diffusion};
+    for (int a = 0; a < 3; ++a)
+        p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a];
+    m->sys = hsbd_spheres_alloc(&p, err);
+    free(sigma);
+    if (!m->sys) {
+        free(x);
+        char why[sizeof err->message];
+        snprintf(why, sizeof why, "%s", err->message); /* name the keys behind the message */
+        return hsbd_error_set(
+            err, err->status, "%s: %s (system.shell: %s)",
+            hsbd_config_origin(cfg, "system", cfg->system.box_text[0] ? "box" : "packing_fraction"),
+            why, hsbd_config_origin(cfg, "system", "shell"));
+    }
+    const int rc = r->resuming ? HSBD_OK : place_particles(r, m, x, err);
+    free(x);
+    return rc;
+}
+
+static int build_observers(const hsbd_config *cfg, spheres_model *m, hsbd_error *err) {
+    const uint64_t steps = hsbd_config_steps(cfg), every = (uint64_t)cfg->sample.every;
+    const size_t blocks = (size_t)cfg->sample.blocks, n = (size_t)cfg->system.n;
+    const size_t d = (size_t)cfg->system.dimension;
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
+    if (cfg->system.hard_core) {
+        m->gr = hsbd_gr_alloc(&v, cfg->sample.gr_max, cfg->sample.gr_bin, cfg->sample.contact_fit,
+                              blocks, steps / (uint64_t)cfg->sample.gr_every, err);
+        if (!m->gr) return err->status;
+    }
+    m->virial = hsbd_blocks_alloc(1, blocks, steps / every);
+    m->unwrapped = malloc(d * n * sizeof *m->unwrapped);
+    if (!m->virial || !m->unwrapped) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    const double dt_sample = cfg->run.dt * (double)every;
+    m->msd = hsbd_msd_alloc(d * n, dt_sample, steps / every, cfg->sample.msd_max_lag,
+                            (int)cfg->sample.msd_points_per_decade, blocks, err);
+    if (!m->msd || hsbd_msd_set_wavenumber(m->msd, cfg->sample.fs_k, err) != HSBD_OK)
+        return err->status;
+    if (cfg->species.n < 2) return HSBD_OK;
+    size_t *idx = malloc(d * n * sizeof *idx);
+    if (!idx) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    for (size_t k = 0; k < cfg->species.n; ++k) {
+        size_t c = 0;
+        for (size_t i = 0; i < n; ++i)
+            if ((size_t)m->species[i] == k)
+                for (size_t a = 0; a < d; ++a)
+                    idx[c++] = d * i + a;
+        m->msd_species[k] = hsbd_msd_alloc(d * n, dt_sample, steps / every, cfg->sample.msd_max_lag,
+                                           (int)cfg->sample.msd_points_per_decade, blocks, err);
+        if (!m->msd_species[k] || hsbd_msd_set_members(m->msd_species[k], c, idx, err) ||
+            hsbd_msd_set_wavenumber(m->msd_species[k], cfg->sample.fs_k, err)) {
+            free(idx);
+            return err->status;
+        }
+    }
+    free(idx);
+    return HSBD_OK;
+}
+
+/* The scheme's assumptions (Scala Eqs. 3 and 6, collisions per particle-step) from the
+ * particles' own sizes and D; warnings on stderr (collisions: once measured). */
+static void warn_scheme(const spheres_model *m, double collisions_per_particle_step) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
+    hsbd_scheme_check c;
+    hsbd_scheme_check_compute(&v, collisions_per_particle_step, &c);
+    char msg[3][HSBD_WARNING_LEN];
+    const int n = hsbd_scheme_check_warnings(&c, msg, 3);
+    for (int k = 0; k < n; ++k) {
+        const int measured = strstr(msg[k], "collisions per particle") != NULL;
+        if (measured == !isnan(collisions_per_particle_step))
+            fprintf(stderr, "hsbd: warning: %s\n", msg[k]);
+    }
+}
+
+/* ---- operations ---- */
+
+static int sample_virial_msd(run *r, void *ctx, hsbd_error *err) {
+    (void)err;
+    spheres_model *m = ctx;
+    const double vir = hsbd_spheres_get_stats(m->sys).virial;
+    hsbd_blocks_acc(m->virial)[0] += vir - m->virial_last;
+    hsbd_blocks_end_sample(m->virial);
+    m->virial_last = vir;
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
+    const size_t d = (size_t)v.dimension;
+    for (size_t i = 0; i < v.n; ++i)
+        for (size_t a = 0; a < d; ++a)
+            m->unwrapped[d * i + a] = v.x[3 * i + a] + (double)v.image[3 * i + a] * v.box[a];
+    hsbd_msd_sample_values(m->msd, m->unwrapped);
+    for (size_t k = 0; k < r->cfg->species.n && m->msd_species[k]; ++k)
+        hsbd_msd_sample_values(m->msd_species[k], m->unwrapped);
+    return HSBD_OK;
+}
+
+static int sample_gr(run *r, void *ctx, hsbd_error *err) {
+    (void)r;
+    spheres_model *m = ctx;
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
+    return hsbd_gr_sample(m->gr, &v) == HSBD_OK
+               ? HSBD_OK
+               : hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory for its cells");
+}
+
+static int write_frame(run *r, void *ctx, hsbd_error *err) {
+    spheres_model *m = ctx;
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
+    FILE *f = m->trajectory->file.f;
+    fprintf(f, "%zu\n", v.n);
+    const int three = v.dimension == 3;
+    fprintf(f,
+            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T T %s\" Time=%.17g Step=%llu "
+            "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
+            v.box[0], v.box[1], three ? v.box[2] : 1.0, three ? "T" : "F", v.time,
+            (unsigned long long)v.step);
+    for (size_t i = 0; i < v.n; ++i)
+        fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n",
+                species_name(r, (size_t)v.species[i]), v.x[3 * i], v.x[3 * i + 1], v.x[3 * i + 2],
+                0.5 * v.sigma[i], (long long)v.image[3 * i], (long long)v.image[3 * i + 1],
+                (long long)v.image[3 * i + 2], i + 1);
+    return ferror(f) ? hsbd_error_set(err, HSBD_EIO, "writing '%s' failed", m->trajectory->file.tmp)
+                     : HSBD_OK;
+}
+
+/* ---- the model's part of the lifecycle ---- */
+
+static int spheres_step(run *r, hsbd_error *err) {
+    const spheres_model *m = model_of(r);
+    const int rc = hsbd_spheres_step(m->sys);
+    return rc == HSBD_OK ? HSBD_OK
+                         : hsbd_error_set(err, rc, "spheres: out of memory in step %llu",
+                                          (unsigned long long)hsbd_spheres_get_view(m->sys).step);
+}
+
+static int spheres_check(run *r, int strict, hsbd_error *err) {
+    const spheres_model *m = model_of(r);
+    int finite;
+    const double g = hsbd_spheres_min_gap(m->sys, &finite);
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
+    if (!finite)
+        return hsbd_error_set(err, HSBD_ENUMERIC,
+                              "non-finite position after step %llu (time %g); results up to "
+                              "here are written",
+                              (unsigned long long)v.step, v.time);
+    if (strict && g < -1e-9)
+        return hsbd_error_set(err, HSBD_ENUMERIC,
+                              "--check: overlap %.3g (relative) after step %llu", g,
+                              (unsigned long long)v.step);
+    return HSBD_OK;
+}
+
+/* The equilibration's collision rate is warned about; production counts from zero. */
+static void spheres_start_production(run *r) {
+    spheres_model *m = model_of(r);
+    if (r->equil_done > 0)
+        warn_scheme(m, (double)hsbd_spheres_get_stats(m->sys).collisions /
+                           ((double)r->cfg->system.n * (double)r->equil_done));
+    hsbd_spheres_reset_stats(m->sys);
+    m->virial_last = 0;
+}
+
+/* ---- results ---- */
+
+static int write_gr(const run *r, const spheres_model *m, hsbd_error *err) {
+    const size_t nb = hsbd_gr_bins(m->gr), np = hsbd_gr_pairs(m->gr);
+    double *x = malloc(nb * sizeof *x), *val = malloc(2 * np * nb * sizeof *val);
+    if (!x || !val) {
+        free(x), free(val);
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing gr.tsv");
+    }
+    char columns[64 + HSBD_MAX_SPECIES * HSBD_MAX_SPECIES * (2 * HSBD_SPECIES_NAME + 16)] = "r";
+    for (size_t p = 0; p < np; ++p) {
+        size_t a, b;
+        hsbd_gr_pair_species(m->gr, p, &a, &b);
+        const size_t len = strlen(columns);
+        snprintf(columns + len, sizeof columns - len, "\tg_%s_%s\tg_%s_%s_err", species_name(r, a),
+                 species_name(r, b), species_name(r, a), species_name(r, b));
+        hsbd_gr_result(m->gr, p, x, val + 2 * p * nb, val + (2 * p + 1) * nb);
+    }
+    const int rc = hsbd_write_columns_table(r->cfg->output.dir, "gr.tsv", r->cfg,
+                                            "radial distribution function per species pair (bin "
+                                            "centres); errors from time blocks",
+                                            columns, nb, x, np, val, err);
+    free(x), free(val);
+    return rc;
+}
+
+/* msd.tsv (the per-particle MSD: d times that of the coordinates) or fs.tsv (F_s) */
+static int write_time_table(const run *r, const spheres_model *m, const char *name, int fs,
+                            hsbd_error *err) {
+    const size_t d = (size_t)r->cfg->system.dimension, ns = r->cfg->species.n;
+    const size_t per_species = ns > 1 ? ns : 0, pairs = 1 + per_species;
+    const char *what = fs ? "fs" : "msd";
+    char columns[64 + HSBD_MAX_SPECIES * (2 * HSBD_SPECIES_NAME + 16)];
+    snprintf(columns, sizeof columns, "t\t%s\t%s_err\torigins", what, what);
+    for (size_t q = 0; q < per_species; ++q) {
+        const size_t len = strlen(columns);
+        snprintf(columns + len, sizeof columns - len, "\t%s_%s\t%s_%s_err", what,
+                 r->cfg->species.name[q], what, r->cfg->species.name[q]);
+    }
+    char title[256];
+    if (fs)
+        snprintf(title, sizeof title,
+                 "self-intermediate scattering function F_s(k, t) at k = %g (k along each axis, "
+                 "averaged), all particles and per species; errors from blocks of time origins",
+                 r->cfg->sample.fs_k);
+    else
+        snprintf(title, sizeof title,
+                 "mean-squared displacement per particle (unwrapped, summed over the %zu "
+                 "dimensions), all particles and per species; errors from blocks of time origins",
+                 d);
+    const double scale = fs ? 1.0 : (double)d;
+    const size_t nl = hsbd_msd_lags(m->msd);
+    double *t = malloc(nl * sizeof *t), *val = malloc(2 * pairs * nl * sizeof *val);
+    size_t *origins = malloc(nl * sizeof *origins);
+    int rc = t && val && origins
+                 ? HSBD_OK
+                 : hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing %s", name);
+    for (size_t k = 0; k < nl && rc == HSBD_OK; ++k)
+        for (size_t p = 0; p < pairs; ++p) {
+            const hsbd_msd *src = p ? m->msd_species[p - 1] : m->msd;
+            double tk, v, e;
+            size_t o;
+            hsbd_msd_result(src, k, &tk, &v, &e, &o);
+            if (fs) hsbd_msd_fs(src, k, &v, &e);
+            if (!p) t[k] = tk, origins[k] = o;
+            val[2 * p * nl + k] = scale * v, val[(2 * p + 1) * nl + k] = scale * e;
+        }
+    if (rc == HSBD_OK)
+        rc = hsbd_write_lag_table(r->cfg->output.dir, name, r->cfg, title, columns, nl, t, origins,
+                                  pairs, val, err);
+    free(t), free(val), free(origins);
+    return rc;
+}
+
+static int spheres_write_tables(run *r, hsbd_error *err) {
+    const spheres_model *m = model_of(r);
+    int rc = m->gr ? write_gr(r, m, err) : HSBD_OK;
+    if (rc == HSBD_OK) rc = write_time_table(r, m, "msd.tsv", 0, err);
+    if (rc == HSBD_OK) rc = write_time_table(r, m, "fs.tsv", 1, err);
+    return rc;
+}
+
+/* "contacts": g_ab(sigma_ab+) per pair with the equation of state's value; Z from them by
+ * the virial route, Z = 1 + sum_ab C_ab g_ab, beside the equation of state's Z */
+static void write_contacts_json(const run *r, const spheres_model *m, FILE *f) {
+    const hsbd_config *cfg = r->cfg;
+    const int dim = (int)cfg->system.dimension;
+    double vol = 1;
+    for (int a = 0; a < dim; ++a)
+        vol *= cfg->system.box[a];
+    const double rho = (double)cfg->system.n / vol;
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
+    hsbd_size_classes classes;
+    hsbd_size_classes_build(&v, m->ns, &classes);
+    const int mono = m->ns == 1 && !classes.polydisperse;
+    double z = 1, var = 0, z_theory = 1;
+    const char *eos = dim == 3 ? (mono ? "Carnahan-Starling" : "BMCSL")
+                               : (mono ? "virial series B2-B10" : "none");
+    fprintf(f, "  \"contacts\": [");
+    for (size_t p = 0; p < hsbd_gr_pairs(m->gr); ++p) {
+        size_t a, b;
+        hsbd_gr_pair_species(m->gr, p, &a, &b);
+        double val, err;
+        hsbd_gr_contact(m->gr, p, &val, &err);
+        const double weight = hsbd_gr_contact_weight(m->gr, p);
+        z += weight * val, var += weight * weight * err * err;
+        double theory = NAN;
+        if (dim == 3)
+            theory = mono ? hsbd_hs_contact_cs(cfg->system.packing_fraction)
+                          : hsbd_size_classes_bmcsl_contact(&classes, rho, a, b);
+        else if (mono)
+            theory = hsbd_hd_contact_virial(cfg->system.packing_fraction); /* Henderson: +0.14 % */
+        z_theory += weight * theory;
+        fprintf(f,
+                "%s\n    {\"a\": \"%s\", \"b\": \"%s\", \"g_contact\": %.10g, \"g_contact_err\": "
+                "%.4g, \"theory\": %.10g, \"theory_eos\": \"%s\", \"Z_weight\": %.10g}",
+                p ? "," : "", species_name(r, a), species_name(r, b), val, isfinite(err) ? err : 0,
+                isfinite(theory) ? theory : 0, eos, weight);
+    }
+    fprintf(f, "\n  ],\n");
+    hsbd_json_number(f, "Z_contact", z, 1);
+    hsbd_json_number(f, "Z_contact_err", sqrt(var), 1); /* pairs treated as independent */
+    hsbd_json_number(f, "Z_theory", z_theory, 1);
+    fprintf(f, "  \"Z_theory_eos\": \"%s\",\n", eos);
+    if (dim == 3 && mono) { /* CS is 0.26 % low at phi 0.3 */
+        hsbd_json_number(f, "Z_theory_klm", hsbd_hs_z_klm(cfg->system.packing_fraction), 1);
+        hsbd_json_number(f, "g_contact_theory_klm",
+                         hsbd_hs_contact_klm(cfg->system.packing_fraction), 1);
+    }
+}
+
+/* "sizes": the diameters as simulated (drawn, or read with the positions) */
+static void write_sizes_json(const run *r, const spheres_model *m, FILE *f) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
+    double mean = 0, var = 0, lo = INFINITY, hi = 0;
+    for (size_t i = 0; i < v.n; ++i)
+        mean += v.sigma[i] / (double)v.n, lo = fmin(lo, v.sigma[i]), hi = fmax(hi, v.sigma[i]);
+    for (size_t i = 0; i < v.n; ++i)
+        var += (v.sigma[i] - mean) * (v.sigma[i] - mean) / (double)v.n;
+    static const char *const dist[] = {"gaussian", "uniform"}, *const law[] = {"given",
+                                                                               "stokes-einstein"};
+    fprintf(f,
+            "  \"sizes\": {\"mean\": %.10g, \"relative_width\": %.6g, \"min\": %.10g, \"max\": "
+            "%.10g, \"polydispersity\": %g, \"distribution\": \"%s\", \"D_law\": \"%s\"},\n",
+            mean, sqrt(var) / mean, lo, hi, r->cfg->species.polydispersity,
+            dist[r->cfg->species.distribution], law[r->cfg->species.d_law]);
+}
+
+static void spheres_write_summary(run *r, FILE *f) {
+    const spheres_model *m = model_of(r);
+    const hsbd_config *cfg = r->cfg;
+    const double n = (double)cfg->system.n, steps = (double)r->steps_done;
+    const int dim = (int)cfg->system.dimension;
+    /* statistics since production began (the equilibration's if it never did) */
+    const hsbd_spheres_stats st = hsbd_spheres_get_stats(m->sys);
+    const double t_prod = steps * cfg->run.dt;
+    fprintf(f, "  \"dimension\": %d,\n", dim);
+    const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys); /* an XYZ input's own sizes */
+    hsbd_json_number(f, "packing_fraction", hsbd_spheres_packing_fraction(dim, v.box, v.n, v.sigma),
+                     1);
+    fprintf(f, "  \"box\": [%.17g, %.17g, %.17g],\n", cfg->system.box[0], cfg->system.box[1],
+            cfg->system.box[2]);
+    write_sizes_json(r, m, f);
+    hsbd_json_number(f, "shell", hsbd_spheres_shell(m->sys), 1);
+    hsbd_json_number(f, "time_simulated", t_prod, 1);
+    hsbd_json_number(f, "cpu_seconds", r->cpu_prod + r->cpu_equil, 1);
+    hsbd_json_number(f, "cpu_seconds_production", r->cpu_prod, 1);
+    hsbd_json_number(f, "wall_seconds_production", r->wall_prod, 1);
+    hsbd_json_number(f, "particle_steps_per_second",
+                     r->cpu_prod > 0 ? n * steps / r->cpu_prod : NAN, 1);
+    hsbd_json_number(f, "collisions_per_second",
+                     r->cpu_prod > 0 ? (double)st.collisions / r->cpu_prod : NAN, 1);
+    hsbd_json_number(f, "time_per_cpu_second", r->cpu_prod > 0 ? t_prod / r->cpu_prod : NAN, 1);
+    /* diagnostics: the scheme's assumptions (Scala Eqs. 3 and 6), the particles' own values */
+    const double cpp = steps > 0 ? (double)st.collisions / (n * steps) : NAN;
+    hsbd_scheme_check check;
+    hsbd_scheme_check_compute(&v, cpp, &check);
+    hsbd_json_number(f, "collisions_per_particle_step", cpp, 1);
+    hsbd_json_number(f, "mean_step_over_sigma", check.step_over_sigma, 1);
+    hsbd_json_number(f, "mean_step_over_mean_gap", check.step_over_gap, 1);
+    char warnings[3][HSBD_WARNING_LEN];
+    const int nw = hsbd_scheme_check_warnings(&check, warnings, 3);
+    fprintf(f, "  \"warnings\": [");
+    for (int k = 0; k < nw; ++k) {
+        fputs(k ? ", " : "", f);
+        hsbd_json_string(f, warnings[k]);
+    }
+    fprintf(f, "],\n");
+    hsbd_json_number(f, "shell_updates_per_particle_step",
+                     steps > 0 ? (double)st.shell_updates / (n * steps) : NAN, 1);
+    /* the collisional virial: Z = 1 + <sum sigma_ij n . F_j> / (d N kT) */
+    double vm = NAN, ve = NAN;
+    hsbd_blocks_result(m->virial, &vm, &ve);
+    const double per = cfg->run.dt * (double)cfg->sample.every * (double)dim * n;
+    if (cfg->system.hard_core) {
+        hsbd_json_number(f, "Z_virial", 1 + vm / per, 1);
+        hsbd_json_number(f, "Z_virial_err", ve / per, 1);
+        write_contacts_json(r, m, f);
+    }
+    double dl, dle;
+    hsbd_msd_long_time_diffusion(m->msd, dim, &dl, &dle);
+    hsbd_json_number(f, "D_long", dl, 1);
+    hsbd_json_number(f, "D_long_err", dle, 1);
+    if (cfg->species.n > 1) {
+        fprintf(f, "  \"D_long_species\": {");
+        for (size_t k = 0; k < cfg->species.n; ++k) {
+            hsbd_msd_long_time_diffusion(m->msd_species[k], dim, &dl, &dle);
+            fprintf(f, "%s\"%s\": [%.10g, %.4g]", k ? ", " : "", cfg->species.name[k],
+                    isfinite(dl) ? dl : 0, isfinite(dle) ? dle : 0);
+        }
+        fprintf(f, "},\n");
+    }
+    int finite;
+    hsbd_json_number(f, "min_gap", hsbd_spheres_min_gap(m->sys, &finite), 1);
+}
+
+static void spheres_release(run *r) {
+    spheres_model *m = model_of(r);
+    if (!m) return;
+    hsbd_spheres_free(m->sys);
+    hsbd_gr_free(m->gr);
+    hsbd_msd_free(m->msd);
+    for (size_t k = 0; k < HSBD_MAX_SPECIES; ++k)
+        hsbd_msd_free(m->msd_species[k]);
+    hsbd_blocks_free(m->virial);
+    free(m->unwrapped);
+    free(m->species);
+    free(m);
+    r->m = NULL;
+}
+
+static int register_ops(run *r, spheres_model *m, hsbd_error *err) {
+    const hsbd_config *cfg = r->cfg;
+    int rc = run_add_op(r, "sample", (uint64_t)cfg->sample.every, sample_virial_msd, m, err);
+    if (rc == HSBD_OK && m->gr)
+        rc = run_add_op(r, "g(r)", (uint64_t)cfg->sample.gr_every, sample_gr, m, err);
+    if (rc == HSBD_OK && cfg->output.trajectory == HSBD_TRAJ_XYZ) {
+        m->trajectory = run_add_stream(r, "trajectory.xyz", err);
+        rc = m->trajectory
+                 ? run_add_op(r, "trajectory", run_every(cfg, cfg->output.trajectory_every),
+                              write_frame, m, err)
+                 : err->status;
+    }
+    return rc;
+}
+
+int run_spheres_build(run *r, hsbd_error *err) {
+    spheres_model *m = calloc(1, sizeof *m);
+    if (!m) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    r->m = m;
+    r->model = (run_model){.name = "spheres",
+                           .particles = (double)r->cfg->system.n,
+                           .step = spheres_step,
+                           .check = spheres_check,
+                           .start_production = spheres_start_production,
+                           .write_tables = spheres_write_tables,
+                           .write_summary = spheres_write_summary,
+                           .release = spheres_release};
+    int rc = build_system(r, m, err);
+    if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);
+    if (rc == HSBD_OK) rc = register_ops(r, m, err);
+    if (rc == HSBD_OK && !r->resuming) warn_scheme(m, NAN);
+    return rc;
+}
