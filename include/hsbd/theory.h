@@ -128,4 +128,56 @@ double hsbd_hs_contact_bmcsl(size_t ns, const double *x, const double *sigma, do
 double hsbd_hs_z_from_contacts(int dim, size_t ns, const double *x, const double *sigma, double rho,
                                const double *contact);
 
+/* ---- one overdamped Brownian particle in a tilted periodic potential (washboard) ----
+ * dx = mu F(x) dt + sqrt(2 D dt) N, mu = D / kT, F = -V', V(x) = U(x) - f x with U periodic
+ * (period lambda). Exact stationary results from nested integrals over one period
+ * (docs/theory.md): the mean velocity (Stratonovich), the effective diffusion coefficient
+ * D_eff = lim var x(t) / 2t (Reimann et al., PRL 87, 010602 (2001)) and the stationary
+ * density. */
+typedef struct hsbd_washboard_params {
+    double diffusion;        /* D (length^2 / time) */
+    double kT;               /* thermal energy, in the units of the field's energies */
+    double period;           /* lambda: every term of field must have this period */
+    double force;            /* the tilt f (energy / length), any sign */
+    const hsbd_field *field; /* the periodic part U(x); NULL: U = 0 */
+    double tol;              /* target relative error, >= 1e-14 (default 1e-10 if 0) */
+    size_t points;     /* 0: automatic (grids of 64, 128, ... points until the estimate is below
+                          tol); otherwise this one grid (even, >= 16), tol unused */
+    size_t max_points; /* automatic grids stop here (default 2^20 if 0) */
+} hsbd_washboard_params;
+
+typedef struct hsbd_washboard_result {
+    double velocity;      /* <v> = lim <x(t)> / t */
+    double diffusion_eff; /* D_eff = lim var x(t) / (2 t) */
+    double error;         /* estimated relative error of velocity, diffusion_eff and density: the
+                             largest relative change from the grid with half the points (the error of
+                             the returned grid is smaller still) */
+    size_t m;             /* grid points over one period */
+    double *x;            /* x_j = j lambda / m, j < m */
+    double *density;      /* stationary p(x_j), int_0^lambda p dx = 1 */
+} hsbd_washboard_result;
+
+/* HSBD_EINPUT for parameters out of range or a field that is not periodic with the period
+ * (a tilt term belongs in `force`), HSBD_ENUMERIC when max_points is reached before tol or
+ * the integrals overflow (barriers of several hundred kT), HSBD_ENOMEM. Nothing is returned
+ * on error. err may be NULL. */
+int hsbd_washboard_solve(const hsbd_washboard_params *p, hsbd_washboard_result *out,
+                         hsbd_error *err);
+void hsbd_washboard_result_free(hsbd_washboard_result *r);
+
+typedef struct hsbd_washboard_rocking_result {
+    double velocity; /* (1/pi) int_0^pi <v>(f0 + f1 cos theta) d theta */
+    double error;    /* estimated relative error (phase quadrature and every static solve),
+                        relative to the larger of |velocity| and the phase average of |<v>| */
+    size_t phases;   /* phase intervals on [0, pi] */
+} hsbd_washboard_rocking_result;
+
+/* The adiabatically rocked particle: tilt F(t) = f0 + f1 cos(omega t) in the limit
+ * omega -> 0, where the density follows the static one at every instant; the drift is the
+ * time average of the static <v>(F(t)) over a drive period (trapezoid rule in the phase,
+ * doubled until the change is below p->tol). p->force is ignored; p->points and
+ * p->max_points apply to every static solve. Errors as hsbd_washboard_solve. */
+int hsbd_washboard_rocking(const hsbd_washboard_params *p, double f0, double f1,
+                           hsbd_washboard_rocking_result *out, hsbd_error *err);
+
 #endif
