@@ -1,4 +1,5 @@
-/* Files: atomic outputs (temporary name, then rename), run directories, input positions. */
+/* Files: atomic outputs (temporary name, then rename), run directories, input positions,
+ * extended-XYZ frames (written as trajectories, read back as initial states). */
 #ifndef HSBD_IO_H
 #define HSBD_IO_H
 
@@ -8,6 +9,7 @@
 #include "hsbd/config.h"
 #include "hsbd/error.h"
 #include "hsbd/rods.h"
+#include "hsbd/spheres.h"
 
 /* An output file written under "<name>.part" and renamed to "<name>" on commit, so an
  * interrupted run never leaves a truncated file under the final name. */
@@ -32,8 +34,41 @@ int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err);
 int hsbd_read_positions(const char *path, size_t n, double *x, size_t nspecies,
                         const char (*names)[HSBD_SPECIES_NAME], int *species, hsbd_error *err);
 
+/* ---- extended XYZ (src/io/xyz.c) ---- */
+
 /* One extended-XYZ frame of the rods (wrapped positions, unwrapped column, radius); names:
  * the species names of a mixture (NULL: every rod is "R"). */
 void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v, const char (*names)[HSBD_SPECIES_NAME]);
+
+/* The species name of spheres without species.names */
+#define HSBD_XYZ_ONE_SPECIES "S"
+
+/* One frame of the spheres: species, wrapped position, radius, image counters, id per
+ * particle; names: the species names of a mixture (NULL: every particle is "S"). */
+void hsbd_xyz_write_spheres(FILE *f, const hsbd_spheres_view *v,
+                            const char (*names)[HSBD_SPECIES_NAME]);
+
+/* What a frame read back must match. */
+typedef struct hsbd_xyz_expect {
+    size_t n;          /* particles (line 1) */
+    int dimension;     /* 2 (z = 0) or 3 */
+    const double *box; /* 3 lengths: coordinates in [0, box], and the Lattice, when given */
+    size_t nspecies;   /* 0: one species named HSBD_XYZ_ONE_SPECIES; else the names */
+    const char (*names)[HSBD_SPECIES_NAME];
+    const int64_t *count;      /* particles per species, or NULL (not checked) */
+    const char *radius_reason; /* non-NULL: a radius column is read (why, for messages) */
+} hsbd_xyz_expect;
+
+/* Reads one frame of spheres from f (`name` for messages): line 1 the count, line 2 a
+ * comment (its Lattice="..." and Properties=... are checked when present), then one line
+ * "name x y z [radius ...]" per particle (z may be left out in 2D), then nothing but blank
+ * lines. Fills x (3 n, z = 0 in 2D), species (n) and, when e->radius_reason, radius (n).
+ * HSBD_EINPUT with the file and line for anything that does not fit. */
+int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, double *x,
+                          int *species, double *radius, hsbd_error *err);
+/* init.positions of a finalized spheres configuration: x (3 N), species (N) and, when
+ * species.polydispersity > 0, each diameter sigma (N) from the file's radii. */
+int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
+                            hsbd_error *err);
 
 #endif

@@ -141,20 +141,3 @@ int hsbd_read_positions(const char *path, size_t n, double *x, size_t nspecies,
                             n);
     return rc;
 }
-
-void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v, const char (*names)[HSBD_SPECIES_NAME]) {
-    const double L = v->length;
-    fprintf(f, "%zu\n", v->n);
-    fprintf(f,
-            "Lattice=\"%.17g 0 0 0 1 0 0 0 1\" pbc=\"%s F F\" Time=%.17g Step=%llu "
-            "Properties=species:S:1:pos:R:3:radius:R:1:x_unwrapped:R:1:id:I:1\n",
-            L, v->periodic ? "T" : "F", v->time, (unsigned long long)v->step);
-    for (size_t i = 0; i < v->n; ++i) {
-        const double xu = v->z[i] + v->offset[i] + v->unwrap;
-        const double xw = v->periodic ? xu - L * floor(xu / L) : xu;
-        const int sp = v->species ? v->species[i] : 0;
-        const double sigma = v->species ? v->species_sigma[sp] : v->sigma;
-        fprintf(f, "%s %.10g 0 0 %.10g %.15g %zu\n", names && v->species ? names[sp] : "R", xw,
-                0.5 * sigma, xu, i + 1);
-    }
-}

@@ -36,83 +36,6 @@ static const char *species_name(const run *r, size_t k) {
 
 /* ---- set-up ---- */
 
-/* init.positions for spheres: extended XYZ, first line N, second a comment (hsbd writes
- * the lattice there), then "name x y [z] ..." per particle. Species come from the names. */
-static int read_xyz(const run *r, spheres_model *m, double *x, double *sigma, hsbd_error *err) {
-    const hsbd_config *cfg = r->cfg;
-    const char *path = cfg->init.positions;
-    FILE *f = fopen(path, "r");
-    if (!f) return hsbd_error_set(err, HSBD_EINPUT, "init.positions: cannot read '%s'", path);
-    char line[4096];
-    size_t lineno = 0, n = (size_t)cfg->system.n;
-    int rc = HSBD_OK;
-    long long count = -1;
-    if (fgets(line, sizeof line, f)) ++lineno, count = strtoll(line, NULL, 10);
-    if (count != (long long)n) {
-        fclose(f);
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s:%zu: the XYZ file has %lld particles; allowed: system.N = %zu",
-                              path, lineno, count, n);
-    }
-    if (fgets(line, sizeof line, f)) ++lineno; /* comment line */
-    size_t have[HSBD_MAX_SPECIES] = {0};
-    for (size_t i = 0; i < n && rc == HSBD_OK; ++i) {
-        if (!fgets(line, sizeof line, f)) {
-            rc = hsbd_error_set(err, HSBD_EINPUT, "%s:%zu: file ends after %zu of %zu particles",
-                                path, lineno, i, n);
-            break;
-        }
-        ++lineno;
-        char name[64];
-        double c[3] = {0, 0, 0}, radius = NAN;
-        const int got = sscanf(line, "%63s %lf %lf %lf %lf", name, &c[0], &c[1], &c[2], &radius);
-        const int dim = (int)cfg->system.dimension;
-        if (got < 1 + dim || !isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2])) {
-            rc = hsbd_error_set(err, HSBD_EINPUT,
-                                "%s:%zu: expected 'name x y%s' with finite coordinates", path,
-                                lineno, dim == 3 ? " z" : "");
-            break;
-        }
-        if (cfg->species.polydispersity > 0) { /* the diameters come with the positions */
-            if (got < 5 || !(radius > 0) || !isfinite(radius)) {
-                rc = hsbd_error_set(err, HSBD_EINPUT,
-                                    "%s:%zu: species.polydispersity > 0 (%s) reads each "
-                                    "diameter from the file: expected 'name x y z radius' with "
-                                    "radius > 0, as hsbd writes trajectories",
-                                    path, lineno,
-                                    hsbd_config_origin(cfg, "species", "polydispersity"));
-                break;
-            }
-            sigma[i] = 2 * radius;
-        }
-        int sp = 0;
-        if (cfg->species.n) {
-            sp = -1;
-            for (size_t k = 0; k < cfg->species.n; ++k)
-                if (!strcmp(name, cfg->species.name[k])) sp = (int)k;
-            if (sp < 0) {
-                rc = hsbd_error_set(err, HSBD_EINPUT,
-                                    "%s:%zu: unknown species name '%s'; allowed: the names of "
-                                    "species.names",
-                                    path, lineno, name);
-                break;
-            }
-        }
-        m->species[i] = sp;
-        have[sp]++;
-        memcpy(x + 3 * i, c, sizeof c);
-    }
-    fclose(f);
-    for (size_t k = 0; rc == HSBD_OK && k < cfg->species.n; ++k)
-        if (have[k] != (size_t)cfg->species.count[k])
-            rc = hsbd_error_set(err, HSBD_EINPUT,
-                                "%s: the file has %zu particles of species %s, species.count / "
-                                "fraction asks for %lld",
-                                path, have[k], cfg->species.name[k],
-                                (long long)cfg->species.count[k]);
-    return rc;
-}
-
 /* The initial state: init.positions, or init.method (random, lattice, compression). */
 static int place_particles(const run *r, spheres_model *m, double *x, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
@@ -152,7 +75,8 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     if (cfg->init.positions[0] && !r->resuming) {
         x = malloc(3 * n * sizeof *x);
         if (!x) return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-        if (read_xyz(r, m, x, sigma, err) != HSBD_OK) return free(x), free(sigma), err->status;
+        if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK)
+            return free(x), free(sigma), err->status;
         for (size_t i = 0; i < n; ++i) { /* the file's species (and diameters) */
             const size_t k = (size_t)m->species[i];
             const double sk = cfg->species.n ? cfg->species.sigma[k] : cfg->system.sigma;
@@ -281,18 +205,7 @@ static int write_frame(run *r, void *ctx, hsbd_error *err) {
     spheres_model *m = ctx;
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
     FILE *f = m->trajectory->file.f;
-    fprintf(f, "%zu\n", v.n);
-    const int three = v.dimension == 3;
-    fprintf(f,
-            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T T %s\" Time=%.17g Step=%llu "
-            "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
-            v.box[0], v.box[1], three ? v.box[2] : 1.0, three ? "T" : "F", v.time,
-            (unsigned long long)v.step);
-    for (size_t i = 0; i < v.n; ++i)
-        fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n",
-                species_name(r, (size_t)v.species[i]), v.x[3 * i], v.x[3 * i + 1], v.x[3 * i + 2],
-                0.5 * v.sigma[i], (long long)v.image[3 * i], (long long)v.image[3 * i + 1],
-                (long long)v.image[3 * i + 2], i + 1);
+    hsbd_xyz_write_spheres(f, &v, r->cfg->species.n ? r->cfg->species.name : NULL);
     return ferror(f) ? hsbd_error_set(err, HSBD_EIO, "writing '%s' failed", m->trajectory->file.tmp)
                      : HSBD_OK;
 }

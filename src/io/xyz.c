@@ -1,0 +1,305 @@
+/* Extended XYZ: trajectory frames of rods and spheres, and one frame of spheres read back as
+ * the initial state (init.positions). The reader accepts what the writers write and refuses,
+ * with the file and line, whatever does not fit the configuration: another count, a box
+ * that disagrees, a coordinate outside the box, an unknown species. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/input.h"
+#include "hsbd/io.h"
+
+void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v, const char (*names)[HSBD_SPECIES_NAME]) {
+    const double L = v->length;
+    fprintf(f, "%zu\n", v->n);
+    fprintf(f,
+            "Lattice=\"%.17g 0 0 0 1 0 0 0 1\" pbc=\"%s F F\" Time=%.17g Step=%llu "
+            "Properties=species:S:1:pos:R:3:radius:R:1:x_unwrapped:R:1:id:I:1\n",
+            L, v->periodic ? "T" : "F", v->time, (unsigned long long)v->step);
+    for (size_t i = 0; i < v->n; ++i) {
+        const double xu = v->z[i] + v->offset[i] + v->unwrap;
+        const double xw = v->periodic ? xu - L * floor(xu / L) : xu;
+        const int sp = v->species ? v->species[i] : 0;
+        const double sigma = v->species ? v->species_sigma[sp] : v->sigma;
+        fprintf(f, "%s %.10g 0 0 %.10g %.15g %zu\n", names && v->species ? names[sp] : "R", xw,
+                0.5 * sigma, xu, i + 1);
+    }
+}
+
+void hsbd_xyz_write_spheres(FILE *f, const hsbd_spheres_view *v,
+                            const char (*names)[HSBD_SPECIES_NAME]) {
+    fprintf(f, "%zu\n", v->n);
+    const int three = v->dimension == 3;
+    fprintf(f,
+            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T T %s\" Time=%.17g Step=%llu "
+            "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
+            v->box[0], v->box[1], three ? v->box[2] : 1.0, three ? "T" : "F", v->time,
+            (unsigned long long)v->step);
+    for (size_t i = 0; i < v->n; ++i)
+        fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n",
+                names ? names[v->species[i]] : HSBD_XYZ_ONE_SPECIES, v->x[3 * i], v->x[3 * i + 1],
+                v->x[3 * i + 2], 0.5 * v->sigma[i], (long long)v->image[3 * i],
+                (long long)v->image[3 * i + 1], (long long)v->image[3 * i + 2], i + 1);
+}
+
+/* ---- reading ---------------------------------------------------------------------------- */
+
+static int is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+/* Splits s in place into at most max whitespace-separated words; returns the count. */
+static size_t split_words(char *s, char **words, size_t max) {
+    size_t n = 0;
+    while (n < max) {
+        while (is_space(*s))
+            ++s;
+        if (!*s) break;
+        words[n++] = s;
+        while (*s && !is_space(*s))
+            ++s;
+        if (*s) *s++ = '\0';
+    }
+    return n;
+}
+
+/* the whole word is one finite decimal number */
+static int word_number(const char *w, double *v) {
+    const size_t len = hsbd_scan_decimal(w, v);
+    return len > 0 && w[len] == '\0' && isfinite(*v);
+}
+
+static int blank(const char *s) {
+    while (is_space(*s))
+        ++s;
+    return *s == '\0';
+}
+
+/* line 1: the particle count, a whole number alone on its line */
+static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+    const int got = hsbd_lines_next(in, err);
+    if (got < 0) return err->status;
+    if (got == 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: the file is empty; expected an XYZ frame (the number of "
+                              "particles on line 1)",
+                              in->name);
+    char *w[2];
+    const size_t nw = split_words(in->text, w, 2);
+    size_t count = 0;
+    int ok = nw == 1 && w[0][0] >= '0' && w[0][0] <= '9' && strlen(w[0]) <= 18;
+    for (const char *c = ok ? w[0] : ""; ok && *c; ++c) {
+        ok = *c >= '0' && *c <= '9';
+        count = 10 * count + (size_t)(*c - '0');
+    }
+    if (!ok)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:1: expected the number of particles (a whole number alone on "
+                              "the line) at the start of an XYZ frame",
+                              in->name);
+    if (count != e->n)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:1: the XYZ file has %zu particles; allowed: system.N = %zu",
+                              in->name, count, e->n);
+    return HSBD_OK;
+}
+
+/* Lattice="a1 a2 a3 b1 b2 b3 c1 c2 c3" on the comment line, when present: a diagonal box
+ * equal to the configuration's (the third vector of a 2D frame is not a length). */
+static int check_lattice(const hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+    const char *p = strstr(in->text, "Lattice=\"");
+    if (!p) return HSBD_OK;
+    p += strlen("Lattice=\"");
+    double m[9];
+    for (int k = 0; k < 9; ++k) {
+        while (is_space(*p))
+            ++p;
+        const size_t len = hsbd_scan_decimal(p, &m[k]);
+        if (len == 0 || !isfinite(m[k]) || !(is_space(p[len]) || p[len] == '"'))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s:2: Lattice=\"...\" needs 9 finite numbers (three box "
+                                  "vectors)",
+                                  in->name);
+        p += len;
+    }
+    while (is_space(*p))
+        ++p;
+    if (*p != '"')
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:2: Lattice=\"...\" needs 9 finite numbers and a closing '\"'",
+                              in->name);
+    int same = 1;
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            const double v = m[3 * a + b];
+            if (a != b)
+                same &= v == 0;
+            else if (a < e->dimension)
+                same &= fabs(v - e->box[a]) <= 1e-9 * e->box[a];
+        }
+    if (!same)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:2: the frame's Lattice (%.10g x %.10g%s%.10g) is not the box "
+                              "of the configuration (%.10g x %.10g%s%.10g); allowed: the same "
+                              "box, axis-aligned",
+                              in->name, m[0], m[4], e->dimension == 3 ? " x " : "",
+                              e->dimension == 3 ? m[8] : NAN, e->box[0], e->box[1],
+                              e->dimension == 3 ? " x " : "", e->dimension == 3 ? e->box[2] : NAN);
+    return HSBD_OK;
+}
+
+/* Properties=..., when present: species first, then the three coordinates (and the radius
+ * when it is read), as hsbd writes them */
+static int check_properties(const hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+    const char *p = strstr(in->text, "Properties=");
+    if (!p) return HSBD_OK;
+    p += strlen("Properties=");
+    const char *want = e->radius_reason ? "species:S:1:pos:R:3:radius:R:1" : "species:S:1:pos:R:3";
+    if (strncmp(p, want, strlen(want)) != 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:2: Properties= must begin with %s (the columns hsbd reads)",
+                              in->name, want);
+    return HSBD_OK;
+}
+
+static int species_of(const char *word, const hsbd_xyz_expect *e) {
+    if (e->nspecies == 0) return strcmp(word, HSBD_XYZ_ONE_SPECIES) ? -1 : 0;
+    for (size_t k = 0; k < e->nspecies; ++k)
+        if (!strcmp(word, e->names[k])) return (int)k;
+    return -1;
+}
+
+/* One particle line: "name x y z [radius ...]" (z may be left out in 2D unless the radius
+ * is read; it is then 0). */
+static int read_particle(hsbd_lines *in, const hsbd_xyz_expect *e, size_t i, double *x,
+                         int *species, double *radius, hsbd_error *err) {
+    char *w[6];
+    const size_t nw = split_words(in->text, w, 6);
+    const int dim = e->dimension;
+    const size_t need = e->radius_reason ? 5 : (size_t)(1 + dim);
+    if (nw < need) {
+        if (e->radius_reason)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s:%ld: expected 'name x y z radius' with radius > 0, as hsbd "
+                                  "writes trajectories (%s)",
+                                  in->name, in->number, e->radius_reason);
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:%ld: expected 'name x y%s' (particle %zu of %zu)", in->name,
+                              in->number, dim == 3 ? " z" : "", i + 1, e->n);
+    }
+    const int sp = species_of(w[0], e);
+    if (sp < 0) {
+        char names[HSBD_MAX_SPECIES * (HSBD_SPECIES_NAME + 2)] = "";
+        for (size_t k = 0; k < e->nspecies; ++k)
+            strcat(strcat(names, k ? ", " : ""), e->names[k]);
+        return hsbd_error_set(err, HSBD_EINPUT, "%s:%ld: unknown species name '%.40s'; allowed: %s",
+                              in->name, in->number, w[0],
+                              e->nspecies ? names
+                                          : HSBD_XYZ_ONE_SPECIES " (one species; a mixture "
+                                                                 "names its species in "
+                                                                 "species.names)");
+    }
+    static const char axis[] = "xyz";
+    const size_t coords = nw >= 4 ? 3 : 2;
+    double c[3] = {0, 0, 0};
+    for (size_t a = 0; a < coords; ++a)
+        if (!word_number(w[1 + a], &c[a]))
+            return hsbd_error_set(err, HSBD_EINPUT, "%s:%ld: %c = '%.40s' is not a finite number",
+                                  in->name, in->number, axis[a], w[1 + a]);
+    for (int a = 0; a < dim; ++a)
+        if (!(c[a] >= 0 && c[a] <= e->box[a] * (1 + 1e-9))) /* %.10g rounds */
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s:%ld: %c = %.10g is outside the box; allowed: 0 <= %c <= "
+                                  "%.10g (the box of system.box / system.packing_fraction)",
+                                  in->name, in->number, axis[a], c[a], axis[a], e->box[a]);
+    if (dim == 2 && c[2] != 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s:%ld: z = %.10g in a 2D frame; allowed: z = 0 (system.dimension "
+                              "= 2)",
+                              in->name, in->number, c[2]);
+    if (e->radius_reason) {
+        double r;
+        if (!word_number(w[4], &r) || !(r > 0))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s:%ld: radius = '%.40s'; expected 'name x y z radius' with "
+                                  "radius > 0, as hsbd writes trajectories (%s)",
+                                  in->name, in->number, w[4], e->radius_reason);
+        radius[i] = r;
+    }
+    species[i] = sp;
+    memcpy(x + 3 * i, c, sizeof c);
+    return HSBD_OK;
+}
+
+int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, double *x,
+                          int *species, double *radius, hsbd_error *err) {
+    hsbd_error_clear(err);
+    hsbd_lines in;
+    hsbd_lines_init(&in, f, name);
+    int rc = read_count(&in, e, err);
+    if (rc == HSBD_OK) {
+        const int got = hsbd_lines_next(&in, err);
+        if (got == 0)
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s:1: the file ends after the count; expected a comment line "
+                                "(Lattice=...) and %zu particles",
+                                name, e->n);
+        else if (got < 0)
+            rc = err->status;
+    }
+    if (rc == HSBD_OK) rc = check_lattice(&in, e, err);
+    if (rc == HSBD_OK) rc = check_properties(&in, e, err);
+    size_t have[HSBD_MAX_SPECIES] = {0};
+    for (size_t i = 0; i < e->n && rc == HSBD_OK; ++i) {
+        const int got = hsbd_lines_next(&in, err);
+        if (got <= 0) {
+            rc = got < 0 ? err->status
+                         : hsbd_error_set(err, HSBD_EINPUT,
+                                          "%s:%ld: the file ends after %zu of %zu particles", name,
+                                          in.number, i, e->n);
+            break;
+        }
+        rc = read_particle(&in, e, i, x, species, radius, err);
+        if (rc == HSBD_OK) ++have[species[i]];
+    }
+    for (int got = 1; rc == HSBD_OK && got > 0;) { /* one frame, then at most blank lines */
+        got = hsbd_lines_next(&in, err);
+        if (got < 0) rc = err->status;
+        if (got > 0 && !blank(in.text))
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s:%ld: more lines after the %zu particles of the frame; allowed: "
+                                "one frame (of a trajectory, take the last %zu + 2 lines)",
+                                name, in.number, e->n, e->n);
+    }
+    for (size_t k = 0; rc == HSBD_OK && e->count && k < e->nspecies; ++k)
+        if (have[k] != (size_t)e->count[k])
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s: the file has %zu particles of species %s, species.count / "
+                                "fraction asks for %lld",
+                                name, have[k], e->names[k], (long long)e->count[k]);
+    hsbd_lines_free(&in);
+    return rc;
+}
+
+int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
+                            hsbd_error *err) {
+    const char *path = cfg->init.positions;
+    char reason[HSBD_ORIGIN_MAX + 64];
+    snprintf(reason, sizeof reason, "species.polydispersity > 0 at %s reads each diameter",
+             hsbd_config_origin(cfg, "species", "polydispersity"));
+    const int poly = cfg->species.polydispersity > 0; /* the diameters come with the positions */
+    const hsbd_xyz_expect e = {.n = (size_t)cfg->system.n,
+                               .dimension = (int)cfg->system.dimension,
+                               .box = cfg->system.box,
+                               .nspecies = cfg->species.n,
+                               .names = cfg->species.name,
+                               .count = cfg->species.n ? cfg->species.count : NULL,
+                               .radius_reason = poly ? reason : NULL};
+    FILE *f = hsbd_input_open(path, "init.positions file", err);
+    if (!f) return err->status;
+    const int rc = hsbd_xyz_read_spheres(f, path, &e, x, species, poly ? sigma : NULL, err);
+    fclose(f);
+    for (size_t i = 0; rc == HSBD_OK && poly && i < e.n; ++i)
+        sigma[i] *= 2; /* the file holds radii */
+    return rc;
+}
