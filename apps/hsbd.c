@@ -21,12 +21,20 @@ enum { EXIT_INPUT = 2, EXIT_INTERRUPTED = 130 };
 
 static volatile sig_atomic_t stop_flag = 0;
 
+/* SIGINT, SIGTERM, SIGHUP: the run writes a checkpoint and its results so far, then
+ * exits with 128 + the signal's number; a second signal ends it at once. */
 static void on_signal(int sig) {
-    if (stop_flag) { /* second signal: give up at once */
+    if (stop_flag) {
         signal(sig, SIG_DFL);
         raise(sig);
     }
-    stop_flag = 1;
+    stop_flag = sig;
+}
+
+static void catch_stop_signals(void) {
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    signal(SIGHUP, on_signal);
 }
 
 static int exit_code_for(int status) {
@@ -36,10 +44,29 @@ static int exit_code_for(int status) {
     case HSBD_EINPUT:
         return EXIT_INPUT;
     case HSBD_EINTERRUPT:
-        return EXIT_INTERRUPTED;
+        return stop_flag ? 128 + (int)stop_flag : EXIT_INTERRUPTED;
     default:
         return 1;
     }
+}
+
+/* The whole file (for the run's checkpoints); NULL when it cannot be read. */
+static char *read_whole_file(const char *path, size_t *len) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    size_t cap = 4096, n = 0;
+    char *buf = malloc(cap);
+    for (size_t got; buf && (got = fread(buf + n, 1, cap - n, f)) > 0;) {
+        n += got;
+        if (n == cap) {
+            char *b = realloc(buf, 2 * cap);
+            if (!b) free(buf);
+            buf = b, cap *= 2;
+        }
+    }
+    fclose(f);
+    if (buf) *len = n;
+    return buf;
 }
 
 static int fail(int status, const char *msg) {
@@ -50,6 +77,8 @@ static int fail(int status, const char *msg) {
 static void usage(FILE *out) {
     fprintf(out,
             "usage: hsbd run CONFIG.ini [options]   simulate (see 'hsbd run --help')\n"
+            "       hsbd resume DIR [--set run.t_total=T] [--quiet]\n"
+            "                                       continue a stopped run from its checkpoint\n"
             "       hsbd bench [--seconds S] [--case NAME]\n"
             "                                       throughput, with the free-particle bound\n"
             "       hsbd theory percus --sigma S --rho R --amplitude U0 [--gamma G]\n"
@@ -124,6 +153,18 @@ static int cmd_run(int argc, char **argv) {
     if (hsbd_config_load_file(&cfg, config_path, &err) != HSBD_OK)
         return fail(err.status, err.message);
     if (!cfg.output.dir[0]) default_out_dir(config_path, cfg.output.dir, sizeof cfg.output.dir);
+    /* the source of the configuration goes into the checkpoints (hsbd resume) */
+    hsbd_run_source source = {.name = config_path};
+    source.text = read_whole_file(config_path, &source.text_len);
+    char(*sets)[HSBD_PATH_MAX + 64] = calloc((size_t)argc, sizeof *sets);
+    const char **set_list = calloc((size_t)argc, sizeof *set_list);
+    if (!source.text || !sets || !set_list) {
+        free((char *)source.text), free(sets), free(set_list);
+        fprintf(stderr, "hsbd run: cannot read '%s' again\n", config_path);
+        return EXIT_INPUT;
+    }
+    source.sets = set_list;
+    opt.source = &source;
     /* second pass: overrides in command-line order */
     for (int i = 2; i < argc; ++i) {
         const char *a = argv[i];
@@ -155,18 +196,83 @@ static int cmd_run(int argc, char **argv) {
         }
         char origin[64];
         snprintf(origin, sizeof origin, "command line (%s)", a);
-        if (hsbd_config_set(&cfg, buf, origin, &err) != HSBD_OK)
+        snprintf(sets[source.nsets], sizeof sets[0], "%s", buf);
+        set_list[source.nsets] = sets[source.nsets];
+        source.nsets += 1;
+        if (hsbd_config_set(&cfg, buf, origin, &err) != HSBD_OK) {
+            free((char *)source.text), free(sets), free(set_list);
             return fail(err.status, err.message);
+        }
     }
-    if (hsbd_config_finalize(&cfg, &err) != HSBD_OK) return fail(err.status, err.message);
-
-    signal(SIGINT, on_signal);
-    signal(SIGTERM, on_signal);
-    const int rc = cfg.system.model == HSBD_MODEL_SPHERES ? hsbd_run_spheres(&cfg, &opt, &err)
-                                                          : hsbd_run_rods(&cfg, &opt, &err);
+    int rc = hsbd_config_finalize(&cfg, &err);
+    if (rc == HSBD_OK) {
+        catch_stop_signals();
+        rc = hsbd_run(&cfg, &opt, &err);
+    }
+    free((char *)source.text), free(sets), free(set_list);
     if (rc != HSBD_OK) return fail(rc, err.message);
     if (opt.progress) fprintf(stderr, "hsbd: results in %s/\n", cfg.output.dir);
     return 0;
+}
+
+static void resume_help(void) {
+    printf("usage: hsbd resume DIR [--set run.t_total=T] [--quiet]\n\n"
+           "Continues the run in DIR from its newest checkpoint (checkpoint.hsbd, or\n"
+           "checkpoint.prev.hsbd when the newest is damaged). The configuration is the run's\n"
+           "own, read again from the checkpoint; stream files (trajectory.xyz, current.tsv) are\n"
+           "cut back to the checkpoint. The results equal those of a run never stopped.\n\n"
+           "  --set run.t_total=T  a longer production time: extends the run (also a\n"
+           "                       completed one)\n"
+           "  --quiet              no progress line\n\n"
+           "Exit status: 0 done, 2 bad input (no or a damaged checkpoint, a completed run\n"
+           "without a longer run.t_total), 129/130/143 stopped by SIGHUP/SIGINT/SIGTERM (a\n"
+           "checkpoint and the results so far written), 1 other errors.\n");
+}
+
+static int cmd_resume(int argc, char **argv) {
+    const char *dir = NULL;
+    const char **sets = calloc((size_t)argc, sizeof *sets);
+    size_t nsets = 0;
+    hsbd_run_options opt = {.progress = isatty(STDERR_FILENO), .stop = &stop_flag};
+    int rc = sets ? 0 : 1;
+    for (int i = 2; i < argc && rc == 0; ++i) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            resume_help();
+            free(sets);
+            return 0;
+        } else if (!strcmp(argv[i], "--quiet")) {
+            opt.progress = 0;
+        } else if (!strcmp(argv[i], "--set")) {
+            if (i + 1 >= argc || argv[i + 1][0] == '-') {
+                fprintf(stderr, "hsbd resume: --set needs a value (--set run.t_total=T)\n");
+                rc = EXIT_INPUT;
+            } else {
+                sets[nsets++] = argv[++i];
+            }
+        } else if (argv[i][0] == '-') {
+            fprintf(stderr, "hsbd resume: unknown option '%s' (hsbd resume --help)\n", argv[i]);
+            rc = EXIT_INPUT;
+        } else if (dir) {
+            fprintf(stderr, "hsbd resume: more than one run directory ('%s', '%s')\n", dir,
+                    argv[i]);
+            rc = EXIT_INPUT;
+        } else {
+            dir = argv[i];
+        }
+    }
+    if (rc == 0 && !dir) {
+        fprintf(stderr, "hsbd resume: no run directory given (hsbd resume --help)\n");
+        rc = EXIT_INPUT;
+    }
+    if (rc == 0) {
+        hsbd_error err;
+        catch_stop_signals();
+        const int status = hsbd_resume(dir, sets, nsets, &opt, &err);
+        rc = status == HSBD_OK ? 0 : fail(status, err.message);
+        if (status == HSBD_OK && opt.progress) fprintf(stderr, "hsbd: results in %s/\n", dir);
+    }
+    free(sets);
+    return rc;
 }
 
 /* ---- bench ------------------------------------------------------------------------- */
@@ -636,6 +742,7 @@ int main(int argc, char **argv) {
     }
     const char *cmd = argv[1];
     if (!strcmp(cmd, "run")) return cmd_run(argc, argv);
+    if (!strcmp(cmd, "resume")) return cmd_resume(argc, argv);
     if (!strcmp(cmd, "bench")) return cmd_bench(argc, argv);
     if (!strcmp(cmd, "theory")) return cmd_theory(argc, argv);
     if (!strcmp(cmd, "validate")) return cmd_validate(argc, argv);

@@ -4,6 +4,7 @@
 #define HSBD_IO_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "hsbd/config.h"
@@ -20,14 +21,25 @@ typedef struct hsbd_outfile {
 } hsbd_outfile;
 
 int hsbd_outfile_open(hsbd_outfile *o, const char *dir, const char *name, hsbd_error *err);
+/* Open an output file again to append to it after its first `length` bytes (a resumed
+ * run): its temporary "<name>.part", or the committed "<name>" moved back to that name;
+ * anything after `length` (written after the checkpoint) is cut off. HSBD_EINPUT when
+ * the file is missing or shorter. */
+int hsbd_outfile_reopen(hsbd_outfile *o, const char *dir, const char *name, int64_t length,
+                        hsbd_error *err);
 /* Flush, fsync, close and rename; reports write errors (disk full...). */
 int hsbd_outfile_commit(hsbd_outfile *o, hsbd_error *err);
 /* Close and delete the temporary file. */
 void hsbd_outfile_discard(hsbd_outfile *o);
 
-/* Create the run directory (and parents). An existing non-empty directory is refused
- * (HSBD_EINPUT) unless force is set. */
+/* Create the run directory (and parents) and prove it writable (a probe file written,
+ * synced and removed); HSBD_EINPUT naming the directory otherwise. An existing non-empty
+ * directory is refused unless force is set; with force, an earlier run's files are
+ * removed first, and a directory holding anything else is refused. */
 int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err);
+/* The same without any clearing: the directory (and parents) made if missing, proved
+ * writable (e.g. the validation's directory of runs). */
+int hsbd_dir_create(const char *dir, hsbd_error *err);
 
 /* Read n positions (one number per line; blank lines and '#' comments allowed); for a
  * mixture (nspecies > 0) each line is 'x name' and species[i] gets the name's index. */

@@ -15,4 +15,36 @@
 
 int run_checkpoint_write(run *r, hsbd_error *err);
 
+/* The payload of the newest valid checkpoint in dir (the previous one, with a warning on
+ * stderr, when the newest is missing or damaged): size, magic, format and CRC checked.
+ * HSBD_EINPUT naming the files and what is wrong with them otherwise. */
+typedef struct run_checkpoint_data {
+    unsigned char *data;
+    size_t len;
+    char path[HSBD_PATH_MAX + 32];
+} run_checkpoint_data;
+int run_checkpoint_read(const char *dir, run_checkpoint_data *ck, hsbd_error *err);
+void run_checkpoint_data_free(run_checkpoint_data *ck);
+
+/* The configuration's source as stored in a checkpoint. */
+typedef struct run_source_copy {
+    char name[HSBD_PATH_MAX];
+    int has_file;
+    char *text;
+    size_t text_len;
+    size_t nsets;
+    char (*sets)[HSBD_PATH_MAX + 64];
+    char cwd[HSBD_PATH_MAX];
+    run_input inputs[RUN_MAX_INPUTS];
+    size_t ninputs;
+    char model[32], version[64], git[64];
+} run_source_copy;
+/* Reads the header and the source; the reader is then at the lifecycle's section. */
+int run_checkpoint_read_source(hsbd_reader *rd, run_source_copy *src);
+void run_source_copy_free(run_source_copy *src);
+/* The lifecycle's counters and the streams' lengths (the model follows). */
+int run_checkpoint_load_run(run *r, hsbd_reader *rd);
+/* CRC-64 of a file's contents; -1 when it cannot be read. */
+int run_file_crc(const char *path, uint64_t *crc);
+
 #endif

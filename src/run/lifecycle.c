@@ -1,10 +1,14 @@
 /* The run lifecycle (see run.h). */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "run/run.h"
 
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "core/progress.h"
 #include "hsbd/observe.h"
@@ -29,6 +33,11 @@ run_stream *run_add_stream(run *r, const char *name, hsbd_error *err) {
     memset(s, 0, sizeof *s);
     s->name = name;
     return s;
+}
+
+int run_stream_check(const run_stream *s, hsbd_error *err) {
+    if (!ferror(s->file.f)) return HSBD_OK;
+    return hsbd_error_set(err, HSBD_EIO, "writing '%s' failed: %s", s->file.tmp, strerror(errno));
 }
 
 uint64_t run_every(const hsbd_config *cfg, double period) {
@@ -202,6 +211,7 @@ void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
     fprintf(f, "  \"steps\": %llu,\n  \"steps_planned\": %llu,\n  \"equilibration_steps\": %llu,\n",
             (unsigned long long)r->steps_done, (unsigned long long)hsbd_config_steps(cfg),
             (unsigned long long)r->equil_done);
+    fprintf(f, "  \"resumes\": %llu,\n", (unsigned long long)r->resumes);
 }
 
 /* Final tables, streams and summary.json. Every file is committed on its own: one that
@@ -229,9 +239,16 @@ static int finish(run *r, int run_rc, hsbd_error *err) {
     return hsbd_run_outcome(r->cfg, rc, &werr, r->completed, r->steps_done, err);
 }
 
+/* Stream files still open here belong to a run that failed: once its dynamics began they
+ * stay (under their temporary names) for a resume to cut back and continue. */
 static void release(run *r) {
-    for (size_t k = 0; k < r->nstreams; ++k)
-        hsbd_outfile_discard(&r->streams[k].file);
+    for (size_t k = 0; k < r->nstreams; ++k) {
+        hsbd_outfile *o = &r->streams[k].file;
+        if (r->started && o->f)
+            fclose(o->f), o->f = NULL;
+        else
+            hsbd_outfile_discard(o);
+    }
     if (r->model.release) r->model.release(r);
 }
 
@@ -245,19 +262,224 @@ static int open_streams(run *r, hsbd_error *err) {
     return HSBD_OK;
 }
 
+/* The input files a run reads while it is built, with their checksums. */
+static void record_inputs(run *r) {
+    const hsbd_config *cfg = r->cfg;
+    const char *files[2] = {NULL, NULL};
+    if (cfg->system.model == HSBD_MODEL_RODS) {
+        if (cfg->field.type & HSBD_FIELD_TABLE) files[0] = cfg->field.table;
+        if (cfg->pair.type == HSBD_PAIR_TABLE) files[1] = cfg->pair.table;
+    }
+    r->ninputs = 0;
+    for (int k = 0; k < 2; ++k) {
+        if (!files[k]) continue;
+        run_input *in = &r->inputs[r->ninputs];
+        snprintf(in->path, sizeof in->path, "%s", files[k]);
+        if (run_file_crc(files[k], &in->crc) == 0) r->ninputs += 1;
+    }
+    if (!getcwd(r->cwd, sizeof r->cwd)) r->cwd[0] = '\0';
+}
+
 int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err) {
     hsbd_error_clear(err);
-    run r = {.cfg = cfg, .opt = opt};
+    run r = {.cfg = cfg, .opt = opt, .source = opt->source};
     /* everything that can refuse the input happens before the directory is touched */
     int rc = cfg->system.model == HSBD_MODEL_SPHERES ? run_spheres_build(&r, err)
                                                      : run_rods_build(&r, err);
     if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(cfg->output.dir, opt->force, err);
     if (rc == HSBD_OK) rc = open_streams(&r, err);
     if (rc == HSBD_OK) {
+        record_inputs(&r);
+        r.started = 1;
         enter_equilibration(&r);
         rc = finish(&r, run_loop(&r, err), err);
     }
     release(&r);
+    return rc;
+}
+
+/* ---- resume ---- */
+
+/* The configuration again from its source: the file's text (loaded from a copy under
+ * the same name in a temporary directory), the overrides in order, then the resume's own
+ * (run.t_total only) and the run directory. */
+static int config_from_source(const run_source_copy *src, const char *const *sets, size_t nsets,
+                              const char *dir, hsbd_config *cfg, hsbd_error *err) {
+    hsbd_config_defaults(cfg);
+    int rc = HSBD_OK;
+    if (src->has_file) {
+        char tmp[] = "/tmp/hsbd-resume-XXXXXX";
+        if (!mkdtemp(tmp))
+            return hsbd_error_set(err, HSBD_EIO, "resume: cannot make a temporary directory: %s",
+                                  strerror(errno));
+        const char *base = strrchr(src->name, '/');
+        char path[sizeof tmp + HSBD_PATH_MAX];
+        snprintf(path, sizeof path, "%s/%s", tmp, base ? base + 1 : src->name);
+        FILE *f = fopen(path, "wb");
+        rc = f && fwrite(src->text, 1, src->text_len, f) == src->text_len ? HSBD_OK : HSBD_EIO;
+        if (f) fclose(f);
+        if (rc == HSBD_OK)
+            rc = hsbd_config_load_file(cfg, path, err);
+        else
+            hsbd_error_set(err, rc, "resume: cannot write '%s'", path);
+        remove(path);
+        rmdir(tmp);
+        if (rc != HSBD_OK) return rc;
+    }
+    for (size_t k = 0; k < src->nsets && rc == HSBD_OK; ++k)
+        rc = hsbd_config_set(cfg, src->sets[k], "the run's command line", err);
+    for (size_t k = 0; k < nsets && rc == HSBD_OK; ++k) {
+        if (strncmp(sets[k], "run.t_total=", 12))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "resume: --set %s: a resumed run keeps its configuration; "
+                                  "allowed: --set run.t_total=T (a longer run)",
+                                  sets[k]);
+        rc = hsbd_config_set(cfg, sets[k], "hsbd resume --set", err);
+    }
+    char out[HSBD_PATH_MAX + 16];
+    snprintf(out, sizeof out, "output.dir=%s", dir);
+    if (rc == HSBD_OK) rc = hsbd_config_set(cfg, out, "hsbd resume", err);
+    return rc == HSBD_OK ? hsbd_config_finalize(cfg, err) : rc;
+}
+
+/* The input files must hold the bytes the run started with. */
+static int check_inputs(const run_source_copy *src, hsbd_error *err) {
+    for (size_t k = 0; k < src->ninputs; ++k) {
+        uint64_t crc;
+        if (run_file_crc(src->inputs[k].path, &crc) != 0)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "resume: the run read '%s' (from '%s'), which cannot be "
+                                  "read now",
+                                  src->inputs[k].path, src->cwd);
+        if (crc != src->inputs[k].crc)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "resume: '%s' changed since the run started; a resumed run "
+                                  "must read the same input",
+                                  src->inputs[k].path);
+    }
+    return HSBD_OK;
+}
+
+static int reopen_streams(run *r, hsbd_error *err) {
+    for (size_t k = 0; k < r->nstreams; ++k) {
+        run_stream *s = &r->streams[k];
+        if (hsbd_outfile_reopen(&s->file, r->cfg->output.dir, s->name, s->committed, err) !=
+            HSBD_OK)
+            return err->status;
+    }
+    return HSBD_OK;
+}
+
+/* The source a resumed run keeps for its own checkpoints: the stored one with the
+ * resume's overrides appended (an extension stays extended). */
+typedef struct resumed_source {
+    run_source_copy copy;
+    const char **sets;
+    hsbd_run_source source;
+} resumed_source;
+
+static int keep_source(resumed_source *rs, const char *const *sets, size_t nsets) {
+    const run_source_copy *c = &rs->copy;
+    rs->sets = calloc(c->nsets + nsets + 1, sizeof *rs->sets);
+    if (!rs->sets) return -1;
+    for (size_t k = 0; k < c->nsets; ++k)
+        rs->sets[k] = c->sets[k];
+    for (size_t k = 0; k < nsets; ++k)
+        rs->sets[c->nsets + k] = sets[k];
+    rs->source = (hsbd_run_source){.name = c->has_file ? c->name : NULL,
+                                   .text = c->text,
+                                   .text_len = c->text_len,
+                                   .sets = rs->sets,
+                                   .nsets = c->nsets + nsets};
+    return 0;
+}
+
+/* Build the run of a checkpoint: configuration, model (without an initial state), then
+ * the state, the accumulators and the lifecycle's counters. */
+static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const char *dir,
+                           const char *const *sets, size_t nsets, hsbd_error *err) {
+    run_checkpoint_data ck;
+    int rc = run_checkpoint_read(dir, &ck, err);
+    if (rc != HSBD_OK) return rc;
+    hsbd_reader rd;
+    hsbd_reader_init(&rd, ck.data, ck.len);
+    run_source_copy src = {0};
+    if (run_checkpoint_read_source(&rd, &src) != 0)
+        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: %s", ck.path, rd.why);
+    if (rc == HSBD_OK && strcmp(src.git, HSBD_GIT_COMMIT))
+        fprintf(stderr,
+                "hsbd: warning: the checkpoint was written by hsbd %s (git %s), this is git %s: "
+                "the continued run is exact only with the same binary\n",
+                src.version, src.git, HSBD_GIT_COMMIT);
+    char here[HSBD_PATH_MAX] = "";
+    if (!getcwd(here, sizeof here)) here[0] = '\0';
+    /* relative paths of the configuration are those of the run's start */
+    char absdir[HSBD_PATH_MAX + 2];
+    if (rc == HSBD_OK && !realpath(dir, absdir))
+        rc = hsbd_error_set(err, HSBD_EINPUT, "resume: '%s': %s", dir, strerror(errno));
+    if (rc == HSBD_OK && src.cwd[0] && chdir(src.cwd) != 0)
+        rc = hsbd_error_set(err, HSBD_EINPUT, "resume: the run started in '%s', which is gone: %s",
+                            src.cwd, strerror(errno));
+    if (rc == HSBD_OK) rc = config_from_source(&src, sets, nsets, absdir, cfg, err);
+    if (rc == HSBD_OK &&
+        strcmp(src.model, cfg->system.model == HSBD_MODEL_SPHERES ? "spheres" : "rods"))
+        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: a checkpoint of model %s", ck.path, src.model);
+    if (rc == HSBD_OK) rc = check_inputs(&src, err);
+    if (rc == HSBD_OK) {
+        r->cfg = cfg;
+        r->resuming = 1;
+        rc = cfg->system.model == HSBD_MODEL_SPHERES ? run_spheres_build(r, err)
+                                                     : run_rods_build(r, err);
+    }
+    if (here[0] && chdir(here) != 0 && rc == HSBD_OK)
+        rc = hsbd_error_set(err, HSBD_EIO, "resume: cannot return to '%s'", here);
+    if (rc == HSBD_OK && !r->model.load)
+        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: the %s model cannot be resumed", ck.path,
+                            r->model.name);
+    if (rc == HSBD_OK && (run_checkpoint_load_run(r, &rd) != 0 || r->model.load(r, &rd) != 0 ||
+                          hsbd_get_tag(&rd, "end") != 0 || rd.pos != rd.len))
+        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: %s", ck.path,
+                            rd.bad ? rd.why : "data after the end");
+    if (rc == HSBD_OK) {
+        snprintf(r->cwd, sizeof r->cwd, "%s", src.cwd);
+        r->ninputs = src.ninputs;
+        memcpy(r->inputs, src.inputs, sizeof src.inputs);
+        rs->copy = src;
+        if (keep_source(rs, sets, nsets) != 0)
+            rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        r->source = &rs->source;
+    } else {
+        run_source_copy_free(&src);
+    }
+    run_checkpoint_data_free(&ck);
+    return rc;
+}
+
+int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
+                hsbd_error *err) {
+    hsbd_error_clear(err);
+    hsbd_config *cfg = malloc(sizeof *cfg);
+    if (!cfg) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    run r = {.opt = opt};
+    resumed_source rs = {0};
+    int rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
+    if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg))
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "resume: the run in '%s' is complete (%llu of %llu steps); to "
+                            "extend it: --set run.t_total=T with T > %g",
+                            dir, (unsigned long long)r.steps_done,
+                            (unsigned long long)hsbd_config_steps(cfg), cfg->run.t_total);
+    if (rc == HSBD_OK && r.stage == RUN_DONE) r.stage = RUN_PRODUCING; /* extended */
+    if (rc == HSBD_OK) rc = reopen_streams(&r, err);
+    if (rc == HSBD_OK) {
+        r.resumes += 1;
+        r.started = 1;
+        rc = finish(&r, run_loop(&r, err), err);
+    }
+    if (r.cfg) release(&r);
+    run_source_copy_free(&rs.copy);
+    free(rs.sets);
+    free(cfg);
     return rc;
 }
 

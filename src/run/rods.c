@@ -290,9 +290,7 @@ static int write_frame(run *r, void *ctx, hsbd_error *err) {
     rods_model *m = ctx;
     const hsbd_rods_view v = hsbd_rods_get_view(m->rods);
     hsbd_xyz_write_rods(m->trajectory->file.f, &v, r->cfg->species.n ? r->cfg->species.name : NULL);
-    return ferror(m->trajectory->file.f)
-               ? hsbd_error_set(err, HSBD_EIO, "writing '%s' failed", m->trajectory->file.tmp)
-               : HSBD_OK;
+    return run_stream_check(m->trajectory, err);
 }
 
 static int write_current(run *r, void *ctx, hsbd_error *err) {
@@ -305,8 +303,7 @@ static int write_current(run *r, void *ctx, hsbd_error *err) {
             (sx - m->sum_x_last_current) / (cfg->system.length * span));
     m->sum_x_last_current = sx;
     m->last_current_step = r->steps_done;
-    return ferror(f) ? hsbd_error_set(err, HSBD_EIO, "writing '%s' failed", m->current->file.tmp)
-                     : HSBD_OK;
+    return run_stream_check(m->current, err);
 }
 
 static void current_header(const run *r, FILE *f) {

@@ -64,7 +64,14 @@ typedef struct run_model {
     void (*release)(run *r);
 } run_model;
 
-enum { RUN_MAX_OPS = 16, RUN_MAX_STREAMS = 4 };
+enum { RUN_MAX_OPS = 16, RUN_MAX_STREAMS = 4, RUN_MAX_INPUTS = 4 };
+
+/* An input file the run read while it was built (tables): a resumed run must read the
+ * same bytes. */
+typedef struct run_input {
+    char path[HSBD_PATH_MAX];
+    uint64_t crc; /* CRC-64 of its contents */
+} run_input;
 enum run_stage { RUN_EQUILIBRATING = 0, RUN_PRODUCING = 1, RUN_DONE = 2 };
 
 struct run {
@@ -76,6 +83,10 @@ struct run {
     size_t nops;
     run_stream streams[RUN_MAX_STREAMS];
     size_t nstreams;
+    run_input inputs[RUN_MAX_INPUTS];
+    size_t ninputs;
+    char cwd[HSBD_PATH_MAX];       /* where the run started (relative paths of the inputs) */
+    const hsbd_run_source *source; /* the configuration's source, into every checkpoint */
     /* where the run is; all of it goes into a checkpoint */
     int stage;
     uint64_t stage_steps;    /* steps done in the current equilibration */
@@ -86,7 +97,7 @@ struct run {
     uint64_t resumes; /* times this run was continued from a checkpoint */
     int resuming;     /* built to load a checkpoint: no initial state is made */
     int completed;
-    int min_gap_valid;
+    int started; /* the dynamics began: stream files are kept for a resume */
 };
 
 /* Registration, for the models' build functions. */
@@ -94,6 +105,8 @@ int run_add_op(run *r, const char *name, uint64_t every, run_action act, void *c
                hsbd_error *err);
 /* A stream file in the run directory; returns it (NULL and an error when full). */
 run_stream *run_add_stream(run *r, const char *name, hsbd_error *err);
+/* After writing to a stream: HSBD_EIO naming its file when a write failed (disk full). */
+int run_stream_check(const run_stream *s, hsbd_error *err);
 /* Steps between calls for a period of simulated time (at least 1); 0 for period 0. */
 uint64_t run_every(const hsbd_config *cfg, double period);
 

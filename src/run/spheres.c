@@ -206,8 +206,7 @@ static int write_frame(run *r, void *ctx, hsbd_error *err) {
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
     FILE *f = m->trajectory->file.f;
     hsbd_xyz_write_spheres(f, &v, r->cfg->species.n ? r->cfg->species.name : NULL);
-    return ferror(f) ? hsbd_error_set(err, HSBD_EIO, "writing '%s' failed", m->trajectory->file.tmp)
-                     : HSBD_OK;
+    return run_stream_check(m->trajectory, err);
 }
 
 /* ---- the model's part of the lifecycle ---- */

@@ -886,7 +886,7 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
     const size_t n = make_cases(opt, cases);
     if (n == 0)
         return hsbd_error_set(err, HSBD_EINPUT, "validate: no case matches '%s'", opt->only);
-    if (hsbd_run_dir_prepare(opt->out_dir, 1, err) != HSBD_OK) return err->status;
+    if (hsbd_dir_create(opt->out_dir, err) != HSBD_OK) return err->status;
     if (run_all(opt, cases, n))
         return hsbd_error_set(err, HSBD_ENUMERIC, "validate: a simulation failed (see above)");
     hsbd_outfile tsv, md;

@@ -197,11 +197,14 @@ expect_fail species-positions-name "mpos.txt:2" "unknown species 'C'" -- run mix
 : >mpos2.txt; for k in $(seq 0 19); do echo "$((2 * k + 1)) A" >>mpos2.txt; done
 expect_fail species-positions-count "20 rods of species A, but species.count says 12" -- run mix.ini --set init.positions=mpos2.txt
 
-# an existing, non-empty run directory is refused without --force, accepted with it
+# an existing, non-empty run directory is refused without --force; with --force it is
+# refused too when it holds files that no hsbd run wrote (they are never deleted), and an
+# earlier run's files are replaced (tests/cli/test_faults.sh)
 mkdir -p existing && echo keep >existing/note
 "$HSBD" run good.ini --out existing --quiet 2>"$T/stderr"
 if [ $? -eq 2 ] && grep -q "already exists" "$T/stderr" && [ ! -e existing/density.tsv ]; then ok; else bad "existing dir not refused"; fi
-if "$HSBD" run good.ini --out existing --force --quiet && [ -s existing/density.tsv ] && [ -e existing/note ]; then ok; else bad "--force"; fi
+"$HSBD" run good.ini --out existing --force --quiet 2>"$T/stderr"
+if [ $? -eq 2 ] && grep -q "'note'" "$T/stderr" && [ -e existing/note ] && [ ! -e existing/density.tsv ]; then ok; else bad "--force over a foreign file"; fi
 
 # every example runs (shortened)
 for ini in "$SRC"/examples/*.ini; do

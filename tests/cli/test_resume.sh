@@ -1,0 +1,162 @@
+#!/usr/bin/env bash
+# A run stopped any number of times at any moment (kill -9 included) and continued with
+# `hsbd resume` ends with the same bytes as a run never stopped: every table, the
+# trajectory and the currents, for both models with every observer on (profiles and
+# contacts, MSD per species, clusters, replicas, spatial blocks, g(r), F_s, virial).
+# The kill moments are random (bash's RANDOM, seeded, over the run's wall time); each
+# case is killed several times, once with SIGTERM (a graceful stop) and otherwise with
+# SIGKILL, which may hit a checkpoint being written or a frame half-written.
+# Also: a damaged newest checkpoint falls back to the previous one, damaged or foreign
+# checkpoints are refused with exit 2, a completed run is refused unless extended.
+set -u
+HSBD=${1:?usage: test_resume.sh path/to/hsbd [model]}
+HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
+ONLY=${2:-}
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+cd "$T"
+pass=0 fail=0
+ok()  { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+RANDOM=2026
+
+cat >rods.ini <<'INI'
+[system]
+N = 60
+L = 60
+sigma = 0.5
+seed = 21
+[field]
+type = cosine+tilt
+amplitude = 4
+force = 0.3
+[run]
+dt = 1e-4
+t_equil = 0.3
+t_total = 6
+[sample]
+bin_width = 0.05
+blocks = 6
+every = 5
+current_every = 0.25
+[output]
+trajectory = xyz
+trajectory_every = 0.1
+checkpoint_every = 0.05
+INI
+grep -v '^sigma' rods.ini >rodsmix.ini
+cat >spheres.ini <<'INI'
+[system]
+model = spheres
+N = 500
+packing_fraction = 0.3
+seed = 8
+[species]
+names = A B
+fraction = 0.5 0.5
+sigma = 1 1.3
+D = 1 0.7
+[run]
+dt = 1e-3
+t_equil = 0.2
+t_total = 3
+[sample]
+gr_every = 10
+blocks = 5
+[output]
+trajectory = xyz
+trajectory_every = 0.1
+checkpoint_every = 0.05
+INI
+
+# name|config|extra settings
+cases=(
+  "rods|rods.ini|"
+  "rods-sticky-space|rods.ini|--set contact.gamma=1 --set run.dt=2e-5 --set run.t_total=1.5 --set sample.blocking=space --set sample.blocks=4 --set system.contact_rule=sticky"
+  "rods-walls-mixture|rodsmix.ini|--set system.boundary=walls --set field.type=cosine+harmonic --set field.stiffness=0.01 --set species.names=A,B --set species.count=40,20 --set species.sigma=0.4,0.7 --set species.D=1,0.6 --set sample.period=60"
+  "rods-replicas|rods.ini|--set sample.blocking=replicas --set run.t_equil=0.5 --set run.dt_equil=2e-4"
+  "spheres|spheres.ini|"
+  "spheres-2d-drift|spheres.ini|--set system.dimension=2 --set system.drift=0.3,-0.2 --set system.packing_fraction=0.4"
+)
+
+run_killed() { # run_killed NAME CONFIG SETTINGS... : stopped at random moments, resumed to the end
+    local name=$1 cfg=$2 wall=$3
+    shift 3
+    "$HSBD" run "$cfg" "$@" --quiet --out "$name" 2>/dev/null &
+    local pid=$! kills=0 k
+    for k in 1 2 3 4 5; do
+        # a moment in the first ~60 % of the run's wall time
+        local ms=$((RANDOM % (wall * 6 / 10 + 1) + 30))
+        sleep "$(awk -v ms="$ms" 'BEGIN { print ms / 1000 }')"
+        if kill -0 $pid 2>/dev/null; then
+            kill -s "$([ $k = 3 ] && echo TERM || echo KILL)" $pid 2>/dev/null && kills=$((kills + 1))
+        fi
+        wait $pid 2>/dev/null
+        [ -e "$name/checkpoint.hsbd" ] || [ -e "$name/checkpoint.prev.hsbd" ] || {
+            "$HSBD" run "$cfg" "$@" --quiet --force --out "$name" 2>/dev/null & pid=$!; continue; }
+        "$HSBD" resume "$name" --quiet 2>/dev/null &
+        pid=$!
+    done
+    wait $pid 2>/dev/null
+    # whatever is left: resumed to the end
+    if ! grep -q '"completed": true' "$name/summary.json" 2>/dev/null; then
+        "$HSBD" resume "$name" --quiet 2>"$name.err" || echo "resume: $(cat "$name.err")" >&2
+    fi
+    echo "$kills"
+}
+
+for c in "${cases[@]}"; do
+    IFS='|' read -r name cfg extra <<<"$c"
+    case "$name" in "$ONLY"*) ;; *) continue ;; esac
+    # shellcheck disable=SC2086
+    start=$(date +%s%N)
+    "$HSBD" run "$cfg" $extra --quiet --out "$name-ref" 2>/dev/null || { bad "$name: reference run"; continue; }
+    wall=$((($(date +%s%N) - start) / 1000000))
+    # shellcheck disable=SC2086
+    kills=$(run_killed "$name" "$cfg" "$wall" $extra)
+    same=1
+    for f in "$name-ref"/*.tsv "$name-ref"/*.xyz; do
+        [ -e "$f" ] || continue
+        if ! cmp -s "$f" "$name/$(basename "$f")"; then
+            same=0
+            echo "$name: $(basename "$f") differs" >&2
+        fi
+    done
+    if [ $same = 1 ] && grep -q '"completed": true' "$name/summary.json"; then
+        ok
+        echo "  $name: identical after $kills interruptions ($wall ms run)"
+    else bad "$name: the resumed results differ ($kills interruptions)"; fi
+done
+
+if [ -z "$ONLY" ]; then
+    # a completed run: refused, unless extended
+    "$HSBD" resume rods-ref --quiet 2>err
+    if [ $? = 2 ] && grep -q "is complete" err; then ok; else bad "completed run: $(cat err)"; fi
+    # a damaged newest checkpoint: the previous one is used (with a warning)
+    "$HSBD" run rods.ini --quiet --set run.t_total=2 --out dmg 2>/dev/null &
+    pid=$!
+    for _ in $(seq 100); do [ -s dmg/checkpoint.prev.hsbd ] && break; sleep 0.05; done
+    kill -9 $pid; wait $pid 2>/dev/null
+    printf 'XXXX' | dd of=dmg/checkpoint.hsbd bs=1 seek=200 conv=notrunc 2>/dev/null
+    if "$HSBD" resume dmg --quiet 2>err && grep -q "checkpoint.prev.hsbd" err &&
+        grep -q '"completed": true' dmg/summary.json; then ok; else bad "damaged newest: $(cat err)"; fi
+    # both damaged, truncated, foreign, empty: exit 2 with a message, never a crash
+    for what in truncate garbage empty; do
+        rm -rf hostile && cp -r dmg hostile
+        case $what in
+            truncate) truncate -s 1000 hostile/checkpoint.hsbd; cp hostile/checkpoint.hsbd hostile/checkpoint.prev.hsbd ;;
+            garbage) head -c 5000 /dev/urandom >hostile/checkpoint.hsbd; cp hostile/checkpoint.hsbd hostile/checkpoint.prev.hsbd ;;
+            empty) : >hostile/checkpoint.hsbd; rm -f hostile/checkpoint.prev.hsbd ;;
+        esac
+        "$HSBD" resume hostile --quiet 2>err
+        rc=$?
+        if [ $rc = 2 ] && grep -q "no usable checkpoint" err; then ok; else bad "$what checkpoint: exit $rc $(cat err)"; fi
+    done
+    "$HSBD" resume nowhere --quiet 2>err
+    if [ $? = 2 ] && grep -q "nowhere" err; then ok; else bad "missing directory: $(cat err)"; fi
+    "$HSBD" resume dmg --set system.N=10 --quiet 2>err
+    if [ $? = 2 ] && grep -q "run.t_total" err; then ok; else bad "resume --set other key: $(cat err)"; fi
+fi
+
+echo "test_resume: $pass passed, $fail failed"
+[ $fail -eq 0 ]
