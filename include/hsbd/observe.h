@@ -25,6 +25,8 @@ void hsbd_blocks_end_sample(hsbd_blocks *b);
 /* Mean per sample and its standard error: the sample standard deviation of the block
  * means over sqrt(blocks), using the blocks that received samples. Returns blocks used. */
 size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err);
+/* the number of blocks (sample.blocks, more after a run was extended) */
+size_t hsbd_blocks_count(const hsbd_blocks *b);
 uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
 /* The time block that sample number `sample` (from 0) of nsamples_total falls in. */
 size_t hsbd_blocks_block_of(uint64_t sample, size_t nblocks, uint64_t nsamples_total);

@@ -12,6 +12,10 @@ struct hsbd_blocks {
     size_t nvalues, nblocks;
     int spatial; /* blocks are parts of the system, each seen in every sample */
     uint64_t nsamples_total, nsamples;
+    /* an extended run (hsbd resume with a longer run.t_total): the first ext_start samples
+     * keep their nblocks_first blocks, later ones fill more blocks of ext_len samples */
+    size_t nblocks_first;
+    uint64_t ext_start, ext_len;
     double *acc;       /* current block's running sums */
     double *block_sum; /* nblocks x nvalues */
     uint64_t *block_n;
@@ -21,7 +25,7 @@ hsbd_blocks *hsbd_blocks_alloc(size_t nvalues, size_t nblocks, uint64_t nsamples
     hsbd_blocks *b = calloc(1, sizeof *b);
     if (!b) return NULL;
     b->nvalues = nvalues;
-    b->nblocks = nblocks;
+    b->nblocks = b->nblocks_first = nblocks;
     b->nsamples_total = nsamples_total;
     b->acc = calloc(nvalues, sizeof *b->acc);
     b->block_sum = calloc(nvalues * nblocks, sizeof *b->block_sum);
@@ -51,7 +55,16 @@ size_t hsbd_blocks_block_of(uint64_t sample, size_t nblocks, uint64_t nsamples_t
 }
 
 static size_t block_of(const hsbd_blocks *b, uint64_t sample) {
-    return hsbd_blocks_block_of(sample, b->nblocks, b->nsamples_total);
+    if (b->ext_len && sample >= b->ext_start) {
+        const uint64_t k = b->nblocks_first + (sample - b->ext_start) / b->ext_len;
+        return k < b->nblocks ? (size_t)k : b->nblocks - 1;
+    }
+    return hsbd_blocks_block_of(sample, b->nblocks_first,
+                                b->ext_len ? b->ext_start : b->nsamples_total);
+}
+
+size_t hsbd_blocks_count(const hsbd_blocks *b) {
+    return b->nblocks;
 }
 
 hsbd_blocks *hsbd_blocks_alloc_spatial(size_t nvalues, size_t nblocks) {
@@ -165,28 +178,65 @@ size_t hsbd_blocks_block_means(const hsbd_blocks *b, int shape, double *out) {
 /* ---- checkpoints ---- */
 void hsbd_blocks_save(const hsbd_blocks *b, hsbd_writer *w) {
     hsbd_put_tag(w, "blocks");
-    const uint64_t shape[4] = {b->nvalues, b->nblocks, (uint64_t)b->spatial, b->nsamples_total};
-    hsbd_put_u64s(w, shape, 4);
+    const uint64_t shape[7] = {b->nvalues,        b->nblocks_first, (uint64_t)b->spatial,
+                               b->nsamples_total, b->ext_start,     b->ext_len,
+                               b->nblocks};
+    hsbd_put_u64s(w, shape, 7);
     hsbd_put_u64(w, b->nsamples);
     hsbd_put_f64s(w, b->acc, b->nvalues);
     hsbd_put_f64s(w, b->block_sum, b->nvalues * b->nblocks);
     hsbd_put_u64s(w, b->block_n, b->nblocks);
 }
 
+/* Room for nblocks blocks (the new ones empty). */
+static int grow_blocks(hsbd_blocks *b, size_t nblocks) {
+    if (nblocks <= b->nblocks) return 0;
+    double *sum = realloc(b->block_sum, nblocks * b->nvalues * sizeof *sum);
+    if (!sum) return -1;
+    b->block_sum = sum;
+    uint64_t *cnt = realloc(b->block_n, nblocks * sizeof *cnt);
+    if (!cnt) return -1;
+    b->block_n = cnt;
+    memset(sum + b->nblocks * b->nvalues, 0, (nblocks - b->nblocks) * b->nvalues * sizeof *sum);
+    memset(cnt + b->nblocks, 0, (nblocks - b->nblocks) * sizeof *cnt);
+    b->nblocks = nblocks;
+    return 0;
+}
+
+/* Into blocks of the same configuration; a longer planned run (an extension) keeps the
+ * stored blocks and adds blocks of the stored run's block length. */
 int hsbd_blocks_load(hsbd_blocks *b, hsbd_reader *r) {
-    uint64_t shape[4];
-    if (hsbd_get_tag(r, "blocks") || hsbd_get_u64s(r, shape, 4)) return -1;
-    if (shape[0] != b->nvalues || shape[1] != b->nblocks || shape[2] != (uint64_t)b->spatial ||
-        shape[3] != b->nsamples_total)
+    uint64_t shape[7];
+    if (hsbd_get_tag(r, "blocks") || hsbd_get_u64s(r, shape, 7)) return -1;
+    const uint64_t first = shape[1], total = shape[3], ext_start = shape[4], ext_len = shape[5];
+    const uint64_t stored_blocks = shape[6];
+    const uint64_t planned = b->spatial ? total : b->nsamples_total; /* the configuration's */
+    if (shape[0] != b->nvalues || first != b->nblocks_first || shape[2] != (uint64_t)b->spatial ||
+        (!ext_len && stored_blocks != first) ||
+        (ext_len && (b->spatial || ext_start > total ||
+                     stored_blocks > first + (total - ext_start) / ext_len + 1)))
         return hsbd_reader_fail(r, "error blocks of another shape");
+    if (planned < total) return hsbd_reader_fail(r, "error blocks of a longer run");
     uint64_t ns;
     if (hsbd_get_u64(r, &ns)) return -1;
-    if (!b->spatial && ns > b->nsamples_total)
-        return hsbd_reader_fail(r, "more samples than planned");
+    if (!b->spatial && ns > total) return hsbd_reader_fail(r, "more samples than planned");
+    if (!b->spatial && planned > total) { /* extended: more blocks of the same length */
+        b->ext_start = ext_len ? ext_start : total;
+        b->ext_len = ext_len ? ext_len : (total + first - 1) / first;
+        if (b->ext_len < 1) b->ext_len = 1;
+    } else {
+        b->ext_start = ext_start, b->ext_len = ext_len;
+    }
+    const uint64_t want =
+        b->ext_len ? first + (planned - b->ext_start + b->ext_len - 1) / b->ext_len : first;
+    if (grow_blocks(b, (size_t)(want > stored_blocks ? want : stored_blocks)))
+        return hsbd_reader_fail(r, "out of memory for the error blocks");
     b->nsamples = ns;
+    double *sum = b->block_sum;
+    uint64_t *cnt = b->block_n;
     if (hsbd_get_f64s(r, b->acc, b->nvalues) ||
-        hsbd_get_f64s(r, b->block_sum, b->nvalues * b->nblocks) ||
-        hsbd_get_u64s(r, b->block_n, b->nblocks))
+        hsbd_get_f64s(r, sum, b->nvalues * (size_t)stored_blocks) ||
+        hsbd_get_u64s(r, cnt, (size_t)stored_blocks))
         return -1;
     return 0;
 }

@@ -15,6 +15,7 @@
 #include "core/cellgrid.h"
 #include "core/periodic.h"
 #include "hsbd/observe.h"
+#include "observe/checkpoint.h"
 
 enum { GR_FIT_BINS = 10 };
 static const double HSBD_PI = 3.14159265358979323846;
@@ -274,4 +275,28 @@ void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) 
 
 double hsbd_gr_contact_weight(const hsbd_gr *g, size_t pair) {
     return g->weight[pair];
+}
+
+/* ---- checkpoints: the blocks, and the ideal-gas references of the sizes simulated ---- */
+void hsbd_gr_save(const hsbd_gr *g, hsbd_writer *w) {
+    const size_t row = g->bins + GR_FIT_BINS;
+    hsbd_put_tag(w, "gr");
+    const uint64_t shape[3] = {g->npairs, g->bins, g->nblocks};
+    hsbd_put_u64s(w, shape, 3);
+    hsbd_put_f64s(w, g->expected, g->npairs * row);
+    hsbd_put_f64s(w, g->weight, g->npairs);
+    hsbd_blocks_save(g->blocks, w);
+}
+
+int hsbd_gr_load(hsbd_gr *g, hsbd_reader *r) {
+    const size_t row = g->bins + GR_FIT_BINS;
+    uint64_t shape[3];
+    if (hsbd_get_tag(r, "gr") || hsbd_get_u64s(r, shape, 3)) return -1;
+    if (shape[0] != g->npairs || shape[1] != g->bins || shape[2] < g->nblocks)
+        return hsbd_reader_fail(r, "g(r) of another shape");
+    if (hsbd_get_f64s(r, g->expected, g->npairs * row) || hsbd_get_f64s(r, g->weight, g->npairs) ||
+        hsbd_blocks_load(g->blocks, r))
+        return -1;
+    g->nblocks = hsbd_blocks_count(g->blocks); /* more after an extension */
+    return 0;
 }

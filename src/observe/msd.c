@@ -276,44 +276,73 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
 /* ---- checkpoints ---- */
 void hsbd_msd_save(const hsbd_msd *m, hsbd_writer *w) {
     hsbd_put_tag(w, "msd");
-    const uint64_t shape[6] = {m->n,           m->nlags, m->slots,
-                               m->max_origins, m->nseg,  m->fs_value != NULL};
-    hsbd_put_u64s(w, shape, 6);
+    const uint64_t shape[7] = {
+        m->n, m->nlags, m->slots, m->max_origins, m->nseg, m->fs_value != NULL, m->origin_every};
+    hsbd_put_u64s(w, shape, 7);
     hsbd_put_u64(w, m->sample);
     hsbd_put_f64s(w, m->snap, m->slots * m->n);
     hsbd_put_u64s(w, m->snap_at, m->slots);
     hsbd_put_f64s(w, m->value, m->nlags * m->max_origins);
-    uint64_t *count = malloc(m->nlags * sizeof *count);
-    if (!count) {
-        w->oom = 1;
-        return;
-    }
+    hsbd_put_u64(w, m->nlags);
     for (size_t k = 0; k < m->nlags; ++k)
-        count[k] = m->count[k];
-    hsbd_put_u64s(w, count, m->nlags);
-    free(count);
+        hsbd_put_u64(w, m->count[k]);
     if (m->nseg) hsbd_put_f64s(w, m->seg_sum, m->nlags * m->nseg);
     if (m->fs_value) hsbd_put_f64s(w, m->fs_value, m->nlags * m->max_origins);
 }
 
+/* A per-lag table of `have` origins per lag read into rows of `room` (room >= have). */
+static int load_rows(hsbd_reader *r, double *v, size_t nlags, size_t have, size_t room) {
+    if (hsbd_get_count(r, nlags * have, "msd values")) return -1;
+    for (size_t k = 0; k < nlags; ++k)
+        for (size_t c = 0; c < have; ++c)
+            if (hsbd_get_f64(r, &v[k * room + c])) return -1;
+    return 0;
+}
+
+/* Into an MSD of the same configuration. When the run was extended (more samples
+ * planned), the stored origin spacing is kept and there is room for the new origins. */
 int hsbd_msd_load(hsbd_msd *m, hsbd_reader *r) {
-    uint64_t shape[6], sample;
-    if (hsbd_get_tag(r, "msd") || hsbd_get_u64s(r, shape, 6) || hsbd_get_u64(r, &sample)) return -1;
-    if (shape[0] != m->n || shape[1] != m->nlags || shape[2] != m->slots ||
-        shape[3] != m->max_origins || shape[4] != m->nseg || shape[5] != (m->fs_value != NULL))
+    uint64_t shape[7], sample;
+    if (hsbd_get_tag(r, "msd") || hsbd_get_u64s(r, shape, 7) || hsbd_get_u64(r, &sample)) return -1;
+    const uint64_t every = shape[6], stored_origins = shape[3];
+    if (shape[0] != m->n || shape[1] != m->nlags || shape[4] != m->nseg ||
+        shape[5] != (m->fs_value != NULL) || every < 1 || every > m->max_lag + 1 ||
+        shape[2] != (size_t)(m->max_lag / every + 2) || stored_origins < 1)
         return hsbd_reader_fail(r, "an MSD of another shape");
+    /* the planned samples give the room for origins at the stored spacing */
+    const uint64_t planned = (m->max_origins - 1) * m->origin_every;
+    const uint64_t room =
+        planned / every + 1 > stored_origins ? planned / every + 1 : stored_origins;
+    if (stored_origins > planned / every + 2 || sample > planned + every)
+        return hsbd_reader_fail(r, "an MSD of a longer run");
+    if (every != m->origin_every || (size_t)shape[2] != m->slots || room != m->max_origins) {
+        double *snap = realloc(m->snap, (size_t)shape[2] * m->n * sizeof *snap);
+        uint64_t *at = snap ? realloc(m->snap_at, (size_t)shape[2] * sizeof *at) : NULL;
+        double *val = at ? malloc(m->nlags * (size_t)room * sizeof *val) : NULL;
+        double *fs = val && m->fs_value ? malloc(m->nlags * (size_t)room * sizeof *fs) : NULL;
+        if (snap) m->snap = snap;
+        if (at) m->snap_at = at;
+        if (!val || (m->fs_value && !fs)) {
+            free(val);
+            return hsbd_reader_fail(r, "out of memory for the MSD");
+        }
+        free(m->value), m->value = val;
+        if (fs) free(m->fs_value), m->fs_value = fs;
+        m->origin_every = every, m->slots = (size_t)shape[2], m->max_origins = (size_t)room;
+    }
     m->sample = sample;
     if (hsbd_get_f64s(r, m->snap, m->slots * m->n) || hsbd_get_u64s(r, m->snap_at, m->slots) ||
-        hsbd_get_f64s(r, m->value, m->nlags * m->max_origins) ||
+        load_rows(r, m->value, m->nlags, (size_t)stored_origins, m->max_origins) ||
         hsbd_get_count(r, m->nlags, "msd counts"))
         return -1;
     for (size_t k = 0; k < m->nlags; ++k) {
         uint64_t c;
         if (hsbd_get_u64(r, &c)) return -1;
-        if (c > m->max_origins) return hsbd_reader_fail(r, "msd: more origins than room");
+        if (c > stored_origins) return hsbd_reader_fail(r, "msd: more origins than room");
         m->count[k] = (size_t)c;
     }
     if (m->nseg && hsbd_get_f64s(r, m->seg_sum, m->nlags * m->nseg)) return -1;
-    if (m->fs_value && hsbd_get_f64s(r, m->fs_value, m->nlags * m->max_origins)) return -1;
+    if (m->fs_value && load_rows(r, m->fs_value, m->nlags, (size_t)stored_origins, m->max_origins))
+        return -1;
     return 0;
 }

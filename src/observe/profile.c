@@ -313,5 +313,6 @@ int hsbd_profile_load(hsbd_profile *p, hsbd_reader *r) {
     hsbd_blocks *acc[] = {p->density, p->contact, p->impulse, p->extrap};
     for (int k = 0; k < 4; ++k)
         if (hsbd_blocks_load(acc[k], r)) return -1;
+    p->nblocks = hsbd_blocks_count(p->density); /* more after an extension */
     return 0;
 }

@@ -329,7 +329,8 @@ static int config_from_source(const run_source_copy *src, const char *const *set
     for (size_t k = 0; k < src->nsets && rc == HSBD_OK; ++k)
         rc = hsbd_config_set(cfg, src->sets[k], "the run's command line", err);
     for (size_t k = 0; k < nsets && rc == HSBD_OK; ++k) {
-        if (strncmp(sets[k], "run.t_total=", 12))
+        if (strncmp(sets[k], "run.t_total=", 12) && strncmp(sets[k], "sample.msd_max_lag=", 19) &&
+            strncmp(sets[k], "output.trajectory_every=", 24))
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "resume: --set %s: a resumed run keeps its configuration; "
                                   "allowed: --set run.t_total=T (a longer run)",
@@ -372,8 +373,10 @@ static int reopen_streams(run *r, hsbd_error *err) {
 
 /* The source a resumed run keeps for its own checkpoints: the stored one with the
  * resume's overrides appended (an extension stays extended). */
+enum { RUN_MAX_RESUME_SETS = 8 };
 typedef struct resumed_source {
     run_source_copy copy;
+    char added[RUN_MAX_RESUME_SETS + 2][HSBD_PATH_MAX + 64]; /* the resume's overrides */
     const char **sets;
     hsbd_run_source source;
 } resumed_source;
@@ -384,8 +387,10 @@ static int keep_source(resumed_source *rs, const char *const *sets, size_t nsets
     if (!rs->sets) return -1;
     for (size_t k = 0; k < c->nsets; ++k)
         rs->sets[k] = c->sets[k];
-    for (size_t k = 0; k < nsets; ++k)
-        rs->sets[c->nsets + k] = sets[k];
+    for (size_t k = 0; k < nsets; ++k) {
+        snprintf(rs->added[k], sizeof rs->added[k], "%s", sets[k]);
+        rs->sets[c->nsets + k] = rs->added[k];
+    }
     rs->source = (hsbd_run_source){.name = c->has_file ? c->name : NULL,
                                    .text = c->text,
                                    .text_len = c->text_len,
@@ -420,7 +425,33 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     if (rc == HSBD_OK && src.cwd[0] && chdir(src.cwd) != 0)
         rc = hsbd_error_set(err, HSBD_EINPUT, "resume: the run started in '%s', which is gone: %s",
                             src.cwd, strerror(errno));
-    if (rc == HSBD_OK) rc = config_from_source(&src, sets, nsets, absdir, cfg, err);
+    /* an extension keeps the lag grid of the MSD and the trajectory's interval, which by
+     * default follow run.t_total: their values of the run as it was go first */
+    char kept[2][HSBD_PATH_MAX + 64];
+    const char *ext[RUN_MAX_RESUME_SETS + 2];
+    size_t next = 0;
+    if (rc == HSBD_OK && nsets > RUN_MAX_RESUME_SETS)
+        rc = hsbd_error_set(err, HSBD_EINPUT, "resume: too many --set");
+    if (rc == HSBD_OK && nsets > 0) {
+        hsbd_config *old = malloc(sizeof *old);
+        rc = old ? config_from_source(&src, NULL, 0, absdir, old, err)
+                 : hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        if (rc == HSBD_OK) {
+            snprintf(kept[0], sizeof kept[0], "sample.msd_max_lag=%.17g", old->sample.msd_max_lag);
+            snprintf(kept[1], sizeof kept[1], "output.trajectory_every=%.17g",
+                     old->output.trajectory_every);
+            ext[next++] = kept[0], ext[next++] = kept[1];
+            if (old->sample.blocking == HSBD_BLOCKS_REPLICAS)
+                rc = hsbd_error_set(err, HSBD_EINPUT,
+                                    "resume: a run with sample.blocking = replicas cannot be "
+                                    "extended (its replicas have their length); start a longer "
+                                    "run");
+        }
+        free(old);
+    }
+    for (size_t k = 0; k < nsets; ++k)
+        ext[next++] = sets[k];
+    if (rc == HSBD_OK) rc = config_from_source(&src, ext, next, absdir, cfg, err);
     if (rc == HSBD_OK &&
         strcmp(src.model, cfg->system.model == HSBD_MODEL_SPHERES ? "spheres" : "rods"))
         rc = hsbd_error_set(err, HSBD_EINPUT, "%s: a checkpoint of model %s", ck.path, src.model);
@@ -445,8 +476,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
         r->ninputs = src.ninputs;
         memcpy(r->inputs, src.inputs, sizeof src.inputs);
         rs->copy = src;
-        if (keep_source(rs, sets, nsets) != 0)
-            rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        if (keep_source(rs, ext, next) != 0) rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
         r->source = &rs->source;
     } else {
         run_source_copy_free(&src);

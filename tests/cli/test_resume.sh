@@ -128,7 +128,7 @@ for c in "${cases[@]}"; do
     else bad "$name: the resumed results differ ($kills interruptions)"; fi
 done
 
-if [ -z "$ONLY" ]; then
+if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     # a completed run: refused, unless extended
     "$HSBD" resume rods-ref --quiet 2>err
     if [ $? = 2 ] && grep -q "is complete" err; then ok; else bad "completed run: $(cat err)"; fi
@@ -154,6 +154,22 @@ if [ -z "$ONLY" ]; then
     done
     "$HSBD" resume nowhere --quiet 2>err
     if [ $? = 2 ] && grep -q "nowhere" err; then ok; else bad "missing directory: $(cat err)"; fi
+    # an extension: the run goes on to the longer time; the trajectory, currents and MSD
+    # are those of a run planned that long (with the lag grid and frame interval the first
+    # run derived from its own length), the means too; the error blocks keep their length,
+    # so there are twice as many
+    "$HSBD" run rods.ini --quiet --set run.t_total=1 --out ext 2>/dev/null
+    "$HSBD" run rods.ini --quiet --set run.t_total=2 --set sample.msd_max_lag=0.1 \
+        --set output.trajectory_every=0.1 --out ext-ref 2>/dev/null
+    if "$HSBD" resume ext --set run.t_total=2 --quiet 2>err && cmp -s ext/trajectory.xyz ext-ref/trajectory.xyz &&
+        cmp -s ext/msd.tsv ext-ref/msd.tsv &&
+        diff -q <(grep -v '^#' ext/current.tsv) <(grep -v '^#' ext-ref/current.tsv) >/dev/null &&
+        diff -q <(grep -v '^#' ext/density.tsv | cut -f1,2) <(grep -v '^#' ext-ref/density.tsv | cut -f1,2) >/dev/null &&
+        [ "$(grep -v '^#' ext/density_blocks.tsv | head -1 | wc -w)" = 13 ] &&
+        grep -q '"steps": 20000' ext/summary.json; then ok; else bad "extension: $(cat err)"; fi
+    "$HSBD" run rods.ini --quiet --set run.t_total=1 --set sample.blocking=replicas --out extrep 2>/dev/null
+    "$HSBD" resume extrep --set run.t_total=2 --quiet 2>err
+    if [ $? = 2 ] && grep -q "replicas" err; then ok; else bad "extending replicas: $(cat err)"; fi
     "$HSBD" resume dmg --set system.N=10 --quiet 2>err
     if [ $? = 2 ] && grep -q "run.t_total" err; then ok; else bad "resume --set other key: $(cat err)"; fi
 fi
