@@ -50,7 +50,8 @@ hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact
 hsbd_profile *hsbd_profile_alloc_spatial(double period, double bin_width, double contact_width,
                                          size_t nsegments, hsbd_error *err);
 void hsbd_profile_free(hsbd_profile *p);
-void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v);
+/* HSBD_OK, or HSBD_ENOMEM (the sample is then not taken) */
+int hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v);
 size_t hsbd_profile_bins(const hsbd_profile *p);
 /* rho(x) normalised so that its mean over a period is N/L; x = bin centre. */
 void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double *err);

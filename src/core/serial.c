@@ -98,6 +98,13 @@ int hsbd_reader_fail(hsbd_reader *r, const char *why) {
     return -1;
 }
 
+int hsbd_reader_oom(hsbd_reader *r, const char *what) {
+    char why[128];
+    snprintf(why, sizeof why, "out of memory for %s", what);
+    if (!r->bad) r->oom = 1;
+    return hsbd_reader_fail(r, why);
+}
+
 int hsbd_get_bytes(hsbd_reader *r, void *p, size_t n) {
     if (r->bad) return -1;
     if (n > r->len - r->pos) return hsbd_reader_fail(r, "the data end early");

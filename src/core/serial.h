@@ -37,6 +37,7 @@ typedef struct hsbd_reader {
     const unsigned char *data;
     size_t len, pos;
     int bad;
+    int oom;       /* the failure was an allocation, not the data */
     char why[160]; /* the first failure */
 } hsbd_reader;
 
@@ -58,6 +59,8 @@ int hsbd_get_string(hsbd_reader *r, char *buf, size_t size);
 int hsbd_get_count(hsbd_reader *r, uint64_t want, const char *what);
 /* mark the reader bad with a reason (for checks of values read) */
 int hsbd_reader_fail(hsbd_reader *r, const char *why);
+/* the same when memory for what was read ran out (HSBD_ENOMEM, not bad data) */
+int hsbd_reader_oom(hsbd_reader *r, const char *what);
 
 /* CRC-64 (ECMA-182 polynomial, reflected, as in XZ) of n bytes, continuing from crc
  * (start with 0). */

@@ -230,7 +230,7 @@ int hsbd_blocks_load(hsbd_blocks *b, hsbd_reader *r) {
     const uint64_t want =
         b->ext_len ? first + (planned - b->ext_start + b->ext_len - 1) / b->ext_len : first;
     if (grow_blocks(b, (size_t)(want > stored_blocks ? want : stored_blocks)))
-        return hsbd_reader_fail(r, "out of memory for the error blocks");
+        return hsbd_reader_oom(r, "the error blocks");
     b->nsamples = ns;
     double *sum = b->block_sum;
     uint64_t *cnt = b->block_n;

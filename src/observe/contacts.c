@@ -11,6 +11,7 @@ struct hsbd_contacts {
     double length;
     double *impulse;     /* N + 1 per sample */
     hsbd_blocks *blocks; /* nspecies^2 pairs (a * nspecies + b), then left and right wall */
+    double *scratch;     /* 2 x the values: the results' means and errors */
 };
 
 hsbd_contacts *hsbd_contacts_alloc(size_t n, size_t nspecies, size_t nblocks,
@@ -20,9 +21,10 @@ hsbd_contacts *hsbd_contacts_alloc(size_t n, size_t nspecies, size_t nblocks,
         c->n = n;
         c->nspecies = nspecies ? nspecies : 1;
         c->impulse = malloc((n + 1) * sizeof *c->impulse);
+        c->scratch = malloc(2 * (c->nspecies * c->nspecies + 2) * sizeof *c->scratch);
         c->blocks = hsbd_blocks_alloc(c->nspecies * c->nspecies + 2, nblocks, nsamples_total);
     }
-    if (!c || !c->impulse || !c->blocks) {
+    if (!c || !c->impulse || !c->scratch || !c->blocks) {
         hsbd_contacts_free(c);
         hsbd_error_set(err, HSBD_ENOMEM, "contacts: out of memory");
         return NULL;
@@ -33,6 +35,7 @@ hsbd_contacts *hsbd_contacts_alloc(size_t n, size_t nspecies, size_t nblocks,
 void hsbd_contacts_free(hsbd_contacts *c) {
     if (!c) return;
     free(c->impulse);
+    free(c->scratch);
     hsbd_blocks_free(c->blocks);
     free(c);
 }
@@ -59,16 +62,10 @@ void hsbd_contacts_sample(hsbd_contacts *c, const hsbd_rods_view *v) {
 /* one value of the block averages */
 static void result_at(const hsbd_contacts *c, size_t k, double *val, double *err) {
     const size_t nv = c->nspecies * c->nspecies + 2;
-    double *mean = malloc(nv * sizeof *mean), *e = malloc(nv * sizeof *e);
-    if (!mean || !e) {
-        *val = *err = NAN;
-    } else {
-        hsbd_blocks_result(c->blocks, mean, e);
-        *val = mean[k];
-        *err = e[k];
-    }
-    free(mean);
-    free(e);
+    double *mean = c->scratch, *e = c->scratch + nv;
+    hsbd_blocks_result(c->blocks, mean, e);
+    *val = mean[k];
+    *err = e[k];
 }
 
 void hsbd_contacts_pair(const hsbd_contacts *c, size_t a, size_t b, double *val, double *err) {

@@ -29,7 +29,9 @@ struct hsbd_gr {
     hsbd_blocks *blocks;
     size_t nblocks;
     hsbd_cells cells;
-    double *acc; /* counts of the current sample */
+    double *acc;       /* counts of the current sample */
+    double *results;   /* 2 nv: the blocks' means and errors (results allocate nothing) */
+    double *per_block; /* nblocks x nv: each block's means */
 };
 
 static size_t pair_index(size_t ns, size_t a, size_t b) {
@@ -60,6 +62,8 @@ void hsbd_gr_free(hsbd_gr *g) {
     free(g->weight);
     free(g->expected);
     free(g->acc);
+    free(g->results);
+    free(g->per_block);
     hsbd_blocks_free(g->blocks);
     hsbd_cells_free(&g->cells);
     free(g);
@@ -132,9 +136,11 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
     g->weight = calloc(g->npairs, sizeof *g->weight);
     g->expected = calloc(g->npairs * row, sizeof *g->expected);
     g->acc = calloc(g->npairs * row, sizeof *g->acc);
+    g->results = malloc(2 * g->npairs * row * sizeof *g->results);
+    g->per_block = malloc(nblocks * g->npairs * row * sizeof *g->per_block);
     g->blocks = hsbd_blocks_alloc(g->npairs * row, nblocks, nsamples_total);
     g->nblocks = nblocks;
-    if (!g->weight || !g->expected || !g->acc || !g->blocks ||
+    if (!g->weight || !g->expected || !g->acc || !g->results || !g->per_block || !g->blocks ||
         hsbd_cells_init(&g->cells, g->dim, g->box, g->r_max, g->n)) {
         hsbd_gr_free(g);
         return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
@@ -229,14 +235,7 @@ static double fit_contact(const hsbd_gr *g, const double *counts, const double *
 
 void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double *err) {
     const size_t row = g->bins + GR_FIT_BINS, nv = g->npairs * row;
-    double *mean = malloc(nv * sizeof *mean), *e = malloc(nv * sizeof *e);
-    if (!mean || !e) {
-        free(mean);
-        free(e);
-        for (size_t k = 0; k < g->bins; ++k)
-            r[k] = gr[k] = err[k] = NAN;
-        return;
-    }
+    double *mean = g->results, *e = g->results + nv;
     hsbd_blocks_result(g->blocks, mean, e);
     const double *ex = g->expected + pair * row;
     for (size_t k = 0; k < g->bins; ++k) {
@@ -244,16 +243,13 @@ void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double
         gr[k] = ex[k] > 0 ? mean[pair * row + k] / ex[k] : NAN;
         err[k] = ex[k] > 0 ? e[pair * row + k] / ex[k] : NAN;
     }
-    free(mean);
-    free(e);
 }
 
 void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) {
     *value = *err = NAN;
     const size_t row = g->bins + GR_FIT_BINS, nv = g->npairs * row;
     if (g->expected[pair * row + g->bins] <= 0) return;
-    double *all = malloc(g->nblocks * nv * sizeof *all);
-    if (!all) return;
+    double *all = g->per_block;
     hsbd_blocks_block_means(g->blocks, 0, all);
     /* the value from all samples (block means weighted by their samples: equal blocks),
      * the error from the scatter of the blocks' extrapolations */
@@ -266,7 +262,6 @@ void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) 
         const double val = fit_contact(g, c, ex);
         sum += val, sum2 += val * val, ++used;
     }
-    free(all);
     if (!used) return;
     const double m = sum / (double)used;
     *value = m;
@@ -297,6 +292,12 @@ int hsbd_gr_load(hsbd_gr *g, hsbd_reader *r) {
     if (hsbd_get_f64s(r, g->expected, g->npairs * row) || hsbd_get_f64s(r, g->weight, g->npairs) ||
         hsbd_blocks_load(g->blocks, r))
         return -1;
-    g->nblocks = hsbd_blocks_count(g->blocks); /* more after an extension */
+    const size_t nblocks = hsbd_blocks_count(g->blocks); /* more after an extension */
+    if (nblocks > g->nblocks) {
+        double *pb = realloc(g->per_block, nblocks * g->npairs * row * sizeof *pb);
+        if (!pb) return hsbd_reader_oom(r, "g(r) blocks");
+        g->per_block = pb;
+    }
+    g->nblocks = nblocks;
     return 0;
 }

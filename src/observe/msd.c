@@ -324,7 +324,7 @@ int hsbd_msd_load(hsbd_msd *m, hsbd_reader *r) {
         if (at) m->snap_at = at;
         if (!val || (m->fs_value && !fs)) {
             free(val);
-            return hsbd_reader_fail(r, "out of memory for the MSD");
+            return hsbd_reader_oom(r, "the MSD");
         }
         free(m->value), m->value = val;
         if (fs) free(m->fs_value), m->fs_value = fs;

@@ -34,7 +34,7 @@ static hsbd_profile *profile_alloc(double period, double bin_width, double conta
         return NULL;
     }
     hsbd_profile *p = calloc(1, sizeof *p);
-    if (!p) return NULL;
+    if (!p) return hsbd_error_set(err, HSBD_ENOMEM, "profile: out of memory"), NULL;
     p->period = period;
     p->nbins = (size_t)bins;
     p->bin_width = period / bins;
@@ -176,8 +176,14 @@ static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v, double *im
     }
 }
 
-void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
+int hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
     const size_t n = v->n;
+    if (v->hard_core && v->y && n > 1 && p->scratch_n != n + 1) { /* the impulses' room */
+        free(p->scratch);
+        p->scratch = malloc((n + 1) * sizeof *p->scratch);
+        p->scratch_n = p->scratch ? n + 1 : 0;
+        if (!p->scratch) return HSBD_ENOMEM; /* the sample is not taken */
+    }
     const acc_set acc = accumulators(p);
     p->periods = v->length / p->period;
     double min_gap = p->min_gap;
@@ -208,16 +214,12 @@ void hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v) {
         }
     }
     p->min_gap = min_gap;
-    if (v->hard_core && v->y && n > 1 && p->scratch_n != n + 1) {
-        free(p->scratch);
-        p->scratch = malloc((n + 1) * sizeof *p->scratch);
-        p->scratch_n = p->scratch ? n + 1 : 0;
-    }
-    if (v->hard_core && v->y && n > 1 && p->scratch) sample_impulses(p, v, acc.impulse);
+    if (v->hard_core && v->y && n > 1) sample_impulses(p, v, acc.impulse);
     hsbd_blocks_end_sample(p->density);
     hsbd_blocks_end_sample(p->contact);
     hsbd_blocks_end_sample(p->impulse);
     hsbd_blocks_end_sample(p->extrap);
+    return HSBD_OK;
 }
 
 size_t hsbd_profile_bins(const hsbd_profile *p) {

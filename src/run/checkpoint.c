@@ -165,10 +165,15 @@ static int read_one(const char *path, run_checkpoint_data *ck, char *why, size_t
                -1;
     }
     unsigned char *data = malloc(payload + 8);
-    if (!data || fread(data, 1, payload + 8, f) != payload + 8) {
+    if (!data) {
+        fclose(f);
+        return snprintf(why, len, "out of memory for its %llu bytes", (unsigned long long)payload),
+               -2;
+    }
+    if (fread(data, 1, payload + 8, f) != payload + 8) {
         free(data);
         fclose(f);
-        return snprintf(why, len, "cannot read it (%s)", data ? "short read" : "out of memory"), -1;
+        return snprintf(why, len, "cannot read it (short read)"), -1;
     }
     fclose(f);
     hsbd_reader_init(&hr, data + payload, 8);
@@ -189,8 +194,12 @@ int run_checkpoint_read(const char *dir, run_checkpoint_data *ck, hsbd_error *er
     char newest[HSBD_PATH_MAX + 32], prev[HSBD_PATH_MAX + 32], why1[256], why2[256];
     snprintf(newest, sizeof newest, "%s/%s", dir, HSBD_CHECKPOINT_FILE);
     snprintf(prev, sizeof prev, "%s/%s", dir, HSBD_CHECKPOINT_PREV);
-    if (read_one(newest, ck, why1, sizeof why1) == 0) return HSBD_OK;
-    if (read_one(prev, ck, why2, sizeof why2) == 0) {
+    const int got = read_one(newest, ck, why1, sizeof why1);
+    if (got == 0) return HSBD_OK;
+    if (got == -2) return hsbd_error_set(err, HSBD_ENOMEM, "'%s': %s", newest, why1);
+    const int got_prev = read_one(prev, ck, why2, sizeof why2);
+    if (got_prev == -2) return hsbd_error_set(err, HSBD_ENOMEM, "'%s': %s", prev, why2);
+    if (got_prev == 0) {
         fprintf(stderr, "hsbd: warning: '%s' is not usable (%s); continuing from '%s'\n", newest,
                 why1, prev);
         return HSBD_OK;
@@ -220,14 +229,14 @@ int run_checkpoint_read_source(hsbd_reader *rd, run_source_copy *src) {
     if (len > rd->len - rd->pos) return hsbd_reader_fail(rd, "configuration text beyond the end");
     src->has_file = has_file != 0;
     src->text = malloc(len + 1);
-    if (!src->text) return hsbd_reader_fail(rd, "out of memory");
+    if (!src->text) return hsbd_reader_oom(rd, "the configuration");
     if (hsbd_get_bytes(rd, src->text, (size_t)len)) return -1;
     src->text[len] = '\0';
     src->text_len = (size_t)len;
     if (hsbd_get_u64(rd, &nsets)) return -1;
     if (nsets > 4096) return hsbd_reader_fail(rd, "too many overrides");
     src->sets = calloc(nsets ? nsets : 1, sizeof *src->sets);
-    if (!src->sets) return hsbd_reader_fail(rd, "out of memory");
+    if (!src->sets) return hsbd_reader_oom(rd, "the overrides");
     src->nsets = (size_t)nsets;
     for (size_t k = 0; k < src->nsets; ++k)
         if (hsbd_get_string(rd, src->sets[k], sizeof src->sets[k])) return -1;

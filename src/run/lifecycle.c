@@ -410,7 +410,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     hsbd_reader_init(&rd, ck.data, ck.len);
     run_source_copy src = {0};
     if (run_checkpoint_read_source(&rd, &src) != 0)
-        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: %s", ck.path, rd.why);
+        rc = hsbd_error_set(err, rd.oom ? HSBD_ENOMEM : HSBD_EINPUT, "%s: %s", ck.path, rd.why);
     if (rc == HSBD_OK && strcmp(src.git, HSBD_GIT_COMMIT))
         fprintf(stderr,
                 "hsbd: warning: the checkpoint was written by hsbd %s (git %s), this is git %s: "
@@ -469,7 +469,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
                             r->model.name);
     if (rc == HSBD_OK && (run_checkpoint_load_run(r, &rd) != 0 || r->model.load(r, &rd) != 0 ||
                           hsbd_get_tag(&rd, "end") != 0 || rd.pos != rd.len))
-        rc = hsbd_error_set(err, HSBD_EINPUT, "%s: %s", ck.path,
+        rc = hsbd_error_set(err, rd.oom ? HSBD_ENOMEM : HSBD_EINPUT, "%s: %s", ck.path,
                             rd.bad ? rd.why : "data after the end");
     if (rc == HSBD_OK) {
         snprintf(r->cwd, sizeof r->cwd, "%s", src.cwd);

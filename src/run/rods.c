@@ -270,7 +270,8 @@ static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
     rods_model *m = ctx;
     const hsbd_config *cfg = r->cfg;
     const hsbd_rods_view v = hsbd_rods_get_view(m->rods);
-    hsbd_profile_sample(m->profile, &v);
+    if (hsbd_profile_sample(m->profile, &v) != HSBD_OK)
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the profiles");
     hsbd_msd_sample(m->msd, &v);
     for (size_t q = 0; q < cfg->species.n; ++q)
         hsbd_msd_sample(m->msd_species[q], &v);
