@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "../test_util.h"
+#include "sphere_checks.h"
 #include "hsbd/spheres.h"
 
 static const double PI = 3.14159265358979323846;
@@ -36,24 +37,6 @@ typedef struct golden_case {
     hsbd_spheres_params par;
     int init, steps;
 } golden_case;
-
-static uint64_t fnv1a(uint64_t h, const void *data, size_t bytes) {
-    const unsigned char *p = data;
-    for (size_t k = 0; k < bytes; ++k) {
-        h ^= p[k];
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
-
-static const uint64_t FNV_BASIS = 0xcbf29ce484222325ull;
-
-/* The positions and image counters in user order. */
-static uint64_t positions_hash(const hsbd_spheres *s) {
-    const hsbd_spheres_view v = hsbd_spheres_get_view(s);
-    const uint64_t h = fnv1a(FNV_BASIS, v.x, 3 * v.n * sizeof *v.x);
-    return fnv1a(h, v.image, 3 * v.n * sizeof *v.image);
-}
 
 /* The positions, then the statistics (the virial's bytes last). */
 static uint64_t state_hash(const hsbd_spheres *s) {
