@@ -340,6 +340,7 @@ int main(void) {
 
     hsbd_spheres_params groups = mono;
     groups.event_order = HSBD_EVENTS_GROUPS;
+    groups.dt = 2e-3; /* at 5e-3 the groups percolate and re-run: 5 times the time */
     const sphere_case spheres[] = {
         {"spheres phi 0.4, global calendar, g(r) and MSD", mono, INIT_LATTICE, 50, 1, NULL, 0},
         {"spheres phi 0.4, groups, given positions (twice)", groups, INIT_POSITIONS, 50, 0, lattice,
