@@ -7,8 +7,10 @@
  * against each other in the half scan). A hit joins the two groups: at once when the
  * other group is still on its start lines at the present time (it has not run, and its
  * first event is not earlier), else by re-running the joined group from the step's
- * start. Shells moved inside a step only add pairs (the old shell stays registered until
- * the step ends), so groups running out of time order never miss a pair. */
+ * start; the particles it puts back on their start lines are first tested against the
+ * groups that ran, which saw only their earlier paths. Shells moved inside a step only
+ * add pairs (the old shell stays registered until the step ends), so groups running out
+ * of time order never miss a pair. */
 #include "spheres/groups.h"
 
 #include <stdlib.h>
@@ -54,6 +56,11 @@ struct sph_groups {
     size_t extra_cap, nextra;
     int32_t *moved_list;
     size_t nmoved;
+    /* particles put back on their start lines by a rewind, not yet tested against the
+     * groups that ran (queued: in the list) */
+    int32_t *rewound;
+    uint8_t *queued;
+    size_t nrewound;
     uint64_t replayed; /* events of the step in runs that ended in a join */
     uint64_t played;   /* all events of the step */
     unsigned pause;    /* AUTO: steps left on the global calendar after costly re-runs */
@@ -108,6 +115,8 @@ void sph_groups_free(sph_groups *g) {
     free(g->extra_particle);
     free(g->extra_sigma);
     free(g->moved_list);
+    free(g->rewound);
+    free(g->queued);
     free(g);
 }
 
@@ -129,11 +138,13 @@ static int alloc_particles(hsbd_spheres *s) {
     g->moved = calloc(n, sizeof *g->moved);
     g->history = malloc(n * sizeof *g->history);
     g->moved_list = malloc(n * sizeof *g->moved_list);
+    g->rewound = malloc(n * sizeof *g->rewound);
+    g->queued = calloc(n, sizeof *g->queued);
     g->extra_cap = 256; /* the kernels read sigma[0] for empty slots: never empty arrays */
     g->extra_particle = malloc(g->extra_cap * sizeof *g->extra_particle);
     g->extra_sigma = calloc(g->extra_cap, sizeof *g->extra_sigma);
     if (!g->parent || !g->last_segment || !g->moved || !g->history || !g->moved_list ||
-        !g->extra_particle || !g->extra_sigma ||
+        !g->rewound || !g->queued || !g->extra_particle || !g->extra_sigma ||
         hsbd_cells_init(&g->extra, s->dim, s->box, s->sigma_max + 2 * s->shell, g->extra_cap)) {
         sph_groups_free(g);
         return -1;
@@ -296,8 +307,14 @@ static void rewind_group(hsbd_spheres *s, int32_t a) {
         s->t_local[p] = 0;
         g->last_segment[p] = -1;
         g->history[p] = 0;
+        if (!g->queued[p]) g->queued[p] = 1, g->rewound[g->nrewound++] = p;
     }
     g->first_segment[a] = -1;
+}
+
+static void forget_rewound(sph_groups *g) {
+    while (g->nrewound)
+        g->queued[g->rewound[--g->nrewound]] = 0;
 }
 
 /* Takes back what a finished group b did: its statistics, its particles' moves. */
@@ -470,6 +487,50 @@ static int32_t logged_neighbour_hit(hsbd_spheres *s, int32_t i, double t) {
     return -1;
 }
 
+/* The group of a neighbour whose group ran, that i's start-of-step line (i back on it
+ * after a rewind, t_local 0) meets on one of its segments after its own start line, or
+ * -1. The groups that ran tested their segments against i's path of the earlier run,
+ * which may have left the start line sooner than it will now; start lines against start
+ * lines are the half scan's. A hit beyond i's next event only costs a needless join. */
+static int32_t start_line_hit(hsbd_spheres *s, int32_t root_a, int32_t i) {
+    sph_groups *g = s->groups;
+    const double *xi = s->x + 3 * (size_t)i, *vi = s->v + 3 * (size_t)i;
+    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    for (uint32_t q = 0; q < s->nb_count[i]; ++q) {
+        const int32_t m = row[q];
+        if (!g->history[m]) continue;
+        const int32_t r = find_root(g, m);
+        if (r == root_a) continue;
+        const double s_im = sph_contact_distance(s, i, m);
+        double end = s->dt; /* every segment but the first, the current one included */
+        for (int32_t k = g->last_segment[m]; k >= 0 && g->seg[k].prev >= 0; k = g->seg[k].prev) {
+            const sph_segment *e = &g->seg[k];
+            double xi_at[3], r_im[3], v_im[3];
+            for (int a = 0; a < 3; ++a) {
+                xi_at[a] = xi[a] + vi[a] * e->t;
+                v_im[a] = e->v[a] - vi[a];
+            }
+            sph_min_image(s, e->x, xi_at, r_im);
+            if (sph_contact_time(r_im, v_im, s_im, end - e->t) >= 0) return -2 - g->parent[r];
+            end = e->t;
+        }
+    }
+    return -1;
+}
+
+/* The first group that a particle rewound since the last call meets on its start line
+ * (start_line_hit), or -1 when none does; the particles tested leave the list. */
+static int32_t rewound_hit(hsbd_spheres *s, int32_t a) {
+    sph_groups *g = s->groups;
+    while (g->nrewound) {
+        const int32_t p = g->rewound[--g->nrewound];
+        g->queued[p] = 0;
+        const int32_t b = start_line_hit(s, g->root[a], p);
+        if (b >= 0) return b;
+    }
+    return -1;
+}
+
 /* What predict_in_group and play_group return besides a group to join */
 enum { NO_JOIN = -1, OUT_OF_MEMORY = -2 };
 
@@ -559,11 +620,13 @@ static int run_group(hsbd_spheres *s, int32_t a) {
     g->state[a] = GROUP_ACTIVE;
     int32_t b;
     while ((b = play_group(s, a)) >= 0) {
-        join_and_rewind(s, a, b);
-        if (s->par.event_order == HSBD_EVENTS_AUTO && g->replayed > g->nhits) {
-            g->state[a] = GROUP_PENDING;
-            return 1;
-        }
+        do { /* b joins; then the groups that the rewound start lines meet */
+            join_and_rewind(s, a, b);
+            if (s->par.event_order == HSBD_EVENTS_AUTO && g->replayed > g->nhits) {
+                g->state[a] = GROUP_PENDING;
+                return 1;
+            }
+        } while ((b = rewound_hit(s, a)) >= 0);
     }
     if (b == OUT_OF_MEMORY) return -1;
     g->state[a] = GROUP_DONE;
@@ -587,6 +650,7 @@ static int hand_to_global_calendar(hsbd_spheres *s) {
 
 int sph_groups_run(hsbd_spheres *s) {
     sph_groups *g = s->groups;
+    forget_rewound(g); /* what a given-up or failed step left */
     const long largest = number_groups(s);
     const int automatic = s->par.event_order == HSBD_EVENTS_AUTO;
     if (largest < 0) return -1;
