@@ -265,13 +265,14 @@ static int open_streams(run *r, hsbd_error *err) {
 /* The input files a run reads while it is built, with their checksums. */
 static void record_inputs(run *r) {
     const hsbd_config *cfg = r->cfg;
-    const char *files[2] = {NULL, NULL};
+    const char *files[3] = {NULL, NULL, NULL};
     if (cfg->system.model == HSBD_MODEL_RODS) {
         if (cfg->field.type & HSBD_FIELD_TABLE) files[0] = cfg->field.table;
         if (cfg->pair.type == HSBD_PAIR_TABLE) files[1] = cfg->pair.table;
     }
+    if (cfg->init.positions[0]) files[2] = cfg->init.positions; /* species, sizes */
     r->ninputs = 0;
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < 3; ++k) {
         if (!files[k]) continue;
         run_input *in = &r->inputs[r->ninputs];
         snprintf(in->path, sizeof in->path, "%s", files[k]);

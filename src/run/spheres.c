@@ -11,7 +11,9 @@
 #include "hsbd/spheres.h"
 #include "hsbd/theory.h"
 #include "io/tables.h"
+#include "observe/checkpoint.h"
 #include "run/run.h"
+#include "spheres/checkpoint.h"
 
 typedef struct spheres_model {
     hsbd_spheres *sys;
@@ -72,7 +74,7 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     /* species in blocks (initial states place particles randomly), sizes and D */
     if (hsbd_config_particles(cfg, m->species, sigma, diffusion, err) != HSBD_OK)
         return free(sigma), err->status;
-    if (cfg->init.positions[0] && !r->resuming) {
+    if (cfg->init.positions[0]) { /* resuming too: the file gives the sizes and species */
         x = malloc(3 * n * sizeof *x);
         if (!x) return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
         if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK)
@@ -462,6 +464,31 @@ static void spheres_write_summary(run *r, FILE *f) {
     hsbd_json_number(f, "min_gap", hsbd_spheres_min_gap(m->sys, &finite), 1);
 }
 
+/* ---- checkpoints ---- */
+
+static void spheres_save(const run *r, hsbd_writer *w) {
+    const spheres_model *m = model_of(r);
+    hsbd_spheres_save(m->sys, w);
+    hsbd_put_tag(w, "spheres run");
+    hsbd_put_f64(w, m->virial_last);
+    hsbd_blocks_save(m->virial, w);
+    hsbd_msd_save(m->msd, w);
+    for (size_t k = 0; k < r->cfg->species.n && m->msd_species[k]; ++k)
+        hsbd_msd_save(m->msd_species[k], w);
+    if (m->gr) hsbd_gr_save(m->gr, w);
+}
+
+static int spheres_load(run *r, hsbd_reader *rd) {
+    spheres_model *m = model_of(r);
+    if (hsbd_spheres_load(m->sys, rd) || hsbd_get_tag(rd, "spheres run") ||
+        hsbd_get_f64(rd, &m->virial_last) || hsbd_blocks_load(m->virial, rd) ||
+        hsbd_msd_load(m->msd, rd))
+        return -1;
+    for (size_t k = 0; k < r->cfg->species.n && m->msd_species[k]; ++k)
+        if (hsbd_msd_load(m->msd_species[k], rd)) return -1;
+    return m->gr ? hsbd_gr_load(m->gr, rd) : 0;
+}
+
 static void spheres_release(run *r) {
     spheres_model *m = model_of(r);
     if (!m) return;
@@ -501,6 +528,8 @@ int run_spheres_build(run *r, hsbd_error *err) {
                            .step = spheres_step,
                            .check = spheres_check,
                            .start_production = spheres_start_production,
+                           .save = spheres_save,
+                           .load = spheres_load,
                            .write_tables = spheres_write_tables,
                            .write_summary = spheres_write_summary,
                            .release = spheres_release};

@@ -671,6 +671,17 @@ int sph_groups_run(hsbd_spheres *s) {
     return 0;
 }
 
+unsigned sph_groups_pause(const hsbd_spheres *s) {
+    return s->groups ? s->groups->pause : 0;
+}
+
+int sph_groups_set_pause(hsbd_spheres *s, unsigned pause) {
+    if (!pause) return 0;
+    if (!s->groups && sph_groups_begin(s)) return -1;
+    s->groups->pause = pause;
+    return 0;
+}
+
 void sph_groups_abandon(hsbd_spheres *s) {
     sph_groups *g = s->groups;
     if (!g) return;

@@ -23,6 +23,9 @@ int sph_groups_add_hit(hsbd_spheres *s, double t, int32_t i, int32_t j);
 int sph_groups_run(hsbd_spheres *s);
 /* Forgets the shells moved inside a step that failed (the neighbour lists are rebuilt). */
 void sph_groups_abandon(hsbd_spheres *s);
+/* AUTO: the steps left on the global calendar (part of a checkpoint), and setting it */
+unsigned sph_groups_pause(const hsbd_spheres *s);
+int sph_groups_set_pause(hsbd_spheres *s, unsigned pause);
 /* Frees the groups' state (NULL allowed). */
 void sph_groups_free(sph_groups *g);
 

@@ -113,18 +113,23 @@ int sph_recentre(hsbd_spheres *s, int32_t i) {
     return hsbd_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i);
 }
 
-int sph_rebuild_neighbours(hsbd_spheres *s) {
+int sph_rebuild_rows(hsbd_spheres *s) {
     if (!s->par.hard_core) return HSBD_OK;
     hsbd_cells_clear(&s->cells);
     for (size_t i = 0; i < s->n; ++i)
         s->nb_count[i] = s->nb_upper[i] = 0;
     s->nb_stale = 1; /* until every pair is in */
-    for (size_t i = 0; i < s->n; ++i) {
-        sph_set_centre(s, (int32_t)i);
+    for (size_t i = 0; i < s->n; ++i)
         if (hsbd_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) return HSBD_ENOMEM;
-    }
     for (size_t i = 0; i < s->n; ++i)
         if (add_shell_neighbours(s, (int32_t)i, 1)) return HSBD_ENOMEM;
     s->nb_stale = 0;
     return HSBD_OK;
+}
+
+int sph_rebuild_neighbours(hsbd_spheres *s) {
+    if (!s->par.hard_core) return HSBD_OK;
+    for (size_t i = 0; i < s->n; ++i)
+        sph_set_centre(s, (int32_t)i);
+    return sph_rebuild_rows(s);
 }

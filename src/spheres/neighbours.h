@@ -20,5 +20,7 @@ int sph_recentre(hsbd_spheres *s, int32_t i);
 /* Places every particle's shell at its position and builds all neighbour lists. Returns
  * HSBD_OK, or HSBD_ENOMEM with s->nb_stale set (the lists then miss pairs). */
 int sph_rebuild_neighbours(hsbd_spheres *s);
+/* The cells and neighbour lists of the shells where they are (a checkpoint's). */
+int sph_rebuild_rows(hsbd_spheres *s);
 
 #endif

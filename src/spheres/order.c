@@ -185,6 +185,13 @@ int sph_sort_spatially(hsbd_spheres *s) {
     return rc;
 }
 
+int sph_set_order(hsbd_spheres *s, const int32_t *label) {
+    if (s->reordered) return -1;
+    copy_user_constants(s);
+    /* internal particle i becomes the user's particle label[i]: new_to_old is the label */
+    return permute_particles(s, label);
+}
+
 int sph_restore_user_order(hsbd_spheres *s) {
     if (!s->reordered) return 0;
     int32_t *new_to_old = malloc(s->n * sizeof *new_to_old);
