@@ -464,8 +464,7 @@ static int setup_species_msd(run_state *s, const hsbd_rods_params *par, uint64_t
 static int read_initial_positions(run_state *s, double *x, hsbd_error *err) {
     const hsbd_config *cfg = s->cfg;
     const size_t n = (size_t)cfg->system.n;
-    int rc = hsbd_read_positions(cfg->init.positions, n, x, cfg->species.n, cfg->species.name,
-                                 s->species, err);
+    int rc = hsbd_read_positions(cfg, x, s->species, err);
     for (size_t k = 0; k < cfg->species.n && rc == HSBD_OK; ++k) {
         int64_t c = 0;
         for (size_t i = 0; i < n; ++i)
