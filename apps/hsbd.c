@@ -1,4 +1,5 @@
-/* hsbd: command-line front end. Subcommands: run, bench, config-doc, version. */
+/* hsbd: command-line front end. Subcommands: run, bench, theory, validate, config-doc,
+ * version; each takes --help. */
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -6,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "hsbd/config.h"
@@ -74,35 +76,53 @@ static int fail(int status, const char *msg) {
     return exit_code_for(status);
 }
 
+/* One synopsis per subcommand: `hsbd --help` prints them all, `hsbd CMD --help` its own
+ * with the options. */
+static const char *const synopsis_run =
+    "hsbd run CONFIG.ini [options]   simulate (see 'hsbd run --help')\n"
+    "       hsbd run --defaults [options]   simulate the default configuration\n";
+static const char *const synopsis_resume =
+    "hsbd resume DIR [--set run.t_total=T] [--quiet]\n"
+    "                                       continue a stopped run from its checkpoint\n";
+static const char *const synopsis_bench =
+    "hsbd bench [--seconds S] [--case NAME] [--list]\n"
+    "                                       throughput, with the free-particle bound\n";
+static const char *const synopsis_percus =
+    "hsbd theory percus --sigma S --rho R --amplitude U0 [--gamma G]\n"
+    "                      [--wavelength W] [--points M] --out FILE|-\n"
+    "                                       exact equilibrium profile (x rho rho2)\n";
+static const char *const synopsis_tonks =
+    "hsbd theory tonks --sigma S --rho R [--gamma G] [--D D]\n"
+    "                                       closed forms of the homogeneous fluid\n";
+static const char *const synopsis_box =
+    "hsbd theory box --N N --L L --sigma S [--force F] [--stiffness K]\n"
+    "                      [--center C] [--amplitude U0] [--wavelength W] [--bin W]\n"
+    "                      [--points M] --out FILE|-\n"
+    "                                       exact profile between hard walls\n";
+static const char *const synopsis_validate =
+    "hsbd validate [--quick] [--dt-scan] [--sticky] [--out DIR] [--case TEXT]\n"
+    "                     [--jobs N] [--seed-offset K]\n"
+    "                                       simulations against exact theory\n";
+
 static void usage(FILE *out) {
-    fprintf(out,
-            "usage: hsbd run CONFIG.ini [options]   simulate (see 'hsbd run --help')\n"
-            "       hsbd resume DIR [--set run.t_total=T] [--quiet]\n"
-            "                                       continue a stopped run from its checkpoint\n"
-            "       hsbd bench [--seconds S] [--case NAME]\n"
-            "                                       throughput, with the free-particle bound\n"
-            "       hsbd theory percus --sigma S --rho R --amplitude U0 [--gamma G]\n"
-            "                      [--wavelength W] [--points M] --out FILE|-\n"
-            "                                       exact equilibrium profile (x rho rho2)\n"
-            "       hsbd theory tonks --sigma S --rho R [--gamma G] [--D D]\n"
-            "                                       closed forms of the homogeneous fluid\n"
-            "       hsbd theory box --N N --L L --sigma S [--force F] [--stiffness K]\n"
-            "                      [--center C] [--amplitude U0] [--wavelength W] [--bin W]\n"
-            "                      [--points M] --out FILE|-\n"
-            "                                       exact profile between hard walls\n"
-            "       hsbd validate [--quick] [--dt-scan] [--sticky] [--out DIR] [--case TEXT]\n"
-            "                     [--jobs N] [--seed-offset K]\n"
-            "                                       simulations against exact theory\n"
-            "       hsbd config-doc                 print the configuration reference (Markdown)\n"
-            "       hsbd version\n");
+    fprintf(out, "usage: %s       %s       %s       %s       %s       %s       %s", synopsis_run,
+            synopsis_resume, synopsis_bench, synopsis_percus, synopsis_tonks, synopsis_box,
+            synopsis_validate);
+    fprintf(out, "       hsbd config-doc                 print the configuration reference "
+                 "(Markdown)\n"
+                 "       hsbd version\n"
+                 "Every subcommand takes --help.\n");
 }
 
 static void run_help(void) {
     printf("usage: hsbd run CONFIG.ini [--set section.key=value]... [--out DIR] [--seed S]\n"
-           "                [--force] [--check] [--quiet]\n\n"
+           "                [--force] [--check] [--quiet]\n"
+           "       hsbd run --defaults [options]\n\n"
            "  --set k=v   override any key (repeatable)\n"
            "  --out DIR   run directory (same as --set output.dir=DIR)\n"
            "  --seed S    random seed (same as --set system.seed=S)\n"
+           "  --defaults  no configuration file: every key at its default (runs/defaults);\n"
+           "              a file that sets no key is refused\n"
            "  --force     write into an existing, non-empty run directory\n"
            "  --check     verify the hard core after every step (slower)\n"
            "  --quiet     no progress line\n\n"
@@ -111,6 +131,27 @@ static void run_help(void) {
            "input, 130 interrupted (results so far written), 1 other errors.\n\n"
            "Configuration keys:\n");
     hsbd_config_write_reference(stdout, 0);
+}
+
+static int is_help(const char *arg) {
+    return !strcmp(arg, "--help") || !strcmp(arg, "-h");
+}
+
+/* The value of the flag argv[*i], advancing *i; NULL after a message when nothing follows
+ * or the next argument is itself a flag (a value starting with "--" is read as a flag:
+ * write ./--name for such a file). */
+static const char *flag_value(const char *cmd, int argc, char **argv, int *i) {
+    const char *flag = argv[*i];
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "hsbd %s: %s needs a value (nothing follows it)\n", cmd, flag);
+        return NULL;
+    }
+    if (!strncmp(argv[*i + 1], "--", 2)) {
+        fprintf(stderr, "hsbd %s: %s needs a value, but the next argument '%.60s' is a flag\n", cmd,
+                flag, argv[*i + 1]);
+        return NULL;
+    }
+    return argv[++*i];
 }
 
 /* runs/<config file name without directory and extension> */
@@ -122,94 +163,105 @@ static void default_out_dir(const char *config_path, char *out, size_t len) {
     snprintf(out, len, "runs/%.*s", n, base);
 }
 
+/* One override from the command line, applied in order after the file. */
+typedef struct run_override {
+    const char *flag, *value;
+} run_override;
+
 static int cmd_run(int argc, char **argv) {
     const char *config_path = NULL;
+    int defaults = 0, noverrides = 0;
+    run_override *overrides = calloc((size_t)argc, sizeof *overrides);
     hsbd_run_options opt = {.progress = isatty(STDERR_FILENO), .stop = &stop_flag};
-    hsbd_config cfg;
-    hsbd_error err;
-    hsbd_config_defaults(&cfg);
-    /* first pass: flags that need no configuration, and the file itself */
+    if (!overrides) return fail(HSBD_ENOMEM, "out of memory");
     for (int i = 2; i < argc; ++i) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+        const char *a = argv[i];
+        if (is_help(a)) {
+            free(overrides);
             run_help();
             return 0;
         }
-        if (argv[i][0] != '-') {
-            if (config_path) {
-                fprintf(stderr, "hsbd run: more than one configuration file ('%s', '%s')\n",
-                        config_path, argv[i]);
-                return EXIT_INPUT;
-            }
-            config_path = argv[i];
-        } else if (!strcmp(argv[i], "--set") || !strcmp(argv[i], "--out") ||
-                   !strcmp(argv[i], "--seed")) {
-            ++i; /* value handled below */
-        }
-    }
-    if (!config_path) {
-        fprintf(stderr, "hsbd run: no configuration file given (hsbd run --help)\n");
-        return EXIT_INPUT;
-    }
-    if (hsbd_config_load_file(&cfg, config_path, &err) != HSBD_OK)
-        return fail(err.status, err.message);
-    if (!cfg.output.dir[0]) default_out_dir(config_path, cfg.output.dir, sizeof cfg.output.dir);
-    /* the source of the configuration goes into the checkpoints (hsbd resume) */
-    hsbd_run_source source = {.name = config_path};
-    source.text = read_whole_file(config_path, &source.text_len);
-    char(*sets)[HSBD_PATH_MAX + 64] = calloc((size_t)argc, sizeof *sets);
-    const char **set_list = calloc((size_t)argc, sizeof *set_list);
-    if (!source.text || !sets || !set_list) {
-        free((char *)source.text), free(sets), free(set_list);
-        fprintf(stderr, "hsbd run: cannot read '%s' again\n", config_path);
-        return EXIT_INPUT;
-    }
-    source.sets = set_list;
-    opt.source = &source;
-    /* second pass: overrides in command-line order */
-    for (int i = 2; i < argc; ++i) {
-        const char *a = argv[i];
-        char buf[HSBD_PATH_MAX + 64];
-        if (a[0] != '-') continue;
-        const int takes_value = !strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed");
-        if (takes_value && i + 1 >= argc) {
-            fprintf(stderr, "hsbd run: %s needs a value\n", a);
-            return EXIT_INPUT;
-        }
-        if (!strcmp(a, "--set"))
-            snprintf(buf, sizeof buf, "%s", argv[++i]);
-        else if (!strcmp(a, "--out"))
-            snprintf(buf, sizeof buf, "output.dir=%s", argv[++i]);
-        else if (!strcmp(a, "--seed"))
-            snprintf(buf, sizeof buf, "system.seed=%s", argv[++i]);
-        else if (!strcmp(a, "--force")) {
+        if (!strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed")) {
+            const char *v = flag_value("run", argc, argv, &i);
+            if (!v) return free(overrides), EXIT_INPUT;
+            overrides[noverrides++] = (run_override){a, v};
+        } else if (!strcmp(a, "--defaults")) {
+            defaults = 1;
+        } else if (!strcmp(a, "--force")) {
             opt.force = 1;
-            continue;
         } else if (!strcmp(a, "--check")) {
             opt.check = 1;
-            continue;
         } else if (!strcmp(a, "--quiet")) {
             opt.progress = 0;
-            continue;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(stderr, "hsbd run: unknown option '%.60s' (hsbd run --help)\n", a);
+            return free(overrides), EXIT_INPUT;
+        } else if (config_path) {
+            fprintf(stderr, "hsbd run: more than one configuration file ('%.200s', '%.200s')\n",
+                    config_path, a);
+            return free(overrides), EXIT_INPUT;
         } else {
-            fprintf(stderr, "hsbd run: unknown option '%s' (hsbd run --help)\n", a);
-            return EXIT_INPUT;
+            config_path = a;
         }
-        char origin[64];
-        snprintf(origin, sizeof origin, "command line (%s)", a);
+    }
+    if (!config_path == !defaults) {
+        fprintf(stderr, "hsbd run: %s (hsbd run --help)\n",
+                defaults ? "--defaults runs without a configuration file, but one is given"
+                         : "no configuration file given; --defaults runs the default "
+                           "configuration");
+        return free(overrides), EXIT_INPUT;
+    }
+    hsbd_config cfg;
+    hsbd_error err;
+    hsbd_config_defaults(&cfg);
+    if (config_path && hsbd_config_load_file(&cfg, config_path, &err) != HSBD_OK)
+        return free(overrides), fail(err.status, err.message);
+    /* the source of the configuration goes into the checkpoints (hsbd resume) */
+    hsbd_run_source source = {.name = config_path};
+    if (config_path) source.text = read_whole_file(config_path, &source.text_len);
+    char(*sets)[HSBD_PATH_MAX + 64] = calloc((size_t)argc, sizeof *sets);
+    const char **set_list = calloc((size_t)argc, sizeof *set_list);
+    if ((config_path && !source.text) || !sets || !set_list) {
+        free((char *)source.text), free(sets), free(set_list), free(overrides);
+        fprintf(stderr, "hsbd run: cannot read '%s' again\n", config_path ? config_path : "");
+        return EXIT_INPUT;
+    }
+    if (!config_path) source.text = "", source.text_len = 0;
+    source.sets = set_list;
+    opt.source = &source;
+    if (!cfg.output.dir[0])
+        default_out_dir(config_path ? config_path : "defaults", cfg.output.dir,
+                        sizeof cfg.output.dir);
+    for (int k = 0; k < noverrides; ++k) {
+        const run_override *o = &overrides[k];
+        char buf[HSBD_PATH_MAX + 64], origin[64];
+        if (!strcmp(o->flag, "--set"))
+            snprintf(buf, sizeof buf, "%s", o->value);
+        else
+            snprintf(buf, sizeof buf, "%s=%s",
+                     !strcmp(o->flag, "--out") ? "output.dir" : "system.seed", o->value);
+        snprintf(origin, sizeof origin, "command line (%s)", o->flag);
+        if (strlen(o->value) >= HSBD_PATH_MAX) {
+            fprintf(stderr, "hsbd run: %s: the value is longer than %d characters\n", o->flag,
+                    HSBD_PATH_MAX - 1);
+            return free(overrides), EXIT_INPUT;
+        }
         snprintf(sets[source.nsets], sizeof sets[0], "%s", buf);
         set_list[source.nsets] = sets[source.nsets];
         source.nsets += 1;
         if (hsbd_config_set(&cfg, buf, origin, &err) != HSBD_OK) {
-            free((char *)source.text), free(sets), free(set_list);
-            return fail(err.status, err.message);
+            if (config_path) free((char *)source.text);
+            return free(sets), free(set_list), free(overrides), fail(err.status, err.message);
         }
     }
+    free(overrides);
     int rc = hsbd_config_finalize(&cfg, &err);
     if (rc == HSBD_OK) {
         catch_stop_signals();
         rc = hsbd_run(&cfg, &opt, &err);
     }
-    free((char *)source.text), free(sets), free(set_list);
+    if (config_path) free((char *)source.text);
+    free(sets), free(set_list);
     if (rc != HSBD_OK) return fail(rc, err.message);
     if (opt.progress) fprintf(stderr, "hsbd: results in %s/\n", cfg.output.dir);
     return 0;
@@ -413,23 +465,55 @@ static void sphere_bench(const char *only, double seconds, int *found) {
     }
 }
 
+static void bench_list(void) {
+    for (size_t k = 0; k < sizeof bench_cases / sizeof bench_cases[0]; ++k)
+        printf("%s\n", bench_cases[k].name);
+    for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0]; ++k)
+        printf("%s\n", sphere_bench_cases[k].name);
+}
+
 static int cmd_bench(int argc, char **argv) {
     double seconds = 2.0;
     const char *only = NULL;
     for (int i = 2; i < argc; ++i) {
-        if (!strcmp(argv[i], "--seconds") && i + 1 < argc) {
+        if (is_help(argv[i])) {
+            printf("usage: %s\n"
+                   "  --seconds S   measuring time per case and variant (default 2; 0 < S < "
+                   "3600)\n"
+                   "  --case NAME   only this case\n"
+                   "  --list        print the names of the cases and exit\n",
+                   synopsis_bench);
+            return 0;
+        }
+        if (!strcmp(argv[i], "--list")) {
+            bench_list();
+            return 0;
+        }
+        if (!strcmp(argv[i], "--seconds")) {
+            const char *v = flag_value("bench", argc, argv, &i);
+            if (!v) return EXIT_INPUT;
             char *end;
-            seconds = strtod(argv[++i], &end);
-            if (*end || !(seconds > 0 && seconds < 3600)) {
-                fprintf(stderr, "hsbd bench: --seconds = '%s'; allowed: 0 < S < 3600\n", argv[i]);
+            seconds = strtod(v, &end);
+            if (end == v || *end || !(seconds > 0 && seconds < 3600)) {
+                fprintf(stderr, "hsbd bench: --seconds = '%.60s'; allowed: 0 < S < 3600\n", v);
                 return EXIT_INPUT;
             }
-        } else if (!strcmp(argv[i], "--case") && i + 1 < argc) {
-            only = argv[++i];
+        } else if (!strcmp(argv[i], "--case")) {
+            if (!(only = flag_value("bench", argc, argv, &i))) return EXIT_INPUT;
         } else {
-            fprintf(stderr, "hsbd bench: unknown option '%s'\n", argv[i]);
+            fprintf(stderr, "hsbd bench: unknown option '%.60s' (hsbd bench --help)\n", argv[i]);
             return EXIT_INPUT;
         }
+    }
+    int known = !only;
+    for (size_t k = 0; k < sizeof bench_cases / sizeof bench_cases[0] && !known; ++k)
+        known = !strcmp(only, bench_cases[k].name);
+    for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0] && !known; ++k)
+        known = !strcmp(only, sphere_bench_cases[k].name);
+    if (!known) {
+        fprintf(stderr,
+                "hsbd bench: --case: no case named '%.60s' (hsbd bench --list names them)\n", only);
+        return EXIT_INPUT;
     }
     printf("# hsbd %s (git %s) bench: BCD step, cosine field U0=6 lambda=1, D=1, dt=1e-4,\n"
            "# one core; M = 10^6 particle-steps per second; reflect = the default contact rule,\n"
@@ -451,10 +535,6 @@ static int cmd_bench(int argc, char **argv) {
         fflush(stdout);
     }
     sphere_bench(only, seconds, &found);
-    if (!found) {
-        fprintf(stderr, "hsbd bench: no case named '%s'\n", only);
-        return EXIT_INPUT;
-    }
     return 0;
 }
 
@@ -465,34 +545,70 @@ typedef struct num_flag {
     double *value;
     double min, max;
     int open_min, open_max;
-    int required, seen;
+    int required;
+    const char *doc;
+    int seen;
 } num_flag;
 
-/* Parse "--name value" pairs into the table; 0 or an exit status. */
-static int parse_num_flags(const char *cmd, int argc, char **argv, int first, num_flag *flags,
-                           size_t nflags, const char **out_path) {
-    for (int i = first; i < argc; ++i) {
-        if (out_path && !strcmp(argv[i], "--out") && i + 1 < argc) {
-            *out_path = argv[++i];
+/* "-inf", "inf" for the tables' 1e300 bounds, else %g */
+static const char *bound_text(double v, char *buf, size_t len) {
+    if (fabs(v) >= 1e300) return v < 0 ? "-inf" : "inf";
+    snprintf(buf, len, "%g", v);
+    return buf;
+}
+
+/* "lo <= name < hi" of a flag */
+static void flag_range(const num_flag *f, char *buf, size_t len) {
+    char lo[32], hi[32];
+    snprintf(buf, len, "%s %s %s %s %s", bound_text(f->min, lo, sizeof lo),
+             f->open_min ? "<" : "<=", f->name + 2,
+             f->open_max ? "<" : "<=", bound_text(f->max, hi, sizeof hi));
+}
+
+/* "  --name  doc (allowed: range; required)" per flag, after the synopsis */
+static void num_flags_help(const char *synopsis, const char *about, const num_flag *flags,
+                           size_t nflags, int has_out) {
+    printf("usage: %s\n%s\n", synopsis, about);
+    for (size_t k = 0; k < nflags; ++k) {
+        const num_flag *f = &flags[k];
+        char range[96];
+        flag_range(f, range, sizeof range);
+        printf("  %-13s %s; allowed: %s%s\n", f->name, f->doc, range,
+               f->required ? " (required)" : "");
+    }
+    if (has_out)
+        printf("  %-13s output file, written atomically, or - for standard output (required)\n",
+               "--out");
+}
+
+/* Parse "--name value" pairs into the table (and --out into *out_path when given); 0, -1
+ * after --help (help printed), or an exit status. */
+static int parse_num_flags(const char *cmd, int argc, char **argv, num_flag *flags, size_t nflags,
+                           const char **out_path) {
+    for (int i = 3; i < argc; ++i) {
+        if (is_help(argv[i])) return -1;
+        if (out_path && !strcmp(argv[i], "--out")) {
+            if (!(*out_path = flag_value(cmd, argc, argv, &i))) return EXIT_INPUT;
             continue;
         }
         num_flag *f = NULL;
         for (size_t k = 0; k < nflags; ++k)
             if (!strcmp(argv[i], flags[k].name)) f = &flags[k];
-        if (!f || i + 1 >= argc) {
-            fprintf(stderr, "hsbd %s: %s '%s'\n", cmd, f ? "missing value for" : "unknown option",
-                    argv[i]);
+        if (!f) {
+            fprintf(stderr, "hsbd %s: unknown option '%.60s' (hsbd %s --help)\n", cmd, argv[i],
+                    cmd);
             return EXIT_INPUT;
         }
+        const char *text = flag_value(cmd, argc, argv, &i);
+        if (!text) return EXIT_INPUT;
         char *end;
-        const char *text = argv[++i];
         const double v = strtod(text, &end);
         const int low_ok = f->open_min ? v > f->min : v >= f->min;
         const int high_ok = f->open_max ? v < f->max : v <= f->max;
         if (end == text || *end || !isfinite(v) || !low_ok || !high_ok) {
-            fprintf(stderr, "hsbd %s: %s = '%s'; allowed: %g %s %s %s %g\n", cmd, f->name, text,
-                    f->min, f->open_min ? "<" : "<=", f->name + 2,
-                    f->open_max ? "<" : "<=", f->max);
+            char range[96];
+            flag_range(f, range, sizeof range);
+            fprintf(stderr, "hsbd %s: %s = '%.60s'; allowed: %s\n", cmd, f->name, text, range);
             return EXIT_INPUT;
         }
         *f->value = v;
@@ -500,22 +616,52 @@ static int parse_num_flags(const char *cmd, int argc, char **argv, int first, nu
     }
     for (size_t k = 0; k < nflags; ++k)
         if (flags[k].required && !flags[k].seen) {
-            fprintf(stderr, "hsbd %s: %s is required\n", cmd, flags[k].name);
+            fprintf(stderr, "hsbd %s: %s is required (hsbd %s --help)\n", cmd, flags[k].name, cmd);
             return EXIT_INPUT;
         }
+    if (out_path && !*out_path) {
+        fprintf(stderr, "hsbd %s: --out FILE (or - for standard output) is required\n", cmd);
+        return EXIT_INPUT;
+    }
     return 0;
 }
 
-/* --out FILE (written atomically) or - (standard output) */
-static int open_theory_output(const char *out, hsbd_outfile *o, FILE **f, hsbd_error *err) {
-    if (!strcmp(out, "-")) return HSBD_OK;
+/* --out FILE (written atomically) or - (standard output), opened before the work so that
+ * an unusable location is a bad input (exit 2) found at once */
+static int open_theory_output(const char *cmd, const char *out, hsbd_outfile *o, FILE **f) {
+    *f = stdout;
+    if (!strcmp(out, "-")) return 0;
+    struct stat st;
+    const size_t len = strlen(out);
+    const char *why = NULL;
+    if (len == 0 || out[len - 1] == '/' || (stat(out, &st) == 0 && S_ISDIR(st.st_mode)))
+        why = "it names a directory; allowed: a file name";
+    else if (len >= HSBD_PATH_MAX)
+        why = "the path is too long";
     char dir[HSBD_PATH_MAX], name[HSBD_PATH_MAX];
     const char *slash = strrchr(out, '/');
     snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - out) : 1, slash ? out : ".");
     snprintf(name, sizeof name, "%s", slash ? slash + 1 : out);
-    if (hsbd_outfile_open(o, dir, name, err) != HSBD_OK) return err->status;
+    hsbd_error err;
+    if (!why && hsbd_outfile_open(o, slash == out ? "" : dir, name, &err) != HSBD_OK)
+        why = strerror(errno);
+    if (why) {
+        fprintf(stderr, "hsbd %s: --out '%.200s': cannot write there: %s\n", cmd, out, why);
+        return EXIT_INPUT;
+    }
     *f = o->f;
-    return HSBD_OK;
+    return 0;
+}
+
+/* Commit the theory output (a write error is exit 1), or discard it when rc != 0. */
+static int close_theory_output(hsbd_outfile *o, FILE *f, int rc) {
+    hsbd_error err;
+    if (f == stdout) return rc;
+    if (rc != 0) {
+        hsbd_outfile_discard(o);
+        return rc;
+    }
+    return hsbd_outfile_commit(o, &err) == HSBD_OK ? 0 : fail(err.status, err.message);
 }
 
 /* N rods between hard walls at 0 and L in cosine + tilt + harmonic fields: the exact
@@ -525,25 +671,34 @@ static int cmd_theory_box(int argc, char **argv) {
            center = NAN, bin = 0.01, points = 0;
     const char *out = NULL;
     num_flag flags[] = {
-        {"--N", &n, 1, 1e7, 0, 0, 1, 0},
-        {"--L", &length, 0, 1e300, 1, 1, 1, 0},
-        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, 0},
-        {"--amplitude", &u0, -1e6, 1e6, 0, 0, 0, 0},
-        {"--wavelength", &wavelength, 0, 1e300, 1, 1, 0, 0},
-        {"--force", &force, -1e6, 1e6, 0, 0, 0, 0},
-        {"--stiffness", &stiffness, 0, 1e6, 0, 0, 0, 0},
-        {"--center", &center, -1e300, 1e300, 0, 0, 0, 0},
-        {"--bin", &bin, 0, 1e300, 1, 1, 0, 0},
-        {"--points", &points, 16, 1e8, 0, 0, 0, 0},
+        {"--N", &n, 1, 1e7, 0, 0, 1, "number of rods (whole)", 0},
+        {"--L", &length, 0, 1e300, 1, 1, 1, "distance between the walls", 0},
+        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, "rod length (N sigma < L)", 0},
+        {"--amplitude", &u0, -1e6, 1e6, 0, 0, 0, "cosine amplitude U0 in kT (default 0)", 0},
+        {"--wavelength", &wavelength, 0, 1e300, 1, 1, 0, "cosine wavelength (default 1)", 0},
+        {"--force", &force, -1e6, 1e6, 0, 0, 0, "constant force in kT/length (default 0)", 0},
+        {"--stiffness", &stiffness, 0, 1e6, 0, 0, 0, "harmonic trap stiffness (default 0)", 0},
+        {"--center", &center, -1e300, 1e300, 0, 0, 0, "harmonic trap centre (default L/2)", 0},
+        {"--bin", &bin, 0, 1e300, 1, 1, 0, "bin width of the profile (default 0.01)", 0},
+        {"--points", &points, 16, 1e8, 0, 0, 0,
+         "grid points (whole; default min(1e5, max(2000, 2e7/N)))", 0},
     };
-    const int rc =
-        parse_num_flags("theory box", argc, argv, 3, flags, sizeof flags / sizeof flags[0], &out);
-    if (rc) return rc;
-    if (!out || n != floor(n) || points != floor(points) || !(n * sigma < length)) {
-        fprintf(stderr, "hsbd theory box: need --out FILE|-, whole --N and --points, and "
-                        "N sigma < L\n");
+    const size_t nflags = sizeof flags / sizeof flags[0];
+    const int rc = parse_num_flags("theory box", argc, argv, flags, nflags, &out);
+    if (rc < 0)
+        num_flags_help(synopsis_box,
+                       "The exact canonical density profile of N hard rods between hard walls "
+                       "at 0 and L\nin cosine, tilt and harmonic fields, as bin averages "
+                       "(columns x rho rho2; docs/theory.md).",
+                       flags, nflags, 1);
+    if (rc) return rc < 0 ? 0 : rc;
+    if (n != floor(n) || points != floor(points) || !(n * sigma < length)) {
+        fprintf(stderr, "hsbd theory box: need whole --N and --points, and N sigma < L\n");
         return EXIT_INPUT;
     }
+    hsbd_outfile o = {0};
+    FILE *f;
+    if (open_theory_output("theory box", out, &o, &f)) return EXIT_INPUT;
     hsbd_field field = {0};
     if (u0 != 0) hsbd_field_add(&field, hsbd_field_cosine(u0, wavelength));
     if (force != 0) hsbd_field_add(&field, hsbd_field_tilt(force));
@@ -559,13 +714,7 @@ static int cmd_theory_box(int argc, char **argv) {
     hsbd_box_result r;
     hsbd_error err;
     const int st = hsbd_box_solve(&p, bin, &r, &err);
-    if (st != HSBD_OK) return fail(st, err.message);
-    FILE *f = stdout;
-    hsbd_outfile o = {0};
-    if (open_theory_output(out, &o, &f, &err) != HSBD_OK) {
-        hsbd_box_result_free(&r);
-        return fail(err.status, err.message);
-    }
+    if (st != HSBD_OK) return close_theory_output(&o, f, fail(st, err.message));
     fprintf(f,
             "# hsbd %s (git %s): N hard rods between hard walls, exact canonical profile "
             "(docs/theory.md), bin averages\n",
@@ -580,29 +729,30 @@ static int cmd_theory_box(int argc, char **argv) {
     for (size_t k = 0; k < r.nbins; ++k)
         fprintf(f, "%.10g\t%.12g\t%.12g\n", (k + 0.5) * bin, r.rho[k], r.rho2[k]);
     hsbd_box_result_free(&r);
-    if (f != stdout && hsbd_outfile_commit(&o, &err) != HSBD_OK)
-        return fail(err.status, err.message);
-    return 0;
+    return close_theory_output(&o, f, 0);
 }
 
 static int cmd_theory_percus(int argc, char **argv) {
     double sigma = 0, rho = 0, u0 = 0, gamma = 0, wavelength = 1, points = 2000;
     const char *out = NULL;
     num_flag flags[] = {
-        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, 0},
-        {"--rho", &rho, 0, 1e300, 1, 1, 1, 0},
-        {"--amplitude", &u0, 0, 1e6, 0, 0, 1, 0},
-        {"--gamma", &gamma, 0, 1e12, 0, 0, 0, 0},
-        {"--wavelength", &wavelength, 0, 1e300, 1, 1, 0, 0},
-        {"--points", &points, 16, 1e8, 0, 0, 0, 0},
+        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, "rod length", 0},
+        {"--rho", &rho, 0, 1e300, 1, 1, 1, "mean density (rho sigma < 1)", 0},
+        {"--amplitude", &u0, 0, 1e6, 0, 0, 1, "cosine amplitude U0 in kT", 0},
+        {"--gamma", &gamma, 0, 1e12, 0, 0, 0, "Baxter stickiness (default 0: hard rods)", 0},
+        {"--wavelength", &wavelength, 0, 1e300, 1, 1, 0, "cosine wavelength (default 1)", 0},
+        {"--points", &points, 16, 1e8, 0, 0, 0, "grid points per wavelength (whole; default 2000)",
+         0},
     };
-    const int rc = parse_num_flags("theory percus", argc, argv, 3, flags,
-                                   sizeof flags / sizeof flags[0], &out);
-    if (rc) return rc;
-    if (!out) {
-        fprintf(stderr, "hsbd theory percus: --out FILE (or - for standard output) is required\n");
-        return EXIT_INPUT;
-    }
+    const size_t nflags = sizeof flags / sizeof flags[0];
+    const int rc = parse_num_flags("theory percus", argc, argv, flags, nflags, &out);
+    if (rc < 0)
+        num_flags_help(synopsis_percus,
+                       "The exact equilibrium profile of hard rods on a line in the cosine field "
+                       "(Percus,\nAntonov Eqs. 20-23; sticky rods with --gamma, Eqs. 34), "
+                       "columns x rho rho2.",
+                       flags, nflags, 1);
+    if (rc) return rc < 0 ? 0 : rc;
     if (!(rho * sigma < 1)) {
         fprintf(stderr,
                 "hsbd theory percus: --rho %g with --sigma %g: need rho*sigma < 1 (no "
@@ -614,6 +764,9 @@ static int cmd_theory_percus(int argc, char **argv) {
         fprintf(stderr, "hsbd theory percus: --points must be a whole number\n");
         return EXIT_INPUT;
     }
+    hsbd_outfile o = {0};
+    FILE *f;
+    if (open_theory_output("theory percus", out, &o, &f)) return EXIT_INPUT;
     hsbd_percus_params p = {.sigma = sigma,
                             .rho_mean = rho,
                             .amplitude = u0,
@@ -623,13 +776,7 @@ static int cmd_theory_percus(int argc, char **argv) {
     hsbd_percus_result r;
     hsbd_error err;
     const int st = hsbd_percus_solve(&p, &r, &err);
-    if (st != HSBD_OK) return fail(st, err.message);
-    FILE *f = stdout;
-    hsbd_outfile o = {0};
-    if (open_theory_output(out, &o, &f, &err) != HSBD_OK) {
-        hsbd_percus_result_free(&r);
-        return fail(err.status, err.message);
-    }
+    if (st != HSBD_OK) return close_theory_output(&o, f, fail(st, err.message));
     fprintf(f, "# hsbd %s (git %s): Percus exact equilibrium profile%s\n", HSBD_VERSION_STRING,
             HSBD_GIT_COMMIT, gamma > 0 ? " (sticky, Antonov Eqs. 34)" : " (Antonov Eqs. 20-23)");
     fprintf(f,
@@ -642,22 +789,26 @@ static int cmd_theory_percus(int argc, char **argv) {
     for (size_t j = 0; j < r.m; ++j)
         fprintf(f, "%.10g\t%.12g\t%.12g\n", r.x[j], r.rho[j], r.rho2[j]);
     hsbd_percus_result_free(&r);
-    if (f != stdout && hsbd_outfile_commit(&o, &err) != HSBD_OK)
-        return fail(err.status, err.message);
-    return 0;
+    return close_theory_output(&o, f, 0);
 }
 
 static int cmd_theory_tonks(int argc, char **argv) {
     double sigma = 0, rho = 0, gamma = 0, d = 1;
     num_flag flags[] = {
-        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, 0},
-        {"--rho", &rho, 0, 1e300, 1, 1, 1, 0},
-        {"--gamma", &gamma, 0, 1e12, 0, 0, 0, 0},
-        {"--D", &d, 0, 1e300, 1, 1, 0, 0},
+        {"--sigma", &sigma, 0, 1e300, 0, 1, 1, "rod length", 0},
+        {"--rho", &rho, 0, 1e300, 1, 1, 1, "density (rho sigma < 1)", 0},
+        {"--gamma", &gamma, 0, 1e12, 0, 0, 0, "Baxter stickiness (default 0)", 0},
+        {"--D", &d, 0, 1e300, 1, 1, 0, "diffusion coefficient (default 1)", 0},
     };
-    const int rc =
-        parse_num_flags("theory tonks", argc, argv, 3, flags, sizeof flags / sizeof flags[0], NULL);
-    if (rc) return rc;
+    const size_t nflags = sizeof flags / sizeof flags[0];
+    const int rc = parse_num_flags("theory tonks", argc, argv, flags, nflags, NULL);
+    if (rc < 0)
+        num_flags_help(synopsis_tonks,
+                       "Closed forms of the homogeneous hard-rod fluid (Tonks gas; sticky with "
+                       "--gamma):\npressure, chemical potential, contact density and the "
+                       "single-file MSD\nprefactor, on standard output.",
+                       flags, nflags, 0);
+    if (rc) return rc < 0 ? 0 : rc;
     if (!(rho * sigma < 1)) {
         fprintf(stderr, "hsbd theory tonks: need rho*sigma < 1; allowed: rho < %g\n", 1 / sigma);
         return EXIT_INPUT;
@@ -679,43 +830,64 @@ static int cmd_theory_tonks(int argc, char **argv) {
     return 0;
 }
 
+static void validate_help(void) {
+    printf("usage: %s\n"
+           "Simulations of the validation grid against exact theory; prints the table and\n"
+           "writes DIR/validation.tsv and DIR/validation.md (docs/validation.md).\n"
+           "  --quick          minutes instead of an hour (fewer, shorter cases)\n"
+           "  --dt-scan        add the time-step convergence cases\n"
+           "  --sticky         the paper's sticky contact rule instead of reflect\n"
+           "  --out DIR        run directory of the cases (default runs/validate)\n"
+           "  --case TEXT      only the cases whose name contains TEXT\n"
+           "  --jobs N         simulations in parallel (default 2; 1 <= N <= 64)\n"
+           "  --seed-offset K  added to every seed: the same grid with other noise (0 <= K "
+           "<= 1000000)\n"
+           "Exit status: 0 every case passes, 1 a case fails, 2 bad input.\n",
+           synopsis_validate);
+}
+
+/* a whole number in [lo, hi] from a flag's value; -1 after a message otherwise */
+static long whole_flag(const char *cmd, const char *flag, const char *text, long lo, long hi) {
+    char *end;
+    errno = 0;
+    const long v = strtol(text, &end, 10);
+    if (end == text || *end || errno == ERANGE || v < lo || v > hi) {
+        fprintf(stderr, "hsbd %s: %s = '%.60s'; allowed: %ld <= %s <= %ld (whole)\n", cmd, flag,
+                text, lo, flag + 2, hi);
+        return -1;
+    }
+    return v;
+}
+
 static int cmd_validate(int argc, char **argv) {
     hsbd_validate_options opt = {.out_dir = "runs/validate", .jobs = 2};
     for (int i = 2; i < argc; ++i) {
-        if (!strcmp(argv[i], "--quick"))
+        const char *a = argv[i], *v = NULL;
+        const int takes_value = !strcmp(a, "--out") || !strcmp(a, "--case") ||
+                                !strcmp(a, "--jobs") || !strcmp(a, "--seed-offset");
+        if (takes_value && !(v = flag_value("validate", argc, argv, &i))) return EXIT_INPUT;
+        long w = 0;
+        if (is_help(a)) {
+            validate_help();
+            return 0;
+        } else if (!strcmp(a, "--quick")) {
             opt.quick = 1;
-        else if (!strcmp(argv[i], "--dt-scan"))
+        } else if (!strcmp(a, "--dt-scan")) {
             opt.dt_scan = 1;
-        else if (!strcmp(argv[i], "--sticky"))
+        } else if (!strcmp(a, "--sticky")) {
             opt.sticky = 1;
-        else if (!strcmp(argv[i], "--out") && i + 1 < argc)
-            opt.out_dir = argv[++i];
-        else if (!strcmp(argv[i], "--case") && i + 1 < argc)
-            opt.only = argv[++i];
-        else if (!strcmp(argv[i], "--jobs") && i + 1 < argc) {
-            char *end;
-            const long j = strtol(argv[++i], &end, 10);
-            if (*end || j < 1 || j > 64) {
-                fprintf(stderr, "hsbd validate: --jobs = '%s'; allowed: 1 <= jobs <= 64\n",
-                        argv[i]);
-                return EXIT_INPUT;
-            }
-            opt.jobs = (int)j;
-        } else if (!strcmp(argv[i], "--seed-offset") && i + 1 < argc) {
-            char *end;
-            const long k = strtol(argv[++i], &end, 10);
-            if (*end || k < 0 || k > 1000000) {
-                fprintf(stderr,
-                        "hsbd validate: --seed-offset = '%s'; allowed: 0 <= offset <= 1000000\n",
-                        argv[i]);
-                return EXIT_INPUT;
-            }
-            opt.seed_offset = (unsigned)k;
+        } else if (!strcmp(a, "--out")) {
+            opt.out_dir = v;
+        } else if (!strcmp(a, "--case")) {
+            opt.only = v;
+        } else if (!strcmp(a, "--jobs")) {
+            if ((w = whole_flag("validate", a, v, 1, 64)) < 0) return EXIT_INPUT;
+            opt.jobs = (int)w;
+        } else if (!strcmp(a, "--seed-offset")) {
+            if ((w = whole_flag("validate", a, v, 0, 1000000)) < 0) return EXIT_INPUT;
+            opt.seed_offset = (unsigned)w;
         } else {
-            fprintf(stderr,
-                    "hsbd validate: unknown option '%s' (--quick, --dt-scan, --sticky, --out DIR, "
-                    "--case TEXT, --jobs N, --seed-offset K)\n",
-                    argv[i]);
+            fprintf(stderr, "hsbd validate: unknown option '%.60s' (hsbd validate --help)\n", a);
             return EXIT_INPUT;
         }
     }
@@ -730,8 +902,11 @@ static int cmd_theory(int argc, char **argv) {
     if (argc >= 3 && !strcmp(argv[2], "percus")) return cmd_theory_percus(argc, argv);
     if (argc >= 3 && !strcmp(argv[2], "tonks")) return cmd_theory_tonks(argc, argv);
     if (argc >= 3 && !strcmp(argv[2], "box")) return cmd_theory_box(argc, argv);
-    fprintf(stderr, "hsbd theory: expected 'percus', 'tonks' or 'box'\n");
-    usage(stderr);
+    if (argc >= 3 && is_help(argv[2])) {
+        printf("usage: %s       %s       %s", synopsis_percus, synopsis_tonks, synopsis_box);
+        return 0;
+    }
+    fprintf(stderr, "hsbd theory: expected 'percus', 'tonks' or 'box' (hsbd theory --help)\n");
     return EXIT_INPUT;
 }
 
@@ -740,6 +915,15 @@ int main(int argc, char **argv) {
         usage(stderr);
         return EXIT_INPUT;
     }
+    for (int i = 1; i < argc; ++i) /* messages quote arguments: keep them one line each */
+        for (const char *p = argv[i]; *p; ++p)
+            if (((unsigned char)*p < 0x20 && *p != '\t') || *p == 0x7f) {
+                fprintf(stderr,
+                        "hsbd: argument %d has a control character (0x%02x at position %d); "
+                        "allowed: text\n",
+                        i, (unsigned)(unsigned char)*p, (int)(p - argv[i]) + 1);
+                return EXIT_INPUT;
+            }
     const char *cmd = argv[1];
     if (!strcmp(cmd, "run")) return cmd_run(argc, argv);
     if (!strcmp(cmd, "resume")) return cmd_resume(argc, argv);
@@ -747,6 +931,15 @@ int main(int argc, char **argv) {
     if (!strcmp(cmd, "theory")) return cmd_theory(argc, argv);
     if (!strcmp(cmd, "validate")) return cmd_validate(argc, argv);
     if (!strcmp(cmd, "config-doc")) {
+        if (argc > 2 && is_help(argv[2])) {
+            printf("usage: hsbd config-doc\nPrints the configuration reference (Markdown, the "
+                   "text of docs/config.md).\n");
+            return 0;
+        }
+        if (argc > 2) {
+            fprintf(stderr, "hsbd config-doc: unexpected argument '%.60s'\n", argv[2]);
+            return EXIT_INPUT;
+        }
         hsbd_config_write_reference(stdout, 1);
         return 0;
     }

@@ -1,5 +1,5 @@
 /* Run configuration: one schema table gives every key its type, range, default and doc;
- * it drives parsing (INI files via libinih, --set overrides), validation, `hsbd run
+ * it drives parsing (INI files, --set overrides), validation, `hsbd run
  * --help` and docs/config.md. Errors name the file, line, key and allowed range. */
 #ifndef HSBD_CONFIG_H
 #define HSBD_CONFIG_H
@@ -110,8 +110,14 @@ typedef struct hsbd_config {
 
 /* Fill every key with its default. */
 void hsbd_config_defaults(hsbd_config *cfg);
-/* Read an INI file (hsbd sections, or the authors' section-less keys). */
+/* Read an INI file (hsbd sections, or the authors' section-less keys; docs/config.md).
+ * Lines of any length up to 1 MiB; a whole-line comment starts with '#' or ';', an inline
+ * one with " #" or " ;". A file that sets no key, a directory, NUL bytes or control
+ * characters, unknown sections or keys, keys set twice, and the authors' keys mixed with
+ * sections are HSBD_EINPUT with the file and line. */
 int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err);
+/* The same from an open stream; `name` stands for the file in messages and origins. */
+int hsbd_config_load_stream(hsbd_config *cfg, FILE *f, const char *name, hsbd_error *err);
 /* Apply "section.key=value" (from --set). */
 int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin, hsbd_error *err);
 /* Derived defaults and checks that involve several keys; call once after all input. */

@@ -41,10 +41,15 @@ int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err);
  * writable (e.g. the validation's directory of runs). */
 int hsbd_dir_create(const char *dir, hsbd_error *err);
 
-/* Read n positions (one number per line; blank lines and '#' comments allowed); for a
- * mixture (nspecies > 0) each line is 'x name' and species[i] gets the name's index. */
-int hsbd_read_positions(const char *path, size_t n, double *x, size_t nspecies,
-                        const char (*names)[HSBD_SPECIES_NAME], int *species, hsbd_error *err);
+/* init.positions of a finalized rods configuration: system.N positions, one per line
+ * (blank lines and '#' comment lines allowed); for a mixture each line is 'x name' and
+ * species[i] gets the name's index (species may be NULL for one species). Every position
+ * lies on the ring, 0 <= x <= L (not wrapped), or between the walls, and with the hard core
+ * no two rods overlap; errors name the file and line. */
+int hsbd_read_positions(const hsbd_config *cfg, double *x, int *species, hsbd_error *err);
+/* The same from an open stream; `name` stands for the file in messages. */
+int hsbd_read_positions_stream(FILE *f, const char *name, const hsbd_config *cfg, double *x,
+                               int *species, hsbd_error *err);
 
 /* ---- extended XYZ (src/io/xyz.c) ---- */
 

@@ -6,6 +6,7 @@
 #define HSBD_TABLE_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "hsbd/error.h"
 
@@ -15,9 +16,11 @@ typedef struct hsbd_table hsbd_table;
  * (the message names `what`, e.g. the key) otherwise. */
 hsbd_table *hsbd_table_alloc(size_t n, const double *x, const double *y, const char *what,
                              hsbd_error *err);
-/* From a file: '#' comments and blank lines skipped, two numbers per line (further
+/* From a file: '#' comments and blank lines skipped, two decimal numbers per line (further
  * columns ignored). Errors name the file and line. */
 hsbd_table *hsbd_table_load(const char *path, hsbd_error *err);
+/* The same from an open stream; `name` stands for the file in messages. */
+hsbd_table *hsbd_table_read(FILE *f, const char *name, hsbd_error *err);
 void hsbd_table_free(hsbd_table *t);
 /* Turn the spline into the periodic one over [x_min, x_max] (value and first two
  * derivatives continuous across the ends), for a function of period x_max - x_min. The

@@ -1,6 +1,8 @@
 /* Cubic spline tables, natural or periodic (see include/hsbd/table.h). */
 #include "hsbd/table.h"
 
+#include "core/input.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -180,38 +182,45 @@ int hsbd_table_make_periodic(hsbd_table *t, const char *what, hsbd_error *err) {
     return HSBD_OK;
 }
 
-hsbd_table *hsbd_table_load(const char *path, hsbd_error *err) {
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return hsbd_error_set(err, HSBD_EINPUT, "cannot read table '%s': %s", path,
-                              strerror(errno)),
-               NULL;
+static int is_blank(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+/* a decimal number at *s followed by a blank or the end of the line; advances *s */
+static int scan_column(const char **s, double *v) {
+    while (is_blank(**s))
+        ++*s;
+    const size_t len = hsbd_scan_decimal(*s, v);
+    if (len == 0 || !isfinite(*v) || !(is_blank((*s)[len]) || (*s)[len] == '\0')) return -1;
+    *s += len;
+    return 0;
+}
+
+hsbd_table *hsbd_table_read(FILE *f, const char *name, hsbd_error *err) {
     size_t n = 0, cap = 0;
     double *x = NULL, *y = NULL;
-    char line[4096];
-    int lineno = 0, ok = 1;
-    while (ok && fgets(line, sizeof line, f)) {
-        ++lineno;
-        line[strcspn(line, "\r\n")] = '\0';
-        char *s = line;
-        while (*s == ' ' || *s == '\t')
+    hsbd_lines in;
+    hsbd_lines_init(&in, f, name);
+    int ok = 1, got;
+    while (ok && (got = hsbd_lines_next(&in, err)) > 0) {
+        const char *s = in.text;
+        while (is_blank(*s))
             ++s;
         if (*s == '#' || *s == '\0') continue;
-        char *end1, *end2;
-        const double a = strtod(s, &end1);
-        const double b = end1 != s ? strtod(end1, &end2) : 0.0;
-        if (end1 == s || end2 == end1 || !isfinite(a) || !isfinite(b)) {
+        const char *p = s;
+        double a, b;
+        if (scan_column(&p, &a) != 0 || scan_column(&p, &b) != 0) {
             hsbd_error_set(err, HSBD_EINPUT,
-                           "%s:%d: expected two finite numbers 'x value', got '%.60s'", path,
-                           lineno, s);
+                           "%s:%ld: expected two finite numbers 'x value', got '%.60s'", name,
+                           in.number, s);
             ok = 0;
             break;
         }
         if (n > 0 && !(a > x[n - 1])) {
             hsbd_error_set(err, HSBD_EINPUT,
-                           "%s:%d: x = %.17g does not increase (previous x = %.17g); the first "
+                           "%s:%ld: x = %.17g does not increase (previous x = %.17g); the first "
                            "column must be strictly increasing",
-                           path, lineno, a, x[n - 1]);
+                           name, in.number, a, x[n - 1]);
             ok = 0;
             break;
         }
@@ -221,18 +230,27 @@ hsbd_table *hsbd_table_load(const char *path, hsbd_error *err) {
             if (nx) x = nx;
             if (ny) y = ny;
             if (!nx || !ny) {
-                hsbd_error_set(err, HSBD_ENOMEM, "%s: out of memory", path);
+                hsbd_error_set(err, HSBD_ENOMEM, "%s: out of memory", name);
                 ok = 0;
                 break;
             }
         }
         x[n] = a, y[n] = b, ++n;
     }
-    fclose(f);
+    if (ok && got < 0) ok = 0;
+    hsbd_lines_free(&in);
     hsbd_table *t = NULL;
-    if (ok) t = hsbd_table_alloc(n, x, y, path, err);
+    if (ok) t = hsbd_table_alloc(n, x, y, name, err);
     free(x);
     free(y);
+    return t;
+}
+
+hsbd_table *hsbd_table_load(const char *path, hsbd_error *err) {
+    FILE *f = hsbd_input_open(path, "table", err);
+    if (!f) return NULL;
+    hsbd_table *t = hsbd_table_read(f, path, err);
+    fclose(f);
     return t;
 }
 

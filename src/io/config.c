@@ -1,12 +1,13 @@
 #include "hsbd/config.h"
 
 #include <errno.h>
-#include <ini.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "core/input.h"
 #include "hsbd/spheres.h"
 
 typedef enum { K_INT, K_UINT64, K_DOUBLE, K_STRING, K_ENUM, K_BOOL, K_TERMS } key_type;
@@ -367,40 +368,56 @@ static int parse_terms(const char *choices, const char *v) {
     }
 }
 
+/* A decimal number that fills the whole text (no hexadecimal, octal-looking leading zeros,
+ * inf or nan): 0, or -1 with what is wrong in *why. */
+static int parse_number(const char *v, double *d, const char **why) {
+    const char *digits = v + (*v == '+' || *v == '-');
+    if (digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X'))
+        return *why = "is hexadecimal (only decimal numbers are read)", -1;
+    const size_t len = hsbd_scan_decimal(v, d);
+    if (len == 0 || v[len] != '\0') return *why = NULL, -1;
+    if (digits[0] == '0' && digits[1] >= '0' && digits[1] <= '9')
+        return *why = "has a leading zero (octal numbers are not read; leave the zero out)", -1;
+    if (!isfinite(*d)) return *why = "is beyond the range of double precision", -1;
+    return 0;
+}
+
 /* Parse `text` into the key's slot; on failure a message naming the key and range. */
 static int parse_value(hsbd_config *cfg, const key_spec *k, const char *text, const char *where,
                        hsbd_error *err) {
-    char buf[HSBD_PATH_MAX + 8], range[160];
-    if (strlen(text) >= sizeof buf)
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s: value too long", where, k->section,
-                              k->key);
-    strcpy(buf, text);
+    char buf[HSBD_PATH_MAX], range[160];
+    const char *start = text;
+    while (*start == ' ' || *start == '\t')
+        ++start;
+    if (strlen(start) >= sizeof buf)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: %s.%s: the value is longer than %d characters; allowed: "
+                              "shorter values",
+                              where, k->section, k->key, HSBD_PATH_MAX - 1);
+    strcpy(buf, start);
     char *v = trim(buf);
-    /* "value   # comment": libinih strips ';' comments only */
-    for (char *h = v; *h; ++h)
-        if (*h == '#' && h > v && (h[-1] == ' ' || h[-1] == '\t')) {
-            *h = '\0';
-            v = trim(v);
-            break;
-        }
     format_range(k, range, sizeof range);
-    char *end = NULL;
-    errno = 0;
     switch (k->type) {
     case K_INT:
     case K_DOUBLE: {
-        const double d = strtod(v, &end);
-        if (end == v || *end != '\0' || !isfinite(d))
+        double d;
+        const char *why;
+        if (parse_number(v, &d, &why) != 0) {
+            if (why)
+                return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%.60s' %s; allowed: %s",
+                                      where, k->section, k->key, v, why, range);
             return hsbd_error_set(
-                err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a %s number; allowed: %s", where,
+                err, HSBD_EINPUT, "%s: %s.%s = '%.60s' is not a %s number; allowed: %s", where,
                 k->section, k->key, v, k->type == K_INT ? "whole" : "finite", range);
+        }
         if (k->type == K_INT && d != floor(d))
             return hsbd_error_set(err, HSBD_EINPUT,
-                                  "%s: %s.%s = '%s' is not a whole number; allowed: %s", where,
+                                  "%s: %s.%s = '%.60s' is not a whole number; allowed: %s", where,
                                   k->section, k->key, v, range);
         if (!in_range(k, d))
-            return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = %s is out of range; allowed: %s",
-                                  where, k->section, k->key, v, range);
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: %s.%s = %.60s is out of range; allowed: %s", where,
+                                  k->section, k->key, v, range);
         if (k->type == K_INT)
             *(int64_t *)slot(cfg, k) = (int64_t)d;
         else
@@ -408,11 +425,17 @@ static int parse_value(hsbd_config *cfg, const key_spec *k, const char *text, co
         return HSBD_OK;
     }
     case K_UINT64: {
-        const unsigned long long u = strtoull(v, &end, 10);
-        if (end == v || *end != '\0' || v[0] == '-' || errno == ERANGE)
+        const char *digits = v + (*v == '+');
+        int ok = *digits != '\0' && strlen(digits) <= 20 && (digits[0] != '0' || !digits[1]);
+        for (const char *c = digits; ok && *c; ++c)
+            ok = *c >= '0' && *c <= '9';
+        errno = 0;
+        const unsigned long long u = ok ? strtoull(digits, NULL, 10) : 0;
+        if (!ok || errno == ERANGE)
             return hsbd_error_set(err, HSBD_EINPUT,
-                                  "%s: %s.%s = '%s' is not a valid integer; allowed: %s", where,
-                                  k->section, k->key, v, range);
+                                  "%s: %s.%s = '%.60s' is not a valid integer; allowed: %s "
+                                  "(decimal digits, no leading zero)",
+                                  where, k->section, k->key, v, range);
         *(uint64_t *)slot(cfg, k) = (uint64_t)u;
         return HSBD_OK;
     }
@@ -425,7 +448,7 @@ static int parse_value(hsbd_config *cfg, const key_spec *k, const char *text, co
             if (!strcmp(v, yes[i])) return *(int *)slot(cfg, k) = 1, HSBD_OK;
             if (!strcmp(v, no[i])) return *(int *)slot(cfg, k) = 0, HSBD_OK;
         }
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not a switch; allowed: %s",
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%.60s' is not a switch; allowed: %s",
                               where, k->section, k->key, v, range);
     }
     case K_ENUM:
@@ -433,8 +456,8 @@ static int parse_value(hsbd_config *cfg, const key_spec *k, const char *text, co
         const int value =
             k->type == K_ENUM ? choice_index(k->choices, v, strlen(v)) : parse_terms(k->choices, v);
         if (value >= 0) return *(int *)slot(cfg, k) = value, HSBD_OK;
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%s' is not known; allowed: %s", where,
-                              k->section, k->key, v, range);
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: %s.%s = '%.60s' is not known; allowed: %s",
+                              where, k->section, k->key, v, range);
     }
     }
     return HSBD_OK;
@@ -506,110 +529,185 @@ void hsbd_config_defaults(hsbd_config *cfg) {
 
 /* ---- INI files ---------------------------------------------------------------------- */
 
+/* The file being read: where we are, what it has set, whether it uses the authors'
+ * section-less keys or hsbd's sections (never both). */
 typedef struct {
     hsbd_config *cfg;
     const char *path;
-    FILE *file;
-    int line;
-    int seen_section, seen_authors;
+    long line;
+    const char *section;               /* the open [section] (a schema section name), or NULL */
+    long first_section, first_authors; /* lines of the first [section] / section-less key */
+    size_t keys;                       /* keys the file set */
     hsbd_error *err;
     char set_at[NKEYS]; /* key already set in this file */
 } ini_state;
 
-/* libinih reader that counts lines, so the handler knows where it is. */
-static char *counting_reader(char *str, int num, void *stream) {
-    ini_state *st = stream;
-    char *r = fgets(str, num, st->file);
-    if (r) ++st->line;
-    return r;
-}
-
 static int assign(ini_state *st, const key_spec *k, const char *value, const char *as) {
     char where[HSBD_ORIGIN_MAX];
-    snprintf(where, sizeof where, "%s:%d", st->path, st->line);
+    snprintf(where, sizeof where, "%s:%ld", st->path, st->line);
     const size_t idx = key_index(k);
-    if (st->set_at[idx]) {
-        hsbd_error_set(st->err, HSBD_EINPUT, "%s: %s is set twice (first at %s)", where, as,
-                       st->cfg->origin[idx]);
-        return 0;
-    }
-    if (parse_value(st->cfg, k, value, where, st->err) != HSBD_OK) return 0;
+    if (st->set_at[idx])
+        return hsbd_error_set(st->err, HSBD_EINPUT, "%s: %s is set twice (first at %s)", where, as,
+                              st->cfg->origin[idx]);
+    if (parse_value(st->cfg, k, value, where, st->err) != HSBD_OK) return st->err->status;
     st->set_at[idx] = 1;
+    st->keys++;
     snprintf(st->cfg->origin[idx], HSBD_ORIGIN_MAX, "%s", where);
-    return 1;
+    return HSBD_OK;
 }
 
-static int authors_handler(ini_state *st, const char *name, const char *value) {
-    for (size_t i = 0; i < NAUTHORS; ++i) {
-        if (strcmp(authors_keys[i].name, name)) continue;
-        char as[128];
-        snprintf(as, sizeof as, "%s (%s.%s)", name, authors_keys[i].section, authors_keys[i].key);
-        const key_spec *k = find_key(authors_keys[i].section, authors_keys[i].key);
-        if (!assign(st, k, value, as)) return 0;
-        if (!strcmp(name, "tTrajectory")) st->cfg->output.trajectory = HSBD_TRAJ_XYZ;
-        return 1;
+static const authors_key *find_authors_key(const char *name) {
+    for (size_t i = 0; i < NAUTHORS; ++i)
+        if (!strcmp(authors_keys[i].name, name)) return &authors_keys[i];
+    return NULL;
+}
+
+static int authors_assign(ini_state *st, const char *name, const char *value) {
+    const authors_key *a = find_authors_key(name);
+    if (!a) {
+        char known[1024] = "";
+        for (size_t i = 0; i < NAUTHORS; ++i) {
+            strcat(known, i ? ", " : "");
+            strcat(known, authors_keys[i].name);
+        }
+        return hsbd_error_set(
+            st->err, HSBD_EINPUT,
+            "%s:%ld: unknown key '%.60s' outside any [section]; hsbd keys live in sections "
+            "([system], [species], [contact], [pair], [field], [run], [sample], [output], "
+            "[init]) and the authors' section-less keys are: %s",
+            st->path, st->line, name, known);
     }
-    char known[1024] = "";
-    for (size_t i = 0; i < NAUTHORS; ++i) {
-        strcat(known, i ? ", " : "");
-        strcat(known, authors_keys[i].name);
-    }
-    hsbd_error_set(
-        st->err, HSBD_EINPUT,
-        "%s:%d: unknown key '%s' outside any [section]; hsbd keys live in sections "
-        "([system], [species], [contact], [pair], [field], [run], [sample], [output], [init]) "
-        "and the authors' "
-        "section-less keys are: %s",
-        st->path, st->line, name, known);
+    char as[128];
+    snprintf(as, sizeof as, "%s (%s.%s)", name, a->section, a->key);
+    if (assign(st, find_key(a->section, a->key), value, as) != HSBD_OK) return st->err->status;
+    if (!strcmp(name, "tTrajectory")) st->cfg->output.trajectory = HSBD_TRAJ_XYZ;
+    return HSBD_OK;
+}
+
+static int section_known(const char *name) {
+    for (size_t i = 0; i < NKEYS; ++i)
+        if (!strcmp(schema[i].section, name)) return 1;
     return 0;
 }
 
-static int config_ini_handler(void *user, const char *section, const char *name,
-                              const char *value) {
-    ini_state *st = user;
-    if (st->err->status != HSBD_OK) return 0;
-    if (section[0] == '\0') {
-        st->seen_authors = 1;
-        if (st->seen_section) {
-            hsbd_error_set(st->err, HSBD_EINPUT, "%s:%d: mixing section-less keys with sections",
-                           st->path, st->line);
-            return 0;
+/* "[name]" (text after ']' only a comment): opens a schema section */
+static int open_section(ini_state *st, char *s) {
+    char *close = strchr(s, ']');
+    const char *rest = close ? trim(close + 1) : "";
+    if (!close || (*rest && *rest != ';' && *rest != '#'))
+        return hsbd_error_set(st->err, HSBD_EINPUT,
+                              "%s:%ld: malformed section line; allowed: '[section]', optionally "
+                              "followed by a comment",
+                              st->path, st->line);
+    *close = '\0';
+    const char *name = trim(s + 1);
+    if (st->first_authors)
+        return hsbd_error_set(st->err, HSBD_EINPUT,
+                              "%s:%ld: [%.60s] after the authors' section-less keys (from line "
+                              "%ld); allowed: either the authors' keys without sections or hsbd's "
+                              "sections, not both in one file",
+                              st->path, st->line, name, st->first_authors);
+    if (!section_known(name)) {
+        size_t best = 1000;
+        const char *near = NULL;
+        for (size_t i = 0; i < NKEYS; ++i) {
+            const size_t d = edit_distance(name, schema[i].section);
+            if (d < best) best = d, near = schema[i].section;
         }
-        return authors_handler(st, name, value);
+        return hsbd_error_set(st->err, HSBD_EINPUT, "%s:%ld: unknown section [%.60s]%s%s%s",
+                              st->path, st->line, name,
+                              best <= 2 ? "; did you mean [" : "; allowed: ", best <= 2 ? near : "",
+                              best <= 2 ? "]?"
+                                        : "[system], [species], [contact], [pair], [field], "
+                                          "[run], [sample], [output], [init]");
     }
-    st->seen_section = 1;
-    const key_spec *k = find_key(section, name);
+    for (size_t i = 0; i < NKEYS; ++i) /* the table's own string, alive after the line */
+        if (!strcmp(schema[i].section, name)) st->section = schema[i].section;
+    if (!st->first_section) st->first_section = st->line;
+    return HSBD_OK;
+}
+
+/* "key = value" in the open section, or an authors' key before any section */
+static int assign_line(ini_state *st, char *s) {
+    char *eq = strchr(s, '=');
+    if (!eq)
+        return hsbd_error_set(st->err, HSBD_EINPUT,
+                              "%s:%ld: malformed line; allowed: 'key = value', '[section]', or a "
+                              "comment starting with '#' or ';'",
+                              st->path, st->line);
+    *eq = '\0';
+    char *key = trim(s), *value = trim(eq + 1);
+    for (char *c = value; *c; ++c) /* inline comments: " ; ..." or " # ..." */
+        if ((*c == ';' || *c == '#') && c > value && (c[-1] == ' ' || c[-1] == '\t')) {
+            *c = '\0';
+            value = trim(value);
+            break;
+        }
+    if (!*key)
+        return hsbd_error_set(st->err, HSBD_EINPUT,
+                              "%s:%ld: a value without a key; allowed: "
+                              "'key = value'",
+                              st->path, st->line);
+    if (!st->section) {
+        if (!st->first_authors) st->first_authors = st->line;
+        return authors_assign(st, key, value);
+    }
+    const key_spec *k = find_key(st->section, key);
     if (!k) {
         char near[256];
-        const char *s = suggest(section, name, near, sizeof near);
-        hsbd_error_set(st->err, HSBD_EINPUT, "%s:%d: unknown key '%s' in section [%s]%s%s%s",
-                       st->path, st->line, name, section, s ? "; did you mean '" : "", s ? s : "",
-                       s ? "'?" : " (hsbd run --help lists all keys)");
-        return 0;
+        const char *s2 = suggest(st->section, key, near, sizeof near);
+        const authors_key *a = find_authors_key(key);
+        char hint[160] = "";
+        if (a)
+            snprintf(hint, sizeof hint,
+                     " ('%s' is the authors' name of %s.%s, read only in "
+                     "files without sections)",
+                     key, a->section, a->key);
+        return hsbd_error_set(
+            st->err, HSBD_EINPUT, "%s:%ld: unknown key '%.60s' in section [%s]%s%s%s%s", st->path,
+            st->line, key, st->section, s2 ? "; did you mean '" : "", s2 ? s2 : "",
+            s2 ? "'?" : (a ? "" : " (hsbd run --help lists all keys)"), hint);
     }
     char as[128];
-    snprintf(as, sizeof as, "%s.%s", section, name);
+    snprintf(as, sizeof as, "%s.%s", st->section, key);
     return assign(st, k, value, as);
 }
 
-int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err) {
+/* One line: blank, a comment (the whole line, whatever it holds), a section or a key. */
+static int parse_line(ini_state *st, char *text) {
+    if (st->line == 1 && !strncmp(text, "\xEF\xBB\xBF", 3)) text += 3; /* UTF-8 mark */
+    char *s = trim(text);
+    if (!*s || *s == ';' || *s == '#') return HSBD_OK;
+    for (const char *c = s; *c; ++c)
+        if (((unsigned char)*c < 0x20 && *c != '\t') || *c == 0x7f)
+            return hsbd_error_set(st->err, HSBD_EINPUT,
+                                  "%s:%ld: control character 0x%02x in the line (a binary "
+                                  "file?); allowed: text",
+                                  st->path, st->line, (unsigned)(unsigned char)*c);
+    return *s == '[' ? open_section(st, s) : assign_line(st, s);
+}
+
+int hsbd_config_load_stream(hsbd_config *cfg, FILE *f, const char *name, hsbd_error *err) {
     hsbd_error_clear(err);
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return hsbd_error_set(err, HSBD_EINPUT, "cannot read configuration file '%s': %s", path,
-                              strerror(errno));
-    ini_state st = {.cfg = cfg, .path = path, .file = f, .err = err};
-    const int rc = ini_parse_stream(counting_reader, &st, config_ini_handler, &st);
-    fclose(f);
-    if (err->status != HSBD_OK) return err->status;
-    if (rc < 0) return hsbd_error_set(err, HSBD_EIO, "cannot read configuration file '%s'", path);
-    if (rc > 0)
+    ini_state st = {.cfg = cfg, .path = name, .err = err};
+    hsbd_lines in;
+    hsbd_lines_init(&in, f, name);
+    int got, rc = HSBD_OK;
+    while (rc == HSBD_OK && (got = hsbd_lines_next(&in, err)) > 0) {
+        st.line = in.number;
+        rc = parse_line(&st, in.text);
+    }
+    if (rc == HSBD_OK && got < 0) rc = err->status;
+    hsbd_lines_free(&in);
+    if (rc != HSBD_OK) return rc;
+    if (st.keys == 0)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s:%d: malformed line (expected 'key = value', '[section]' or a "
-                              "comment starting with '#' or ';'; lines are at most 199 characters)",
-                              path, rc);
-    snprintf(cfg->file, sizeof cfg->file, "%s", path);
-    if (st.seen_authors) {
+                              "%s: the configuration sets no key (the file is empty, or holds "
+                              "only comments and sections); 'hsbd run --defaults' runs the "
+                              "defaults without a file",
+                              name);
+    snprintf(cfg->file, sizeof cfg->file, "%s", name);
+    if (st.first_authors) {
         cfg->authors_dialect = 1;
         /* the authors' program: U = (AmpU/2) cos(2 pi x) + tilt, lambda = 1, mu = 1 */
         cfg->field.type = HSBD_FIELD_COSINE | HSBD_FIELD_TILT;
@@ -619,23 +717,43 @@ int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err) {
     return HSBD_OK;
 }
 
+int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err) {
+    hsbd_error_clear(err);
+    FILE *f = hsbd_input_open(path, "configuration file", err);
+    if (!f) return err->status;
+    const int rc = hsbd_config_load_stream(cfg, f, path, err);
+    fclose(f);
+    return rc;
+}
+
 int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin, hsbd_error *err) {
     hsbd_error_clear(err);
     char buf[HSBD_PATH_MAX + 128];
-    snprintf(buf, sizeof buf, "%s", assignment);
+    if (strlen(assignment) >= sizeof buf)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: '%.40s...' is longer than %zu characters; allowed: "
+                              "section.key=value with a value of at most %d characters",
+                              origin, assignment, sizeof buf - 1, HSBD_PATH_MAX - 1);
+    for (const char *c = assignment; *c; ++c)
+        if (((unsigned char)*c < 0x20 && *c != '\t') || *c == 0x7f)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: control character 0x%02x at position %d of the "
+                                  "assignment; allowed: text",
+                                  origin, (unsigned)(unsigned char)*c, (int)(c - assignment) + 1);
+    strcpy(buf, assignment);
     char *eq = strchr(buf, '='), *dot = strchr(buf, '.');
     if (!eq || !dot || dot > eq)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s '%s': expected section.key=value (e.g. run.t_total=200)", origin,
-                              assignment);
+                              "%s '%.60s': expected section.key=value (e.g. run.t_total=200)",
+                              origin, assignment);
     *eq = '\0', *dot = '\0';
     const char *section = trim(buf), *key = trim(dot + 1), *value = eq + 1;
     const key_spec *k = find_key(section, key);
     if (!k) {
         char near[256];
         const char *s = suggest(section, key, near, sizeof near);
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: unknown key '%s.%s'%s%s%s", origin, section,
-                              key, s ? "; did you mean '" : "", s ? s : "",
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: unknown key '%.60s.%.60s'%s%s%s", origin,
+                              section, key, s ? "; did you mean '" : "", s ? s : "",
                               s ? "'?" : " (hsbd run --help lists all keys)");
     }
     char where[HSBD_ORIGIN_MAX];
@@ -647,8 +765,11 @@ int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin
 
 /* ---- checks across keys ------------------------------------------------------------- */
 
+/* Where a key got its value, for messages: for a key at its default, the configuration
+ * file (when there is one), so that every message names the file. */
 static const char *origin_of(const hsbd_config *cfg, const char *section, const char *key) {
-    return cfg->origin[key_index(find_key(section, key))];
+    const char *o = cfg->origin[key_index(find_key(section, key))];
+    return !strncmp(o, "default", 7) && cfg->file[0] ? cfg->file : o;
 }
 
 const char *hsbd_config_origin(const hsbd_config *cfg, const char *section, const char *key) {
@@ -686,7 +807,7 @@ static size_t split_list(char *text, char **words, size_t max) {
 }
 
 static int is_default(const hsbd_config *cfg, const char *section, const char *key) {
-    return !strncmp(origin_of(cfg, section, key), "default", 7);
+    return !strncmp(cfg->origin[key_index(find_key(section, key))], "default", 7);
 }
 
 /* One numeric species list (count, sigma or D): as many finite entries as names, each in
@@ -702,13 +823,13 @@ static int parse_species_numbers(hsbd_config *cfg, const char *key, const char *
                               "per species",
                               origin_of(cfg, "species", key), key, got, ns);
     for (size_t k = 0; k < ns; ++k) {
-        char *end;
-        const double v = strtod(words[k], &end);
-        if (end == words[k] || *end || !isfinite(v) || (open ? !(v > min) : !(v >= min)) ||
+        double v;
+        const char *why;
+        if (parse_number(words[k], &v, &why) != 0 || (open ? !(v > min) : !(v >= min)) ||
             (whole && v != floor(v)))
             return hsbd_error_set(err, HSBD_EINPUT,
-                                  "%s: species.%s entry %zu ('%s', species %s) is out of range; "
-                                  "allowed: %s %s %g",
+                                  "%s: species.%s entry %zu ('%.40s', species %s) is out of range; "
+                                  "allowed: decimal %s %s %g",
                                   origin_of(cfg, "species", key), key, k + 1, words[k],
                                   cfg->species.name[k], whole ? "whole numbers" : key,
                                   open ? ">" : ">=", min);
@@ -856,6 +977,7 @@ static double rods_length(const hsbd_config *cfg) {
 }
 
 static int check_run_keys(hsbd_config *cfg, hsbd_error *err);
+static int check_memory(const hsbd_config *cfg, int particles_only, hsbd_error *err);
 
 /* Keys that only one model reads: setting one for the other model is an error, not a
  * silent no-op. */
@@ -905,24 +1027,25 @@ static int refuse_keys_of_other_model(const hsbd_config *cfg, hsbd_error *err) {
     return HSBD_OK;
 }
 
-/* A list of 1 or `dim` finite numbers (1: repeated) in (min, inf) or any (min = -inf). */
+/* A list of `dim` finite numbers (or, when one_for_all, 1 repeated) in (min, inf) or any
+ * (min = -inf). */
 static int parse_vector(const hsbd_config *cfg, const char *key, const char *text, int dim,
-                        double min, double *out, hsbd_error *err) {
+                        int one_for_all, double min, double *out, hsbd_error *err) {
     char buf[HSBD_PATH_MAX], *words[4];
     snprintf(buf, sizeof buf, "%s", text);
     const size_t got = split_list(buf, words, 3);
-    if (got != 1 && got != (size_t)dim)
+    if ((got != 1 || !one_for_all) && got != (size_t)dim)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: system.%s has %zu values; allowed: 1 or %d (system.dimension)",
-                              origin_of(cfg, "system", key), key, got, dim);
+                              "%s: system.%s has %zu value%s; allowed: %s%d (system.dimension)",
+                              origin_of(cfg, "system", key), key, got, got == 1 ? "" : "s",
+                              one_for_all ? "1 or " : "", dim);
     for (int a = 0; a < dim; ++a) {
-        const char *w = words[got == 1 ? 0 : a];
-        char *end;
-        const double v = strtod(w, &end);
-        if (end == w || *end || !isfinite(v) || !(v > min))
+        const char *w = words[got == 1 ? 0 : a], *why;
+        double v;
+        if (parse_number(w, &v, &why) != 0 || !(v > min))
             return hsbd_error_set(err, HSBD_EINPUT,
-                                  "%s: system.%s value '%s' is out of range; allowed: finite "
-                                  "numbers%s",
+                                  "%s: system.%s value '%.40s' is out of range; allowed: finite "
+                                  "decimal numbers%s",
                                   origin_of(cfg, "system", key), key, w, isinf(min) ? "" : " > 0");
         out[a] = v;
     }
@@ -956,16 +1079,17 @@ static int finalize_spheres(hsbd_config *cfg, hsbd_error *err) {
     for (size_t i = 0; i < n; ++i)
         sigma_max = fmax(sigma_max, sigma[i]);
     free(sigma);
+    /* packing_fraction has no default: unset is its origin, not its value */
     const int has_box = cfg->system.box_text[0] != 0,
-              has_phi = !isnan(cfg->system.packing_fraction);
+              has_phi = !is_default(cfg, "system", "packing_fraction");
     if (has_box == has_phi)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: spheres need exactly one of system.box and "
                               "system.packing_fraction (%s)",
-                              origin_of(cfg, "system", has_box ? "box" : "packing_fraction"),
+                              origin_of(cfg, "system", has_box ? "box" : "model"),
                               has_box ? "both are set" : "neither is set");
     if (has_box) {
-        if (parse_vector(cfg, "box", cfg->system.box_text, dim, 0, cfg->system.box, err))
+        if (parse_vector(cfg, "box", cfg->system.box_text, dim, 1, 0, cfg->system.box, err))
             return err->status;
     } else {
         const double side = pow(vp / cfg->system.packing_fraction, 1.0 / dim);
@@ -984,7 +1108,7 @@ static int finalize_spheres(hsbd_config *cfg, hsbd_error *err) {
                               origin_of(cfg, "system", has_box ? "box" : "packing_fraction"), phi,
                               dim == 3 ? 0.7405 : 0.9069);
     if (cfg->system.drift_text[0] &&
-        parse_vector(cfg, "drift", cfg->system.drift_text, dim, -INF, cfg->system.drift, err))
+        parse_vector(cfg, "drift", cfg->system.drift_text, dim, 0, -INF, cfg->system.drift, err))
         return err->status;
     /* what each initial state reaches: RSI stalls near 0.38 / 0.547; the compression
      * was measured to reach 0.60 / 0.72 at N = 4000 (docs/spheres.md) */
@@ -1042,25 +1166,184 @@ static int finalize_spheres(hsbd_config *cfg, hsbd_error *err) {
                               "sample.blocks = %lld; allowed: at least one per block",
                               origin_of(cfg, "sample", "gr_every"), (long long)cfg->sample.gr_every,
                               (unsigned long long)gr_samples, (long long)cfg->sample.blocks);
-    return HSBD_OK;
+    return check_memory(cfg, 0, err);
+}
+
+/* ---- memory ------------------------------------------------------------------------- */
+
+/* Bytes per particle of the engines with their run drivers, measured as the slope of the
+ * peak resident size over N (/usr/bin/time -v, hsbd run with t_total = 4 steps, e504a92):
+ * rods 80 B (N 1e6 .. 8e6: 104 B minus the MSD's three snapshots of 8 B); spheres 3D
+ * 700-850 B at phi 0.3 (N 2.5e5 .. 1e6), 2D 620-650 B, more at higher phi as the
+ * neighbour lists fill (docs/config.md). The constants round those up. */
+enum { RODS_BYTES = 96, SPHERES_BYTES_2D = 900, SPHERES_BYTES_3D = 1300 };
+/* the share of the machine's physical memory a run may plan to use */
+#define MEMORY_SHARE 0.8
+
+/* One part of the estimate and the key that makes it large. */
+typedef struct memory_part {
+    double bytes;
+    const char *section, *key, *what;
+} memory_part;
+
+/* The MSD observer of `items` coordinates (hsbd_msd_alloc): its snapshots, its lag table
+ * (one entry per sample up to the largest lag) and its values per lag and origin (twice
+ * with F_s); parts[0..2] += those. */
+static void msd_memory(const hsbd_config *cfg, double items, int fs, double copies,
+                       memory_part *parts) {
+    const double samples = floor((double)hsbd_config_steps(cfg) / (double)cfg->sample.every);
+    const double sample_dt = cfg->run.dt * (double)cfg->sample.every;
+    double lmax = fmin(floor(cfg->sample.msd_max_lag / sample_dt + 1e-9), fmax(samples - 1, 0));
+    lmax = fmax(lmax, 1);
+    double slots = floor((128.0 * 1024 * 1024) / (8 * fmax(items, 1)));
+    slots = fmin(fmax(slots, 4), 64);
+    double every = fmax(floor((lmax + slots - 2) / (slots - 1)), 1);
+    every = fmax(every, floor(samples / 4000));
+    const double alive = floor(lmax / every) + 2, origins = floor(samples / every) + 1;
+    const double lags = (double)cfg->sample.msd_points_per_decade * (log10(lmax) + 1) + 2;
+    parts[0].bytes += copies * alive * items * 8;
+    parts[1].bytes += copies * (lmax + 1) * 8;
+    parts[2].bytes += copies * lags * origins * 8 * (fs ? 2 : 1);
+}
+
+/* the engine and its run driver: bytes per particle times N */
+static memory_part particles_memory(const hsbd_config *cfg) {
+    const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
+    const double per = !spheres                     ? RODS_BYTES
+                       : cfg->system.dimension == 3 ? SPHERES_BYTES_3D
+                                                    : SPHERES_BYTES_2D;
+    return (memory_part){(double)cfg->system.n * per, "system", "N", "the particles"};
+}
+
+/* Estimated bytes of a finalized configuration's run, in parts (returns their count). */
+static size_t memory_estimate(const hsbd_config *cfg, memory_part *parts) {
+    const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
+    const double n = (double)cfg->system.n, d = (double)cfg->system.dimension;
+    const double blocks = (double)cfg->sample.blocks;
+    size_t np = 0;
+    parts[np++] = particles_memory(cfg);
+    parts[np++] = (memory_part){0, "system", "N", "the MSD's snapshots"};
+    parts[np++] = (memory_part){0, "sample", "msd_max_lag", "the MSD's lag table"};
+    parts[np++] = (memory_part){0, "sample", "msd_points_per_decade", "the MSD's values"};
+    /* mixtures: one more MSD per species (spheres: from two species on) */
+    const double per_species = (double)cfg->species.n >= (spheres ? 2 : 1) ? cfg->species.n : 0;
+    msd_memory(cfg, spheres ? d * n : n, spheres, 1 + (double)per_species, parts + 1);
+    if (spheres) {
+        const double pairs = cfg->species.n ? cfg->species.n * (cfg->species.n + 1) / 2.0 : 1;
+        const double bins = ceil(cfg->sample.gr_max / cfg->sample.gr_bin) + 10;
+        parts[np++] =
+            (memory_part){pairs * bins * 8 * (3 + blocks), "sample", "gr_bin", "g(r)'s bins"};
+    } else {
+        const double bins = round(cfg->sample.period / cfg->sample.bin_width);
+        parts[np++] =
+            (memory_part){4 * bins * 8 * (1 + blocks), "sample", "bin_width", "the profiles' bins"};
+    }
+    return np;
+}
+
+/* The machine's physical memory in bytes (0 when unknown: nothing is refused). */
+static double physical_memory(void) {
+    const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    return pages > 0 && size > 0 ? (double)pages * (double)size : 0;
+}
+
+/* Refuses a run whose estimated memory exceeds MEMORY_SHARE of the machine's, naming
+ * the key behind its largest part. `particles_only`: only the particles' part (before
+ * anything of size N is allocated while finalizing). */
+static int check_memory(const hsbd_config *cfg, int particles_only, hsbd_error *err) {
+    memory_part parts[8];
+    const size_t np = particles_only ? 1 : memory_estimate(cfg, parts);
+    if (particles_only) parts[0] = particles_memory(cfg);
+    double total = 0;
+    size_t big = 0;
+    for (size_t k = 0; k < np; ++k) {
+        total += parts[k].bytes;
+        if (parts[k].bytes > parts[big].bytes) big = k;
+    }
+    const double have = physical_memory(), gib = 1024.0 * 1024 * 1024;
+    if (have == 0 || total <= MEMORY_SHARE * have) return HSBD_OK;
+    char value[HSBD_PATH_MAX + 64];
+    const key_spec *k = find_key(parts[big].section, parts[big].key);
+    format_value(cfg, k, value, sizeof value);
+    return hsbd_error_set(err, HSBD_EINPUT,
+                          "%s: %s.%s = %s: the run needs an estimated %.3g GiB of memory (%.3g "
+                          "GiB for %s), more than %.0f%% of this machine's %.3g GiB; allowed: "
+                          "a smaller run (docs/config.md, memory)",
+                          origin_of(cfg, parts[big].section, parts[big].key), parts[big].section,
+                          parts[big].key, value, total / gib, parts[big].bytes / gib,
+                          parts[big].what, 100 * MEMORY_SHARE, have / gib);
+}
+
+/* Of a time (run.t_total or run.t_equil) and its step, which one a message about their
+ * ratio blames: the one the user set, or of two set ones the one further from its default
+ * in the direction that made the ratio bad (too_many: the time long, the step short). */
+static const char *blame_time_or_step(const hsbd_config *cfg, const char *time_key,
+                                      const char *step_key, int too_many) {
+    const int time_set = !is_default(cfg, "run", time_key);
+    const int step_set = !is_default(cfg, "run", step_key);
+    if (time_set != step_set) return time_set ? time_key : step_key;
+    const double t = *(const double *)cslot(cfg, find_key("run", time_key));
+    const double dt = *(const double *)cslot(cfg, find_key("run", step_key));
+    const double t0 = strtod(find_key("run", time_key)->def, NULL);
+    const double dt0 = strtod(find_key("run", "dt")->def, NULL);
+    const double time_off = too_many ? t / t0 : t0 / t, step_off = too_many ? dt0 / dt : dt / dt0;
+    return time_off >= step_off ? time_key : step_key;
+}
+
+/* Between 1 and 9e15 steps in each phase (exact in double precision). */
+static int check_step_counts(const hsbd_config *cfg, hsbd_error *err) {
+    static const char *const times[2] = {"t_total", "t_equil"};
+    const double t[2] = {cfg->run.t_total, cfg->run.t_equil};
+    const double dt[2] = {cfg->run.dt, hsbd_config_dt_equil(cfg)};
+    const char *const dts[2] = {"dt", cfg->run.dt_equil > 0 ? "dt_equil" : "dt"};
+    for (int p = 0; p < 2; ++p) {
+        if (!(t[p] / dt[p] > 9.0e15)) continue;
+        const char *blamed = blame_time_or_step(cfg, times[p], dts[p], 1);
+        const int time = blamed == times[p];
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: run.%s = %g over run.%s = %g gives %.3g steps; allowed: at most "
+                              "9e15 steps (run.%s %s %g)",
+                              origin_of(cfg, "run", blamed), times[p], t[p], dts[p], dt[p],
+                              t[p] / dt[p], blamed,
+                              time ? "<=" : ">=", time ? 9.0e15 * dt[p] : t[p] / 9.0e15);
+    }
+    if (cfg->run.t_total < cfg->run.dt * (1 - 1e-9)) {
+        const char *blamed = blame_time_or_step(cfg, "t_total", "dt", 0);
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: run.t_total = %g is shorter than run.dt = %g; allowed: "
+                              "t_total >= dt",
+                              origin_of(cfg, "run", blamed), cfg->run.t_total, cfg->run.dt);
+    }
+    const uint64_t steps = hsbd_config_steps(cfg);
+    const uint64_t samples = steps / (uint64_t)cfg->sample.every;
+    const uint64_t blocks = (uint64_t)cfg->sample.blocks, most_every = steps / blocks;
+    if (samples >= blocks) return HSBD_OK;
+    if (!is_default(cfg, "sample", "every") && most_every >= 1)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.every = %lld leaves %llu samples in the %llu steps of "
+                              "run.t_total/run.dt, fewer than sample.blocks = %llu; allowed: 1 "
+                              "<= every <= %llu",
+                              origin_of(cfg, "sample", "every"), (long long)cfg->sample.every,
+                              (unsigned long long)samples, (unsigned long long)steps,
+                              (unsigned long long)blocks, (unsigned long long)most_every);
+    if (!is_default(cfg, "sample", "blocks") && samples >= 2)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.blocks = %llu needs at least as many samples, but "
+                              "t_total/(dt*every) = %llu; allowed: 2 <= blocks <= %llu",
+                              origin_of(cfg, "sample", "blocks"), (unsigned long long)blocks,
+                              (unsigned long long)samples, (unsigned long long)samples);
+    return hsbd_error_set(err, HSBD_EINPUT,
+                          "%s: run.t_total = %g gives %llu steps and %llu samples (sample.every = "
+                          "%lld), fewer than sample.blocks = %llu; allowed: t_total >= %g",
+                          origin_of(cfg, "run", "t_total"), cfg->run.t_total,
+                          (unsigned long long)steps, (unsigned long long)samples,
+                          (long long)cfg->sample.every, (unsigned long long)blocks,
+                          (double)blocks * (double)cfg->sample.every * cfg->run.dt);
 }
 
 /* Checks of the run, sampling and output keys shared by every model. */
 static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
-    if (cfg->run.t_total / cfg->run.dt > 9.0e15 || cfg->run.t_equil / cfg->run.dt > 9.0e15)
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: run.dt = %g gives more than 9e15 steps",
-                              origin_of(cfg, "run", "dt"), cfg->run.dt);
-    const uint64_t steps = hsbd_config_steps(cfg);
-    if (steps < 1)
-        return hsbd_error_set(err, HSBD_EINPUT, "%s: run.t_total = %g is shorter than run.dt = %g",
-                              origin_of(cfg, "run", "t_total"), cfg->run.t_total, cfg->run.dt);
-    const uint64_t samples = steps / (uint64_t)cfg->sample.every;
-    if (samples < (uint64_t)cfg->sample.blocks)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: sample.blocks = %lld needs at least as many samples, but "
-                              "t_total/(dt*every) = %llu; allowed: 2 <= blocks <= %llu",
-                              origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
-                              (unsigned long long)samples, (unsigned long long)samples);
+    if (check_step_counts(cfg, err) != HSBD_OK) return err->status;
     const int replicas = cfg->sample.blocking == HSBD_BLOCKS_REPLICAS;
     const double lag_limit = replicas ? cfg->run.t_total / (double)cfg->sample.blocks
                                       : cfg->run.t_total; /* a replica's production time */
@@ -1087,6 +1370,7 @@ static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
 
 int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
     hsbd_error_clear(err);
+    if (check_memory(cfg, 1, err) != HSBD_OK) return err->status; /* before N-sized arrays */
     if (cfg->system.model == HSBD_MODEL_SPHERES) return finalize_spheres(cfg, err);
     if (refuse_keys_of_other_model(cfg, err) != HSBD_OK) return err->status;
     if (parse_species(cfg, err) != HSBD_OK) return err->status;
@@ -1199,7 +1483,8 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
                               "L/period = %g when sample.blocking = space",
                               origin_of(cfg, "sample", "blocks"), (long long)cfg->sample.blocks,
                               L / cfg->sample.period);
-    return check_run_keys(cfg, err);
+    if (check_run_keys(cfg, err) != HSBD_OK) return err->status;
+    return check_memory(cfg, 0, err);
 }
 
 /* ---- writers ------------------------------------------------------------------------ */
@@ -1259,8 +1544,20 @@ void hsbd_config_write_reference(FILE *out, int markdown) {
                 "# Configuration reference\n\n"
                 "Generated from the schema table in `src/io/config.c` by `hsbd config-doc`;\n"
                 "`hsbd run --help` prints the same. Any key can be overridden on the command\n"
-                "line with `--set section.key=value`. Inline comments: `; ...` or ` # ...`.\n"
-                "Errors name the file, line, key and the allowed range, and exit with status 2.\n");
+                "line with `--set section.key=value`; `hsbd run --defaults` runs without a\n"
+                "file, every key at its default.\n\n"
+                "The file: `[section]` lines and `key = value` lines, of any length up to\n"
+                "1 MiB. A line whose first non-blank character is `#` or `;` is a comment,\n"
+                "whatever follows; an inline comment starts at ` #` or ` ;` (after a blank).\n"
+                "Numbers are decimal (no hexadecimal, no leading zeros, no inf or nan). A file\n"
+                "that sets no key, unknown sections or keys, a key set twice, NUL bytes or\n"
+                "control characters are refused. Errors name the file, line, key and the\n"
+                "allowed range, and exit with status 2.\n\n"
+                "Memory: before anything is allocated, the run's memory is estimated (the\n"
+                "particles at bytes per particle measured for each model, the MSD's snapshots,\n"
+                "lag table and values, the profiles' or g(r)'s bins times blocks); a run that\n"
+                "needs more than 80%% of the machine's physical memory is refused, naming the\n"
+                "key behind the largest part.\n");
     }
     const char *open = NULL;
     for (size_t i = 0; i < NKEYS; ++i) {

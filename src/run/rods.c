@@ -218,8 +218,7 @@ static int arrange_species(const hsbd_config *cfg, rods_model *m, hsbd_rods_para
 static int read_initial_positions(const hsbd_config *cfg, rods_model *m, double *x,
                                   hsbd_error *err) {
     const size_t n = (size_t)cfg->system.n;
-    int rc = hsbd_read_positions(cfg->init.positions, n, x, cfg->species.n, cfg->species.name,
-                                 m->species, err);
+    int rc = hsbd_read_positions(cfg, x, m->species, err);
     for (size_t k = 0; k < cfg->species.n && rc == HSBD_OK; ++k) {
         int64_t c = 0;
         for (size_t i = 0; i < n; ++i)
