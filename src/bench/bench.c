@@ -1,0 +1,187 @@
+/* Throughput of the two engines (hsbd bench): particle-steps per second of the bare
+ * integrators and, in the same run, the free-particle bound (the same particles with the
+ * hard core switched off). Rods: the default contact rule and the paper's; spheres: from
+ * a lattice after a warm-up. One core is what is measured (bench/run pins it). */
+#include "hsbd/bench.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+#include <time.h>
+
+#include "hsbd/rods.h"
+#include "hsbd/spheres.h"
+#include "hsbd_version.h"
+
+typedef struct bench_case {
+    const char *name;
+    double sigma, rho;
+    size_t n; /* 0: L = 100 */
+} bench_case;
+
+static const bench_case bench_cases[] = {
+    {"s0.5-rho0.2", 0.5, 0.2, 0},
+    {"s0.5-rho0.5", 0.5, 0.5, 0},
+    {"s0.5-rho0.8", 0.5, 0.8, 0},
+    {"s0.1-rho0.8", 0.1, 0.8, 0},
+    {"s0.5-rho0.5-N1e4", 0.5, 0.5, 10000},
+    {"s0.5-rho0.5-N1e6", 0.5, 0.5, 1000000},
+    {"dense-s0.9-rho1.0-N1e4", 0.9, 1.0, 10000},
+};
+
+static double now_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* particle-steps per second of the bare integrator over at least `seconds`, with the
+ * given contact rule (hard_core = 0: free particles, the rule is not used) */
+static double bench_rate(const bench_case *c, int hard_core, int contact_rule, double seconds) {
+    const size_t n = c->n ? c->n : (size_t)llround(c->rho * 100.0);
+    const double L = c->n ? (double)c->n / c->rho : 100.0;
+    hsbd_rods_params p = {.n = n,
+                          .length = L,
+                          .sigma = c->sigma,
+                          .diffusion = 1,
+                          .kT = 1,
+                          .dt = 1e-4,
+                          .seed = 1,
+                          .hard_core = hard_core,
+                          .contact_rule = contact_rule};
+    hsbd_field_add(&p.field, hsbd_field_cosine(6.0, 1.0));
+    hsbd_error err;
+    hsbd_rods *r = hsbd_rods_alloc(&p, &err);
+    if (!r) return NAN;
+    hsbd_rods_init_equilibrium(r);
+    uint64_t batch = 1 + (uint64_t)(2e6 / (double)n), steps = 0;
+    for (uint64_t k = 0; k < batch; ++k)
+        if (hsbd_rods_step(r, NULL) != HSBD_OK) return hsbd_rods_free(r), NAN; /* warm-up */
+    const double t0 = now_seconds();
+    double t = t0;
+    while (t - t0 < seconds) {
+        for (uint64_t k = 0; k < batch; ++k)
+            if (hsbd_rods_step(r, NULL) != HSBD_OK) return hsbd_rods_free(r), NAN;
+        steps += batch;
+        t = now_seconds();
+    }
+    hsbd_rods_free(r);
+    return (double)n * (double)steps / (t - t0);
+}
+
+/* EDBD of monodisperse spheres: 3D, D = sigma = 1, from an fcc lattice. */
+typedef struct sphere_bench_case {
+    const char *name;
+    size_t n;
+    double phi, dt;
+} sphere_bench_case;
+
+static const sphere_bench_case sphere_bench_cases[] = {
+    {"spheres-N4000-phi0.3-dt1e-3", 4000, 0.3, 1e-3},
+    {"spheres-N4000-phi0.3-dt1e-4", 4000, 0.3, 1e-4},
+    {"spheres-N4000-phi0.5-dt1e-3", 4000, 0.5, 1e-3},
+    {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4},
+    {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3},
+    {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4},
+    {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3}, /* scaling in N; events by group */
+};
+
+/* steps per second; *coll: collisions per step */
+static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, double seconds,
+                                double *coll) {
+    const double side = cbrt((double)c->n * 3.14159265358979323846 / 6 / c->phi);
+    const hsbd_spheres_params p = {.n = c->n,
+                                   .dimension = 3,
+                                   .box = {side, side, side},
+                                   .sigma = 1,
+                                   .diffusion = 1,
+                                   .kT = 1,
+                                   .dt = c->dt,
+                                   .seed = 1,
+                                   .hard_core = hard_core};
+    hsbd_error err;
+    hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+    if (!s || hsbd_spheres_init_lattice(s, &err) != HSBD_OK) {
+        hsbd_spheres_free(s);
+        return NAN;
+    }
+    const uint64_t batch = 1 + (uint64_t)(1e6 / (double)c->n);
+    /* warm-up: 0.3 Brownian times melt the lattice and let the neighbour rows reach the
+     * capacity the fluid needs (a short warm-up measured a lattice-like state at N 1e5) */
+    const uint64_t warm = (uint64_t)fmax(5.0 * (double)batch, ceil(0.3 / c->dt));
+    for (uint64_t k = 0; k < warm; ++k)
+        if (hsbd_spheres_step(s) != HSBD_OK) return hsbd_spheres_free(s), NAN;
+    hsbd_spheres_reset_stats(s);
+    uint64_t steps = 0;
+    const double t0 = now_seconds();
+    double t = t0;
+    while (t - t0 < seconds) {
+        for (uint64_t k = 0; k < batch; ++k)
+            if (hsbd_spheres_step(s) != HSBD_OK) return hsbd_spheres_free(s), NAN;
+        steps += batch;
+        t = now_seconds();
+    }
+    *coll = (double)hsbd_spheres_get_stats(s).collisions / (double)steps;
+    hsbd_spheres_free(s);
+    return (double)steps / (t - t0);
+}
+
+static void sphere_bench(const char *only, double seconds, FILE *out) {
+    int header = 0;
+    for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0]; ++k) {
+        const sphere_bench_case *c = &sphere_bench_cases[k];
+        if (only && strcmp(only, c->name)) continue;
+        if (!header++)
+            fprintf(out,
+                    "# EDBD, 3D monodisperse spheres, D = sigma = 1, from an fcc lattice after 0.3 "
+                    "Brownian times of warm-up;\n# BT/s = Brownian times (sigma^2/D) simulated "
+                    "per second; free = hard core off\n"
+                    "%-30s %7s %9s %9s %10s %9s %9s %7s\n",
+                    "case", "N", "BT/s", "ns/p-step", "ns/coll", "coll/p-st", "free BT/s", "ratio");
+        double coll = 0, coll_free = 0;
+        const double hard = sphere_bench_rate(c, 1, seconds, &coll);
+        const double free_ = sphere_bench_rate(c, 0, seconds, &coll_free);
+        const double n = (double)c->n;
+        fprintf(out, "%-30s %7zu %9.3f %9.1f %10.1f %9.4f %9.3f %7.2f\n", c->name, c->n,
+                hard * c->dt, 1e9 / (hard * n), coll > 0 ? 1e9 / (hard * coll) : NAN, coll / n,
+                free_ * c->dt, free_ / hard);
+        fflush(out);
+    }
+}
+
+void hsbd_bench_list(FILE *out) {
+    for (size_t k = 0; k < sizeof bench_cases / sizeof bench_cases[0]; ++k)
+        fprintf(out, "%s\n", bench_cases[k].name);
+    for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0]; ++k)
+        fprintf(out, "%s\n", sphere_bench_cases[k].name);
+}
+
+int hsbd_bench_has_case(const char *name) {
+    for (size_t k = 0; k < sizeof bench_cases / sizeof bench_cases[0]; ++k)
+        if (!strcmp(name, bench_cases[k].name)) return 1;
+    for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0]; ++k)
+        if (!strcmp(name, sphere_bench_cases[k].name)) return 1;
+    return 0;
+}
+
+void hsbd_bench_run(const char *only, double seconds, FILE *out) {
+    fprintf(out,
+            "# hsbd %s (git %s) bench: BCD step, cosine field U0=6 lambda=1, D=1, dt=1e-4,\n"
+            "# one core; M = 10^6 particle-steps per second; reflect = the default contact rule,\n"
+            "# sticky = the paper's rule; free = same system, hard core off; cost = free/hard\n",
+            HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
+    fprintf(out, "%-26s %9s %12s %12s %12s %8s %8s\n", "case", "N", "reflect M/s", "sticky M/s",
+            "free M/s", "cost", "cost st.");
+    for (size_t k = 0; k < sizeof bench_cases / sizeof bench_cases[0]; ++k) {
+        const bench_case *c = &bench_cases[k];
+        if (only && strcmp(only, c->name)) continue;
+        const double reflect = bench_rate(c, 1, HSBD_CONTACT_REFLECT, seconds);
+        const double sticky = bench_rate(c, 1, HSBD_CONTACT_STICKY, seconds);
+        const double free_ = bench_rate(c, 0, HSBD_CONTACT_REFLECT, seconds);
+        const size_t n = c->n ? c->n : (size_t)llround(c->rho * 100.0);
+        fprintf(out, "%-26s %9zu %12.1f %12.1f %12.1f %8.2f %8.2f\n", c->name, n, reflect / 1e6,
+                sticky / 1e6, free_ / 1e6, free_ / reflect, free_ / sticky);
+        fflush(out);
+    }
+    sphere_bench(only, seconds, out);
+}
