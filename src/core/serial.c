@@ -56,8 +56,19 @@ void hsbd_put_tag(hsbd_writer *w, const char *tag) {
     hsbd_put_bytes(w, t, TAG_LEN);
 }
 
+/* On little-endian hosts an array's bytes are its serial form: copied at once. */
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+enum { NATIVE_LITTLE_ENDIAN = 1 };
+#else
+enum { NATIVE_LITTLE_ENDIAN = 0 };
+#endif
+
 void hsbd_put_f64s(hsbd_writer *w, const double *v, size_t n) {
     hsbd_put_u64(w, n);
+    if (NATIVE_LITTLE_ENDIAN) {
+        hsbd_put_bytes(w, v, n * sizeof *v);
+        return;
+    }
     for (size_t i = 0; i < n; ++i)
         hsbd_put_f64(w, v[i]);
 }
@@ -163,6 +174,7 @@ int hsbd_get_count(hsbd_reader *r, uint64_t want, const char *what) {
 
 int hsbd_get_f64s(hsbd_reader *r, double *v, size_t n) {
     if (hsbd_get_count(r, n, "array")) return -1;
+    if (NATIVE_LITTLE_ENDIAN) return hsbd_get_bytes(r, v, n * sizeof *v);
     for (size_t i = 0; i < n; ++i)
         if (hsbd_get_f64(r, &v[i])) return -1;
     return 0;

@@ -1492,8 +1492,11 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
 void hsbd_config_write_header(const hsbd_config *cfg, FILE *out, const char *prefix) {
     char v[HSBD_PATH_MAX + 64];
     for (size_t i = 0; i < NKEYS; ++i) {
-        /* where the run was written is not a parameter: tables stay byte-identical */
-        if (!strcmp(schema[i].section, "output") && !strcmp(schema[i].key, "dir")) continue;
+        /* where the run was written, and how often it was checkpointed, are not
+         * parameters of the results: tables stay byte-identical */
+        if (!strcmp(schema[i].section, "output") &&
+            (!strcmp(schema[i].key, "dir") || !strncmp(schema[i].key, "checkpoint", 10)))
+            continue;
         if (key_of_other_model(cfg, schema[i].section, schema[i].key)) continue; /* not read */
         format_value(cfg, &schema[i], v, sizeof v);
         fprintf(out, "%s%s.%s = %s\n", prefix, schema[i].section, schema[i].key, v);

@@ -68,11 +68,29 @@ static int sync_streams(run *r, hsbd_error *err) {
     return HSBD_OK;
 }
 
-static int write_file(const char *path, const void *data, size_t n, hsbd_error *err) {
+/* The file: magic, format, the payload's length, the payload, its CRC-64 (no copy of the
+ * payload is made: it can be most of the run's memory). */
+static int write_file(const char *path, const hsbd_writer *payload, hsbd_error *err) {
     FILE *f = fopen(path, "wb");
     if (!f) return hsbd_error_set(err, HSBD_EIO, "cannot write '%s': %s", path, strerror(errno));
-    int bad = fwrite(data, 1, n, f) != n || fflush(f) != 0 || fsync(fileno(f)) != 0;
+    hsbd_writer head, tail;
+    hsbd_writer_init(&head), hsbd_writer_init(&tail);
+    hsbd_put_bytes(&head, magic, sizeof magic);
+    hsbd_put_u64(&head, CHECKPOINT_FORMAT);
+    hsbd_put_u64(&head, payload->len);
+    hsbd_put_u64(&tail, hsbd_crc64(0, payload->data, payload->len));
+    if (head.oom || tail.oom) {
+        hsbd_writer_free(&head), hsbd_writer_free(&tail);
+        fclose(f);
+        remove(path);
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing '%s'", path);
+    }
+    int bad = fwrite(head.data, 1, head.len, f) != head.len ||
+              fwrite(payload->data, 1, payload->len, f) != payload->len ||
+              fwrite(tail.data, 1, tail.len, f) != tail.len || fflush(f) != 0 ||
+              fsync(fileno(f)) != 0;
     const int saved = errno;
+    hsbd_writer_free(&head), hsbd_writer_free(&tail);
     bad |= fclose(f) != 0;
     if (bad) {
         remove(path);
@@ -103,23 +121,14 @@ int run_checkpoint_write(run *r, hsbd_error *err) {
     save_run(r, &w);
     r->model.save(r, &w);
     hsbd_put_tag(&w, "end");
-    hsbd_writer file;
-    hsbd_writer_init(&file);
-    hsbd_put_bytes(&file, magic, sizeof magic);
-    hsbd_put_u64(&file, CHECKPOINT_FORMAT);
-    hsbd_put_u64(&file, w.len);
-    hsbd_put_bytes(&file, w.data, w.len);
-    hsbd_put_u64(&file, hsbd_crc64(0, w.data, w.len));
     const char *dir = r->cfg->output.dir;
     char path[HSBD_PATH_MAX + 32], part[HSBD_PATH_MAX + 40], prev[HSBD_PATH_MAX + 32];
     snprintf(path, sizeof path, "%s/%s", dir, HSBD_CHECKPOINT_FILE);
     snprintf(part, sizeof part, "%s.part", path);
     snprintf(prev, sizeof prev, "%s/%s", dir, HSBD_CHECKPOINT_PREV);
-    if (w.oom || file.oom)
-        rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory for the checkpoint '%s'", path);
-    if (rc == HSBD_OK) rc = write_file(part, file.data, file.len, err);
+    if (w.oom) rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory for the checkpoint '%s'", path);
+    if (rc == HSBD_OK) rc = write_file(part, &w, err);
     hsbd_writer_free(&w);
-    hsbd_writer_free(&file);
     if (rc != HSBD_OK) return rc;
     /* the previous checkpoint stays until the new one is complete */
     if (access(path, F_OK) == 0 && rename(path, prev) != 0)

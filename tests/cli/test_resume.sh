@@ -154,6 +154,18 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     done
     "$HSBD" resume nowhere --quiet 2>err
     if [ $? = 2 ] && grep -q "nowhere" err; then ok; else bad "missing directory: $(cat err)"; fi
+    # taking checkpoints never changes the results, not even the tables' bytes
+    "$HSBD" run rods.ini --quiet --set run.t_total=1 --set output.checkpoints=off --out ck-off 2>/dev/null
+    "$HSBD" run rods.ini --quiet --set run.t_total=1 --set output.checkpoint_every=1e-4 --out ck-all 2>/dev/null
+    "$HSBD" run spheres.ini --quiet --set run.t_total=0.5 --set output.checkpoints=off --out cks-off 2>/dev/null
+    "$HSBD" run spheres.ini --quiet --set run.t_total=0.5 --set output.checkpoint_every=1e-3 --out cks-all 2>/dev/null
+    same=1
+    for f in ck-off/*.tsv ck-off/*.xyz cks-off/*.tsv cks-off/*.xyz; do
+        g=${f/ck-off/ck-all}; g=${g/cks-off/cks-all}
+        cmp -s "$f" "$g" || { same=0; echo "checkpoints changed $f" >&2; }
+    done
+    if [ $same = 1 ] && [ -s ck-all/checkpoint.prev.hsbd ] && [ ! -e ck-off/checkpoint.hsbd ]; then ok; else
+        bad "checkpoints every step changed the results"; fi
     # an extension: the run goes on to the longer time; the trajectory, currents and MSD
     # are those of a run planned that long (with the lag grid and frame interval the first
     # run derived from its own length), the means too; the error blocks keep their length,
