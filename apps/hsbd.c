@@ -245,7 +245,8 @@ static int cmd_run(int argc, char **argv) {
         if (strlen(o->value) >= HSBD_PATH_MAX) {
             fprintf(stderr, "hsbd run: %s: the value is longer than %d characters\n", o->flag,
                     HSBD_PATH_MAX - 1);
-            return free(overrides), EXIT_INPUT;
+            if (config_path) free((char *)source.text);
+            return free(sets), free(set_list), free(overrides), EXIT_INPUT;
         }
         snprintf(sets[source.nsets], sizeof sets[0], "%s", buf);
         set_list[source.nsets] = sets[source.nsets];
