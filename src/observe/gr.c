@@ -167,32 +167,47 @@ int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
         if (hsbd_cells_insert(&g->cells, (int32_t)i, v->x + 3 * i)) return HSBD_ENOMEM;
     const double rmax2 = g->r_max * g->r_max, inv_w = 1.0 / g->width;
     const double h_inv = GR_FIT_BINS / g->fit_width;
-    for (size_t i = 0; i < g->n; ++i) {
+    /* cell by cell: the cells around are the same for all of a cell's points, and the
+     * positions are read from the cells' own contiguous slots, not by particle index
+     * (which at large N is a cache miss per pair) */
+    const hsbd_cells *cells = &g->cells;
+    for (size_t c = 0; c < cells->ncells; ++c) {
+        const uint32_t nin = hsbd_cells_count(cells, (int32_t)c);
+        if (!nin) continue;
+        const int32_t *ids = hsbd_cells_ids(cells, (int32_t)c);
+        const double *pos = hsbd_cells_positions(cells, (int32_t)c);
         int32_t around[27];
-        const int nc = hsbd_cells_around(&g->cells, v->x + 3 * i, around);
-        const double *xi = v->x + 3 * i;
-        for (int q = 0; q < nc; ++q)
-            for (uint32_t u = 0; u < hsbd_cells_count(&g->cells, around[q]); ++u) {
-                const int32_t j = hsbd_cells_ids(&g->cells, around[q])[u];
-                if (j <= (int32_t)i) continue;
-                double r2 = 0;
-                for (int a = 0; a < g->dim; ++a) {
-                    const double d = hsbd_wrap_delta(v->x[3 * (size_t)j + a] - xi[a], g->box[a]);
-                    r2 += d * d;
-                }
-                if (r2 >= rmax2) continue;
-                const double r = sqrt(r2);
-                double *acc =
-                    g->acc +
-                    pair_index(g->nspecies, (size_t)v->species[i], (size_t)v->species[j]) * row;
-                const size_t k = (size_t)(r * inv_w);
-                if (k < g->bins) acc[k] += 1;
-                const double sij = 0.5 * (v->sigma[i] + v->sigma[j]), gap = r - sij;
-                if (gap >= 0 && gap < g->fit_width) {
-                    const size_t f = (size_t)(gap * h_inv);
-                    acc[g->bins + (f < GR_FIT_BINS ? f : GR_FIT_BINS - 1)] += sij;
+        const int nc = hsbd_cells_around(cells, pos, around);
+        for (uint32_t p = 0; p < nin; ++p) {
+            const int32_t i = ids[p];
+            const double *xi = pos + 3 * (size_t)p;
+            const size_t si = (size_t)v->species[i];
+            for (int q = 0; q < nc; ++q) {
+                const uint32_t cnt = hsbd_cells_count(cells, around[q]);
+                const int32_t *jd = hsbd_cells_ids(cells, around[q]);
+                const double *xj = hsbd_cells_positions(cells, around[q]);
+                for (uint32_t u = 0; u < cnt; ++u) {
+                    const int32_t j = jd[u];
+                    if (j <= i) continue;
+                    double r2 = 0;
+                    for (int a = 0; a < g->dim; ++a) {
+                        const double d = hsbd_wrap_delta(xj[3 * (size_t)u + a] - xi[a], g->box[a]);
+                        r2 += d * d;
+                    }
+                    if (r2 >= rmax2) continue;
+                    const double r = sqrt(r2);
+                    double *acc =
+                        g->acc + pair_index(g->nspecies, si, (size_t)v->species[j]) * row;
+                    const size_t k = (size_t)(r * inv_w);
+                    if (k < g->bins) acc[k] += 1;
+                    const double sij = 0.5 * (v->sigma[i] + v->sigma[j]), gap = r - sij;
+                    if (gap >= 0 && gap < g->fit_width) {
+                        const size_t f = (size_t)(gap * h_inv);
+                        acc[g->bins + (f < GR_FIT_BINS ? f : GR_FIT_BINS - 1)] += sij;
+                    }
                 }
             }
+        }
     }
     double *b = hsbd_blocks_acc(g->blocks);
     for (size_t k = 0; k < g->npairs * row; ++k)
