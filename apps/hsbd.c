@@ -763,8 +763,7 @@ int main(int argc, char **argv) {
                         "hsbd: argument %d%s%s%s has a control character (0x%02x at position "
                         "%d); allowed: text\n",
                         i, after_flag ? " (the value of " : "", after_flag ? argv[i - 1] : "",
-                        after_flag ? ")" : "", (unsigned)(unsigned char)*p,
-                        (int)(p - argv[i]) + 1);
+                        after_flag ? ")" : "", (unsigned)(unsigned char)*p, (int)(p - argv[i]) + 1);
                 return EXIT_INPUT;
             }
     const char *cmd = argv[1];
