@@ -226,6 +226,16 @@ int config_section_known(const char *name) {
     return 0;
 }
 
+void config_section_list(char *buf, size_t len) {
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < NKEYS; ++i)
+        if ((i == 0 || strcmp(config_schema[i - 1].section, config_schema[i].section)) &&
+            used < len)
+            used += (size_t)snprintf(buf + used, len - used, "%s[%s]", used ? ", " : "",
+                                     config_schema[i].section);
+}
+
 int config_key_read(const hsbd_config *cfg, const key_spec *k) {
     return (k->models & (1u << cfg->system.model)) != 0;
 }

@@ -50,6 +50,8 @@ void *config_slot(hsbd_config *cfg, const key_spec *k);
 const void *config_cslot(const hsbd_config *cfg, const key_spec *k);
 /* is `name` a section of the table? */
 int config_section_known(const char *name);
+/* "[system], [contact], ...": the table's sections in its order */
+void config_section_list(char *buf, size_t len);
 /* the section of the table nearest to a misspelt one, and its edit distance */
 const char *config_nearest_section(const char *name, size_t *distance);
 /* Nearest known "section.key" to a misspelt one, in buf; NULL when none is near. */
