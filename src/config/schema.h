@@ -112,11 +112,8 @@ int config_authors_assign(ini_state *st, const char *name, const char *value);
 /* What the authors' program fixes that their files do not say (field, kT). */
 void config_authors_finish(hsbd_config *cfg);
 
-/* ---- finalise.c, memory.c -------------------------------------------------------------- */
+/* ---- memory.c ---------------------------------------------------------------------- */
 
-/* Split a list on spaces and commas into at most `max` words; returns the count, or
- * max + 1 when there are more. */
-size_t config_split_list(char *text, char **words, size_t max);
 /* Refuses a run whose estimated memory exceeds a share of the machine's, naming the key
  * behind its largest part. `particles_only`: only the particles' part (before anything of
  * size N is allocated while finalising). */
