@@ -397,7 +397,10 @@ bad_case theory-no-out "--out FILE (or - for standard output) is required" -- th
 bad_case theory-flag-value "--sigma needs a value, but the next argument '--rho' is a flag" -- theory tonks --sigma --rho 0.5
 bad_case theory-range "--rho = '-1'; allowed: 0 < rho < inf" -- theory tonks --sigma 0.5 --rho -1
 bad_case theory-unknown "unknown option '--frobnicate'" -- theory tonks --sigma 0.5 --rho 0.5 --frobnicate 1
-bad_case theory-which "hsbd theory: expected 'percus', 'tonks' or 'box'" -- theory maxwell
+bad_case theory-which "hsbd theory: expected 'percus', 'tonks', 'box' or 'washboard'" -- theory maxwell
+bad_case theory-washboard-tilt "give --force F, or --force-min A --force-max B --forces K" -- theory washboard --amplitude 2 --out -
+bad_case theory-washboard-both "give --force F, or --force-min A" -- theory washboard --amplitude 2 --force 1 --forces 3 --force-min 0 --force-max 1 --out -
+bad_case theory-washboard-range "--amplitude = '1e5'; allowed: -10000 <= amplitude <= 10000" -- theory washboard --amplitude 1e5 --force 1 --out -
 bad_case theory-box-whole "need whole --N" -- theory box --N 2.5 --L 10 --sigma 1 --out -
 bad_case bench-case "--case: no case named 'nope' (hsbd bench --list names them)" -- bench --case nope
 bad_case bench-seconds "--seconds needs a value" -- bench --seconds
