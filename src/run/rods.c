@@ -28,6 +28,8 @@ typedef struct rods_model {
     hsbd_contacts *contacts;                 /* contacts per species pair, at walls */
     int *species;                            /* mixtures: species of each rod, line order */
     hsbd_clusters *clusters;
+    hsbd_drift *drift;          /* mean velocity, D_eff of tagged rods and of the centre of mass */
+    double *drift_x;            /* its scratch: N unwrapped positions */
     hsbd_rods_step_stats stats; /* of the last step, when it is sampled */
     run_stream *trajectory, *current;
     double sum_x_start, sum_x_last_current; /* for the particle current */
@@ -290,6 +292,8 @@ static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
     if (hsbd_profile_sample(m->profile, &v) != HSBD_OK)
         return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the profiles");
     hsbd_msd_sample(m->msd, &v);
+    if (hsbd_drift_sample(m->drift, &v, m->drift_x) != HSBD_OK)
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the drift");
     for (size_t q = 0; q < cfg->species.n; ++q)
         hsbd_msd_sample(m->msd_species[q], &v);
     if (cfg->system.hard_core) {
@@ -371,6 +375,10 @@ static int build_observers(const hsbd_config *cfg, rods_model *m, hsbd_error *er
         return err->status;
     m->clusters = hsbd_clusters_alloc(n, blocks, samples);
     if (!m->clusters) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    m->drift = hsbd_drift_alloc(n, blocks, samples, err);
+    if (!m->drift) return err->status;
+    m->drift_x = malloc(n * sizeof *m->drift_x);
+    if (!m->drift_x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     if (cfg->system.hard_core) {
         m->contacts = hsbd_contacts_alloc(n, cfg->species.n, blocks, samples, err);
         if (!m->contacts) return err->status;
@@ -422,10 +430,13 @@ static void rods_start_production(run *r) {
 static int rods_start_replica(run *r, size_t k, hsbd_error *err) {
     rods_model *m = model_of(r);
     m->displacement_before += sum_unwrapped(m->rods) - m->sum_x_start;
-    int rc = HSBD_OK;
-    if (m->x_start)
+    const hsbd_rods_view end = hsbd_rods_get_view(m->rods); /* the last replica's end */
+    int rc = hsbd_drift_close(m->drift, &end, m->drift_x) == HSBD_OK
+                 ? HSBD_OK
+                 : hsbd_error_set(err, HSBD_ENOMEM, "out of memory closing a drift block");
+    if (rc == HSBD_OK && m->x_start)
         rc = hsbd_rods_set_positions(m->rods, m->x_start, err);
-    else
+    else if (rc == HSBD_OK)
         hsbd_rods_init_equilibrium_draw(m->rods, k);
     hsbd_msd_restart(m->msd);
     for (size_t q = 0; q < r->cfg->species.n; ++q)
@@ -609,6 +620,23 @@ static void write_contacts_json(const run *r, const rods_model *m, FILE *f) {
     fprintf(f, "\n  },\n");
 }
 
+/* the mean velocity and D_eff (tagged, centre of mass) of the time blocks, the open block
+ * counted up to now; the current's error is the velocity's times N/L */
+static void write_drift_json(const rods_model *m, const hsbd_rods_view *v, FILE *f) {
+    for (size_t i = 0; i < v->n; ++i)
+        m->drift_x[i] = v->z[i] + v->offset[i] + v->unwrap;
+    hsbd_drift_result d;
+    hsbd_drift_get(m->drift, v->time, m->drift_x, &d);
+    hsbd_json_number(f, "particle_current_err", d.velocity_err * (double)v->n / v->length, 1);
+    hsbd_json_number(f, "mean_velocity", d.velocity, 1);
+    hsbd_json_number(f, "mean_velocity_err", d.velocity_err, 1);
+    hsbd_json_number(f, "d_eff_tagged", d.d_tagged, 1);
+    hsbd_json_number(f, "d_eff_tagged_err", d.d_tagged_err, 1);
+    hsbd_json_number(f, "d_eff_cm", d.d_cm, 1);
+    hsbd_json_number(f, "d_eff_cm_err", d.d_cm_err, 1);
+    hsbd_json_number(f, "drift_block_time", d.block_time, 1);
+}
+
 static void rods_write_summary(run *r, FILE *f) {
     const rods_model *m = model_of(r);
     const hsbd_config *cfg = r->cfg;
@@ -638,6 +666,7 @@ static void rods_write_summary(run *r, FILE *f) {
     hsbd_json_number(f, "min_gap", cfg->system.hard_core ? hsbd_profile_min_gap(m->profile) : NAN,
                      1);
     hsbd_json_number(f, "particle_current", current, 1);
+    write_drift_json(m, &v, f);
     if (m->contacts && r->steps_done >= (uint64_t)cfg->sample.every) write_contacts_json(r, m, f);
     hsbd_json_number(f, "final_time", v.time, 1);
 }
@@ -656,6 +685,7 @@ static void rods_save(const run *r, hsbd_writer *w) {
     for (size_t q = 0; q < r->cfg->species.n; ++q)
         hsbd_msd_save(m->msd_species[q], w);
     hsbd_clusters_save(m->clusters, w);
+    hsbd_drift_save(m->drift, w);
     if (m->contacts) hsbd_contacts_save(m->contacts, w);
     if (m->x_start) hsbd_put_f64s(w, m->x_start, (size_t)r->cfg->system.n);
 }
@@ -670,7 +700,7 @@ static int rods_load(run *r, hsbd_reader *rd) {
     m->sum_x_start = sums[0], m->sum_x_last_current = sums[1], m->displacement_before = sums[2];
     for (size_t q = 0; q < r->cfg->species.n; ++q)
         if (hsbd_msd_load(m->msd_species[q], rd)) return -1;
-    if (hsbd_clusters_load(m->clusters, rd)) return -1;
+    if (hsbd_clusters_load(m->clusters, rd) || hsbd_drift_load(m->drift, rd)) return -1;
     if (m->contacts && hsbd_contacts_load(m->contacts, rd)) return -1;
     if (m->x_start && hsbd_get_f64s(rd, m->x_start, (size_t)r->cfg->system.n)) return -1;
     return 0;
@@ -689,6 +719,8 @@ static void rods_release(run *r) {
     hsbd_contacts_free(m->contacts);
     free(m->species);
     hsbd_clusters_free(m->clusters);
+    hsbd_drift_free(m->drift);
+    free(m->drift_x);
     free(m->x_start);
     free(m);
     r->m = NULL;
