@@ -177,7 +177,7 @@ const key_spec config_schema[] = {
      0, "largest MSD lag time (0: t_total/10)"},
     {"sample", "msd_points_per_decade", ALL_MODELS, K_INT, OFF(sample.msd_points_per_decade), 1,
      1000, 0, "10", 0, "log-spaced MSD lags per decade"},
-    {"sample", "phases", RODS, K_INT, OFF(sample.phases), 0, 1e4, 0, "0", 0,
+    {"sample", "phases", RODS, K_INT, OFF(sample.phases), 0, 100, 0, "0", 0,
      "profiles resolved by the drive's phase: K bins of drive.period, each sample goes to the "
      "bin of its time (stroboscopic), written to density_phases.tsv; 0: none; needs drive.wave"},
     {"sample", "current_every", RODS, K_DOUBLE, OFF(sample.current_every), 0, INF, OPEN_MAX, "0", 0,

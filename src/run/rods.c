@@ -28,9 +28,10 @@ typedef struct rods_model {
     hsbd_contacts *contacts;                 /* contacts per species pair, at walls */
     int *species;                            /* mixtures: species of each rod, line order */
     hsbd_clusters *clusters;
-    hsbd_drift *drift;          /* mean velocity, D_eff of tagged rods and of the centre of mass */
-    double *drift_x;            /* its scratch: N unwrapped positions */
-    hsbd_rods_step_stats stats; /* of the last step, when it is sampled */
+    hsbd_drift *drift; /* mean velocity, D_eff of tagged rods and of the centre of mass */
+    double *drift_x;   /* its scratch: N unwrapped positions */
+    hsbd_profile **phase_profile; /* sample.phases: one density profile per phase bin */
+    hsbd_rods_step_stats stats;   /* of the last step, when it is sampled */
     run_stream *trajectory, *current;
     double sum_x_start, sum_x_last_current; /* for the particle current */
     double displacement_before;             /* sum of displacements of earlier replicas */
@@ -285,6 +286,13 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
 
 /* ---- observers and their operations ----------------------------------------------------- */
 
+/* sample.phases: the bin of t mod drive.period, K bins of the period (stroboscopic) */
+static size_t phase_bin(const hsbd_config *cfg, double t) {
+    const double period = cfg->drive.period, phase = t / period - floor(t / period);
+    const size_t k = (size_t)(phase * (double)cfg->sample.phases);
+    return k < (size_t)cfg->sample.phases ? k : (size_t)cfg->sample.phases - 1;
+}
+
 static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
     rods_model *m = ctx;
     const hsbd_config *cfg = r->cfg;
@@ -300,6 +308,8 @@ static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
         hsbd_contacts_sample(m->contacts, &v);
         hsbd_clusters_sample(m->clusters, m->rods, &m->stats);
     }
+    if (m->phase_profile && hsbd_profile_sample(m->phase_profile[phase_bin(cfg, v.time)], &v))
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the phase profiles");
     if (hsbd_profile_nonfinite(m->profile))
         return hsbd_error_set(err, HSBD_ENUMERIC,
                               "non-finite position after step %llu (time %g); check the "
@@ -379,6 +389,17 @@ static int build_observers(const hsbd_config *cfg, rods_model *m, hsbd_error *er
     if (!m->drift) return err->status;
     m->drift_x = malloc(n * sizeof *m->drift_x);
     if (!m->drift_x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    const size_t phases = (size_t)cfg->sample.phases;
+    if (phases > 0) {
+        m->phase_profile = calloc(phases, sizeof *m->phase_profile);
+        if (!m->phase_profile) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        for (size_t k = 0; k < phases; ++k) {
+            m->phase_profile[k] =
+                hsbd_profile_alloc(cfg->sample.period, cfg->sample.bin_width,
+                                   cfg->sample.contact_width, blocks, samples / phases + 1, err);
+            if (!m->phase_profile[k]) return err->status;
+        }
+    }
     if (cfg->system.hard_core) {
         m->contacts = hsbd_contacts_alloc(n, cfg->species.n, blocks, samples, err);
         if (!m->contacts) return err->status;
@@ -583,9 +604,37 @@ static int write_clusters(const run *r, const rods_model *m, hsbd_error *err) {
     return rc;
 }
 
+/* sample.phases: the density in each phase bin of the drive, one value/error pair each */
+static int write_phase_profiles(const run *r, const rods_model *m, hsbd_error *err) {
+    const size_t nb = hsbd_profile_bins(m->profile), phases = (size_t)r->cfg->sample.phases;
+    double *x = malloc(nb * sizeof *x), *val = malloc(2 * phases * nb * sizeof *val);
+    char *columns = malloc(phases * 48 + 8);
+    int rc = x && val && columns
+                 ? HSBD_OK
+                 : hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing density_phases.tsv");
+    if (rc == HSBD_OK) {
+        strcpy(columns, "x");
+        for (size_t k = 0; k < phases; ++k) {
+            hsbd_profile_density(m->phase_profile[k], x, val + 2 * k * nb, val + (2 * k + 1) * nb);
+            sprintf(columns + strlen(columns), "\trho_%zu\trho_%zu_err", k, k);
+        }
+        char what[320];
+        snprintf(what, sizeof what,
+                 "density profile resolved by the drive's phase (stroboscopic): column rho_k "
+                 "holds the samples with t mod drive.period in [k, k+1) drive.period / %zu, "
+                 "folded into one sample.period and normalised to mean N/L; block errors",
+                 phases);
+        rc = hsbd_write_columns_table(r->cfg->output.dir, "density_phases.tsv", r->cfg, what,
+                                      columns, nb, x, phases, val, err);
+    }
+    free(x), free(val), free(columns);
+    return rc;
+}
+
 static int rods_write_tables(run *r, hsbd_error *err) {
     const rods_model *m = model_of(r);
     int rc = write_profiles(r, m, err);
+    if (rc == HSBD_OK && m->phase_profile) rc = write_phase_profiles(r, m, err);
     if (rc == HSBD_OK) rc = write_profile_blocks(r, m, err);
     if (rc == HSBD_OK) rc = write_msd(r, m, err);
     if (rc == HSBD_OK && r->cfg->system.hard_core) rc = write_clusters(r, m, err);
@@ -686,6 +735,8 @@ static void rods_save(const run *r, hsbd_writer *w) {
         hsbd_msd_save(m->msd_species[q], w);
     hsbd_clusters_save(m->clusters, w);
     hsbd_drift_save(m->drift, w);
+    for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
+        hsbd_profile_save(m->phase_profile[k], w);
     if (m->contacts) hsbd_contacts_save(m->contacts, w);
     if (m->x_start) hsbd_put_f64s(w, m->x_start, (size_t)r->cfg->system.n);
 }
@@ -701,6 +752,8 @@ static int rods_load(run *r, hsbd_reader *rd) {
     for (size_t q = 0; q < r->cfg->species.n; ++q)
         if (hsbd_msd_load(m->msd_species[q], rd)) return -1;
     if (hsbd_clusters_load(m->clusters, rd) || hsbd_drift_load(m->drift, rd)) return -1;
+    for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
+        if (hsbd_profile_load(m->phase_profile[k], rd)) return -1;
     if (m->contacts && hsbd_contacts_load(m->contacts, rd)) return -1;
     if (m->x_start && hsbd_get_f64s(rd, m->x_start, (size_t)r->cfg->system.n)) return -1;
     return 0;
@@ -721,6 +774,9 @@ static void rods_release(run *r) {
     hsbd_clusters_free(m->clusters);
     hsbd_drift_free(m->drift);
     free(m->drift_x);
+    for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
+        hsbd_profile_free(m->phase_profile[k]);
+    free(m->phase_profile);
     free(m->x_start);
     free(m);
     r->m = NULL;

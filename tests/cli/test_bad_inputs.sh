@@ -165,7 +165,7 @@ bad_case drive-period-without-wave "drive.period is set, but drive.wave = none" 
 bad_case drive-zero-amplitude "drive.amplitude = 0 with drive.wave set changes nothing" -- run good.ini --set drive.parameter=amplitude --set drive.wave=cosine --set drive.period=2
 bad_case drive-wave-name "drive.wave" "one of none|cosine|square" -- run good.ini --set drive.wave=sawtooth
 bad_case phases-without-drive "sample.phases = 4 needs a periodic drive" -- run good.ini --set sample.phases=4
-bad_case phases-range "sample.phases" "0 <= phases <= 10000" -- run good.ini --set sample.phases=20000
+bad_case phases-range "sample.phases" "0 <= phases <= 100" -- run good.ini --set sample.phases=101
 in_system "$(printf 'N = 2\001 0')" >ctrl.ini
 bad_case control-character "ctrl.ini:2:" "control character 0x01" -- run ctrl.ini
 { echo '[system]'; printf 'N = 2\0 0\n'; rods_ini | tail -n +2; } >nul.ini
