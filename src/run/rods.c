@@ -31,7 +31,8 @@ typedef struct rods_model {
     hsbd_drift *drift; /* mean velocity, D_eff of tagged rods and of the centre of mass */
     double *drift_x;   /* its scratch: N unwrapped positions */
     hsbd_profile **phase_profile; /* sample.phases: one density profile per phase bin */
-    hsbd_rods_step_stats stats;   /* of the last step, when it is sampled */
+    hsbd_blocks *trap; /* field.type with harmonic: X - c(t) and its square at the samples */
+    hsbd_rods_step_stats stats; /* of the last step, when it is sampled */
     run_stream *trajectory, *current;
     double sum_x_start, sum_x_last_current; /* for the particle current */
     double displacement_before;             /* sum of displacements of earlier replicas */
@@ -286,6 +287,26 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
 
 /* ---- observers and their operations ----------------------------------------------------- */
 
+/* The centre of mass minus the harmonic trap's centre at the state's time (each rod's
+ * nearest image on a ring, as in the trap's force), and its square. */
+static void sample_trap(rods_model *m, const hsbd_rods_view *v) {
+    const hsbd_field *base = &hsbd_rods_get_params(m->rods)->field;
+    hsbd_field now;
+    const hsbd_field *field = hsbd_field_at(base, v->time, &now);
+    double center = NAN, e = 0;
+    for (size_t k = 0; k < field->nterms; ++k)
+        if (!strcmp(field->term[k].ops->name, "harmonic"))
+            center = field->term[k].p[field->term[k].ops->position - 1];
+    for (size_t i = 0; i < v->n; ++i) { /* each rod's nearest image, as the trap's force */
+        const double d = v->z[i] + v->offset[i] + v->unwrap - center;
+        e += v->periodic ? d - v->length * floor(d / v->length + 0.5) : d;
+    }
+    e /= (double)v->n;
+    double *acc = hsbd_blocks_acc(m->trap);
+    acc[0] += e, acc[1] += e * e;
+    hsbd_blocks_end_sample(m->trap);
+}
+
 /* sample.phases: the bin of t mod drive.period, K bins of the period (stroboscopic) */
 static size_t phase_bin(const hsbd_config *cfg, double t) {
     const double period = cfg->drive.period, phase = t / period - floor(t / period);
@@ -300,6 +321,7 @@ static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
     if (hsbd_profile_sample(m->profile, &v) != HSBD_OK)
         return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the profiles");
     hsbd_msd_sample(m->msd, &v);
+    if (m->trap) sample_trap(m, &v);
     if (hsbd_drift_sample(m->drift, &v, m->drift_x) != HSBD_OK)
         return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the drift");
     for (size_t q = 0; q < cfg->species.n; ++q)
@@ -389,6 +411,9 @@ static int build_observers(const hsbd_config *cfg, rods_model *m, hsbd_error *er
     if (!m->drift) return err->status;
     m->drift_x = malloc(n * sizeof *m->drift_x);
     if (!m->drift_x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    if ((cfg->field.type & HSBD_FIELD_HARMONIC) &&
+        !(m->trap = hsbd_blocks_alloc(2, blocks, samples)))
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     const size_t phases = (size_t)cfg->sample.phases;
     if (phases > 0) {
         m->phase_profile = calloc(phases, sizeof *m->phase_profile);
@@ -686,6 +711,33 @@ static void write_drift_json(const rods_model *m, const hsbd_rods_view *v, FILE 
     hsbd_json_number(f, "drift_block_time", d.block_time, 1);
 }
 
+/* trap_offset: <X - c> of the centre of mass X and the trap centre c(t); trap_variance: the
+ * variance of X - c, per block about the overall mean (errors from the blocks' scatter) */
+static void write_trap_json(const rods_model *m, FILE *f) {
+    const size_t nb = hsbd_blocks_count(m->trap);
+    double mean[2], err[2], *rows = malloc(2 * nb * sizeof *rows);
+    hsbd_blocks_result(m->trap, mean, err);
+    double var = NAN, var_err = NAN;
+    if (rows) {
+        hsbd_blocks_block_means(m->trap, 0, rows);
+        double s = 0, ss = 0;
+        size_t used = 0;
+        for (size_t k = 0; k < nb; ++k) {
+            const double vb = rows[2 * k + 1] - 2 * mean[0] * rows[2 * k] + mean[0] * mean[0];
+            if (isfinite(vb)) s += vb, ss += vb * vb, ++used;
+        }
+        if (used > 1) {
+            var = s / (double)used;
+            var_err = sqrt(fmax(ss / (double)used - var * var, 0) / (double)(used - 1));
+        }
+        free(rows);
+    }
+    hsbd_json_number(f, "trap_offset", mean[0], 1);
+    hsbd_json_number(f, "trap_offset_err", err[0], 1);
+    hsbd_json_number(f, "trap_variance", var, 1);
+    hsbd_json_number(f, "trap_variance_err", var_err, 1);
+}
+
 static void rods_write_summary(run *r, FILE *f) {
     const rods_model *m = model_of(r);
     const hsbd_config *cfg = r->cfg;
@@ -716,6 +768,7 @@ static void rods_write_summary(run *r, FILE *f) {
                      1);
     hsbd_json_number(f, "particle_current", current, 1);
     write_drift_json(m, &v, f);
+    if (m->trap) write_trap_json(m, f);
     if (m->contacts && r->steps_done >= (uint64_t)cfg->sample.every) write_contacts_json(r, m, f);
     hsbd_json_number(f, "final_time", v.time, 1);
 }
@@ -735,6 +788,7 @@ static void rods_save(const run *r, hsbd_writer *w) {
         hsbd_msd_save(m->msd_species[q], w);
     hsbd_clusters_save(m->clusters, w);
     hsbd_drift_save(m->drift, w);
+    if (m->trap) hsbd_blocks_save(m->trap, w);
     for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
         hsbd_profile_save(m->phase_profile[k], w);
     if (m->contacts) hsbd_contacts_save(m->contacts, w);
@@ -752,6 +806,7 @@ static int rods_load(run *r, hsbd_reader *rd) {
     for (size_t q = 0; q < r->cfg->species.n; ++q)
         if (hsbd_msd_load(m->msd_species[q], rd)) return -1;
     if (hsbd_clusters_load(m->clusters, rd) || hsbd_drift_load(m->drift, rd)) return -1;
+    if (m->trap && hsbd_blocks_load(m->trap, rd)) return -1;
     for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
         if (hsbd_profile_load(m->phase_profile[k], rd)) return -1;
     if (m->contacts && hsbd_contacts_load(m->contacts, rd)) return -1;
@@ -773,6 +828,7 @@ static void rods_release(run *r) {
     free(m->species);
     hsbd_clusters_free(m->clusters);
     hsbd_drift_free(m->drift);
+    hsbd_blocks_free(m->trap);
     free(m->drift_x);
     for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
         hsbd_profile_free(m->phase_profile[k]);
