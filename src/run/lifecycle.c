@@ -514,6 +514,18 @@ int run_checkpoint_try_load(const char *dir, hsbd_error *err) {
     return rc;
 }
 
+/* whether DIR/summary.json is that of a completed run: its results are all committed */
+static int summary_completed(const char *dir) {
+    char path[HSBD_PATH_MAX + 16], line[256];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    FILE *f = fopen(path, "r");
+    int done = 0;
+    while (f && !done && fgets(line, sizeof line, f))
+        done = strstr(line, "\"completed\": true") != NULL;
+    if (f) fclose(f);
+    return done;
+}
+
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
                 hsbd_error *err) {
     hsbd_error_clear(err);
@@ -522,7 +534,10 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     run r = {.opt = opt};
     resumed_source rs = {0};
     int rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
-    if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg))
+    /* a run stopped after its last checkpoint but before its summary was committed is
+     * finished here (no steps), not refused */
+    if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg) &&
+        summary_completed(dir))
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: the run in '%s' is complete (%llu of %llu steps); to "
                             "extend it: --set run.t_total=T with T > %g",
