@@ -27,7 +27,7 @@ enum hsbd_field_terms {
 };
 enum hsbd_boundary { HSBD_BOUNDARY_PERIODIC = 0, HSBD_BOUNDARY_WALLS };
 enum hsbd_pair_type { HSBD_PAIR_NONE = 0, HSBD_PAIR_YUKAWA, HSBD_PAIR_LJ, HSBD_PAIR_TABLE };
-enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ };
+enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ, HSBD_TRAJ_GSD };
 enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE, HSBD_BLOCKS_REPLICAS };
 enum {
     HSBD_PATH_MAX = 1024,

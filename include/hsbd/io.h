@@ -88,4 +88,37 @@ int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, d
 int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
                             hsbd_error *err);
 
+/* ---- GSD trajectories (src/io/gsd.c; docs/trajectories.md) ---- */
+
+/* Rods in a GSD file: a 2D box of length L along x and this height along y, the rods at
+ * y = 0. */
+#define HSBD_GSD_RODS_HEIGHT 1.0
+
+/* A GSD 2.0 file (HOOMD schema 1.4) being written: the layout of its index (all that a
+ * checkpoint keeps besides the file's length) and a scratch buffer. */
+typedef struct hsbd_gsd {
+    FILE *f;
+    uint64_t index_location, index_capacity; /* the index block */
+    uint64_t entries, frames;                /* written so far */
+    uint64_t end;                            /* the file's length */
+    unsigned char *buf;
+    size_t buf_size;
+} hsbd_gsd;
+
+/* A new file in f (opened for update, empty): header, an empty index, the name list. */
+int hsbd_gsd_start(hsbd_gsd *g, FILE *f, hsbd_error *err);
+/* Continues a file cut back to `length` bytes whose layout (index_location, index_capacity,
+ * entries, frames) g holds from the moment it had that length: the header and the unused
+ * index entries, written in place since, are restored. */
+int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, int64_t length, hsbd_error *err);
+void hsbd_gsd_free(hsbd_gsd *g);
+/* One frame: configuration/step, box, particles/N, position (float32, centred at the
+ * origin), image, log/hsbd/time and log/hsbd/position (float64, the same positions);
+ * the first frame also configuration/dimensions, particles/types, typeid, diameter.
+ * names: the species names of a mixture (NULL: one type, "R" for rods, "S" for spheres). */
+int hsbd_gsd_write_rods(hsbd_gsd *g, const hsbd_rods_view *v,
+                        const char (*names)[HSBD_SPECIES_NAME], hsbd_error *err);
+int hsbd_gsd_write_spheres(hsbd_gsd *g, const hsbd_spheres_view *v,
+                           const char (*names)[HSBD_SPECIES_NAME], hsbd_error *err);
+
 #endif

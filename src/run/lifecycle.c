@@ -40,6 +40,18 @@ int run_stream_check(const run_stream *s, hsbd_error *err) {
     return hsbd_error_set(err, HSBD_EIO, "writing '%s' failed: %s", s->file.tmp, strerror(errno));
 }
 
+int run_add_trajectory(run *r, run_action write, void *ctx, run_stream **s, hsbd_error *err) {
+    const hsbd_config *cfg = r->cfg;
+    *s = NULL;
+    if (cfg->output.trajectory == HSBD_TRAJ_NONE) return HSBD_OK;
+    const int gsd = cfg->output.trajectory == HSBD_TRAJ_GSD;
+    *s = run_add_stream(r, gsd ? "trajectory.gsd" : "trajectory.xyz", err);
+    if (!*s) return err->status;
+    (*s)->is_gsd = gsd;
+    return run_add_op(r, "trajectory", run_every(cfg, cfg->output.trajectory_every), write, ctx,
+                      err);
+}
+
 uint64_t run_every(const hsbd_config *cfg, double period) {
     return period > 0 ? (uint64_t)fmax(1.0, round(period / cfg->run.dt)) : 0;
 }
@@ -248,6 +260,7 @@ static void release(run *r) {
             fclose(o->f), o->f = NULL;
         else
             hsbd_outfile_discard(o);
+        hsbd_gsd_free(&r->streams[k].gsd);
     }
     if (r->model.release) r->model.release(r);
 }
@@ -258,6 +271,7 @@ static int open_streams(run *r, hsbd_error *err) {
         if (hsbd_outfile_open(&s->file, r->cfg->output.dir, s->name, err) != HSBD_OK)
             return err->status;
         if (s->header) s->header(r, s->file.f);
+        if (s->is_gsd && hsbd_gsd_start(&s->gsd, s->file.f, err) != HSBD_OK) return err->status;
     }
     return HSBD_OK;
 }
@@ -367,6 +381,8 @@ static int reopen_streams(run *r, hsbd_error *err) {
         run_stream *s = &r->streams[k];
         if (hsbd_outfile_reopen(&s->file, r->cfg->output.dir, s->name, s->committed, err) !=
             HSBD_OK)
+            return err->status;
+        if (s->is_gsd && hsbd_gsd_continue(&s->gsd, s->file.f, s->committed, err) != HSBD_OK)
             return err->status;
     }
     return HSBD_OK;

@@ -289,7 +289,9 @@ static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
 static int write_frame(run *r, void *ctx, hsbd_error *err) {
     rods_model *m = ctx;
     const hsbd_rods_view v = hsbd_rods_get_view(m->rods);
-    hsbd_xyz_write_rods(m->trajectory->file.f, &v, r->cfg->species.n ? r->cfg->species.name : NULL);
+    const char(*names)[HSBD_SPECIES_NAME] = r->cfg->species.n ? r->cfg->species.name : NULL;
+    if (m->trajectory->is_gsd) return hsbd_gsd_write_rods(&m->trajectory->gsd, &v, names, err);
+    hsbd_xyz_write_rods(m->trajectory->file.f, &v, names);
     return run_stream_check(m->trajectory, err);
 }
 
@@ -681,13 +683,7 @@ static void rods_release(run *r) {
 static int register_ops(run *r, rods_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     int rc = run_add_op(r, "sample", (uint64_t)cfg->sample.every, sample_profiles, m, err);
-    if (rc == HSBD_OK && cfg->output.trajectory == HSBD_TRAJ_XYZ) {
-        m->trajectory = run_add_stream(r, "trajectory.xyz", err);
-        rc = m->trajectory
-                 ? run_add_op(r, "trajectory", run_every(cfg, cfg->output.trajectory_every),
-                              write_frame, m, err)
-                 : err->status;
-    }
+    if (rc == HSBD_OK) rc = run_add_trajectory(r, write_frame, m, &m->trajectory, err);
     if (rc == HSBD_OK && cfg->sample.current_every > 0) {
         m->current = run_add_stream(r, "current.tsv", err);
         if (m->current) m->current->header = current_header;

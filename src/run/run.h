@@ -35,6 +35,9 @@ typedef struct run_stream {
     int64_t committed; /* bytes on disk at the last checkpoint */
     /* writes the file's header when a run opens it (may be NULL) */
     void (*header)(const struct run *r, FILE *f);
+    /* a GSD file (also written in place: its index layout goes into checkpoints) */
+    int is_gsd;
+    hsbd_gsd gsd;
 } run_stream;
 
 /* What a model provides. Every function gets the run; the model's own state is r->m. */
@@ -107,6 +110,9 @@ int run_add_op(run *r, const char *name, uint64_t every, run_action act, void *c
 run_stream *run_add_stream(run *r, const char *name, hsbd_error *err);
 /* After writing to a stream: HSBD_EIO naming its file when a write failed (disk full). */
 int run_stream_check(const run_stream *s, hsbd_error *err);
+/* output.trajectory: the stream trajectory.xyz or trajectory.gsd and the operation `write`
+ * that adds a frame every output.trajectory_every; *s stays NULL without a trajectory. */
+int run_add_trajectory(run *r, run_action write, void *ctx, run_stream **s, hsbd_error *err);
 /* Steps between calls for a period of simulated time (at least 1); 0 for period 0. */
 uint64_t run_every(const hsbd_config *cfg, double period);
 
