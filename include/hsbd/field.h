@@ -7,6 +7,7 @@
 #ifndef HSBD_FIELD_H
 #define HSBD_FIELD_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 
 enum { HSBD_MAX_FIELD_TERMS = 6, HSBD_FIELD_PARAMS = 4 };
@@ -35,25 +36,25 @@ typedef struct hsbd_field {
 } hsbd_field;
 
 /* U(x) = (U0/2) cos(2 pi x / lambda), Antonov Eq. (21); force (pi U0/lambda) sin(2 pi x/lambda). */
-hsbd_field_term hsbd_field_cosine(double amplitude_u0, double wavelength);
+HSBD_API hsbd_field_term hsbd_field_cosine(double amplitude_u0, double wavelength);
 /* constant force f: the linear potential U(x) = -f x (gravity: f = -m_b g, pointing to x = 0) */
-hsbd_field_term hsbd_field_tilt(double force);
+HSBD_API hsbd_field_term hsbd_field_tilt(double force);
 /* harmonic trap U(x) = (k/2) d^2 with d = x - center; period > 0 (a ring of that length):
  * d is the nearest image, in [-period/2, period/2); period = 0: no images (walls). */
-hsbd_field_term hsbd_field_harmonic(double stiffness, double center, double period);
+HSBD_API hsbd_field_term hsbd_field_harmonic(double stiffness, double center, double period);
 /* Tabulated potential U(x) (kind 0) or force f(x) (kind 1): the table's cubic spline; a
  * force table's potential is minus its integral from the table's first x. period > 0: x
  * is taken modulo period; the table must then span [0, period] and should be made
  * periodic (hsbd_table_make_periodic), else the force jumps at x = 0 = period. */
 enum { HSBD_TABLE_POTENTIAL = 0, HSBD_TABLE_FORCE = 1 };
-hsbd_field_term hsbd_field_table(const hsbd_table *table, int kind, double period);
+HSBD_API hsbd_field_term hsbd_field_table(const hsbd_table *table, int kind, double period);
 
 /* Append a term; returns 0, or -1 when the field already has HSBD_MAX_FIELD_TERMS. */
-int hsbd_field_add(hsbd_field *field, hsbd_field_term term);
+HSBD_API int hsbd_field_add(hsbd_field *field, hsbd_field_term term);
 
 /* f[i] = total force at x[i] (overwrites f). */
-void hsbd_field_force(const hsbd_field *field, size_t n, const double *restrict x,
-                      double *restrict f);
-double hsbd_field_potential(const hsbd_field *field, double x);
+HSBD_API void hsbd_field_force(const hsbd_field *field, size_t n, const double *restrict x,
+                               double *restrict f);
+HSBD_API double hsbd_field_potential(const hsbd_field *field, double x);
 
 #endif

@@ -15,5 +15,6 @@
 #include "hsbd/spheres.h"
 #include "hsbd/table.h"
 #include "hsbd/theory.h"
+#include "hsbd/version.h"
 
 #endif

@@ -21,25 +21,42 @@ enum {
     GSD_NAMELIST_ENTRIES = 16, /* of 64 bytes */
     GSD_NAME_BYTES = 64,
 };
-#define GSD_MAGIC 0x65DF65DF65DF65DFull
-#define GSD_VERSION ((2u << 16) | 0u)
+#define GSD_MAGIC            0x65DF65DF65DF65DFull
+#define GSD_VERSION          ((2u << 16) | 0u)
 #define HOOMD_SCHEMA_VERSION ((1u << 16) | 4u)
 
 /* GSD element types */
-enum { GSD_UINT8 = 1, GSD_UINT32 = 3, GSD_UINT64 = 4, GSD_INT8 = 5, GSD_INT32 = 7,
-       GSD_FLOAT = 9, GSD_DOUBLE = 10 };
+enum {
+    GSD_UINT8 = 1,
+    GSD_UINT32 = 3,
+    GSD_UINT64 = 4,
+    GSD_INT8 = 5,
+    GSD_INT32 = 7,
+    GSD_FLOAT = 9,
+    GSD_DOUBLE = 10
+};
 
 /* The name list: a chunk's id is its position here, and a frame writes its chunks in
  * this order. */
 enum {
-    ID_STEP, ID_DIMENSIONS, ID_BOX, ID_N, ID_TYPES, ID_TYPEID, ID_DIAMETER, ID_POSITION,
-    ID_IMAGE, ID_TIME, ID_POSITION_DOUBLE, ID_COUNT
+    ID_STEP,
+    ID_DIMENSIONS,
+    ID_BOX,
+    ID_N,
+    ID_TYPES,
+    ID_TYPEID,
+    ID_DIAMETER,
+    ID_POSITION,
+    ID_IMAGE,
+    ID_TIME,
+    ID_POSITION_DOUBLE,
+    ID_COUNT
 };
 static const char *const chunk_name[ID_COUNT] = {
-    "configuration/step", "configuration/dimensions", "configuration/box", "particles/N",
-    "particles/types",    "particles/typeid",         "particles/diameter",
-    "particles/position", "particles/image",          "log/hsbd/time",
-    "log/hsbd/position"};
+    "configuration/step", "configuration/dimensions", "configuration/box",
+    "particles/N",        "particles/types",          "particles/typeid",
+    "particles/diameter", "particles/position",       "particles/image",
+    "log/hsbd/time",      "log/hsbd/position"};
 
 /* One frame in the writer's terms: positions centred at the origin. */
 typedef struct gsd_frame {
@@ -112,8 +129,8 @@ static int fail(hsbd_error *err, const char *what) {
 }
 
 int hsbd_gsd_start(hsbd_gsd *g, FILE *f, hsbd_error *err) {
-    *g = (hsbd_gsd){.f = f, .index_location = GSD_HEADER_BYTES,
-                    .index_capacity = GSD_INITIAL_ENTRIES};
+    *g = (hsbd_gsd){
+        .f = f, .index_location = GSD_HEADER_BYTES, .index_capacity = GSD_INITIAL_ENTRIES};
     const size_t names = GSD_NAMELIST_ENTRIES * GSD_NAME_BYTES;
     const size_t index = GSD_INITIAL_ENTRIES * GSD_ENTRY_BYTES;
     if (reserve(g, index + names) != 0)
@@ -250,8 +267,7 @@ static int frame_chunks(hsbd_gsd *g, const gsd_frame *fr, chunk_list *c) {
 static int write_frame(hsbd_gsd *g, const gsd_frame *fr, hsbd_error *err) {
     const size_t width = HSBD_SPECIES_NAME * (fr->ntypes ? fr->ntypes : 1);
     if (reserve(g, max_size(24 * fr->n, width)) != 0)
-        return hsbd_error_set(err, HSBD_ENOMEM, "GSD trajectory: out of memory for N = %zu",
-                              fr->n);
+        return hsbd_error_set(err, HSBD_ENOMEM, "GSD trajectory: out of memory for N = %zu", fr->n);
     chunk_list c = {.count = 0};
     if (frame_chunks(g, fr, &c) != 0) return fail(err, "writing a frame");
     const int room = index_room(g, c.count);
@@ -305,11 +321,19 @@ int hsbd_gsd_write_rods(hsbd_gsd *g, const hsbd_rods_view *v,
         room.image[3 * i + 1] = room.image[3 * i + 2] = 0;
         if (sigma) sigma[i] = v->species_sigma[v->species[i]];
     }
-    const gsd_frame fr = {.step = v->step, .time = v->time, .dimension = 2,
-                          .box = {L, HSBD_GSD_RODS_HEIGHT, 0.0}, .n = v->n,
-                          .ntypes = names && v->species ? v->nspecies : 0, .types = names,
-                          .one_type = "R", .x = room.x, .image = room.image,
-                          .typeid = v->species, .diameter = sigma, .one_diameter = v->sigma};
+    const gsd_frame fr = {.step = v->step,
+                          .time = v->time,
+                          .dimension = 2,
+                          .box = {L, HSBD_GSD_RODS_HEIGHT, 0.0},
+                          .n = v->n,
+                          .ntypes = names && v->species ? v->nspecies : 0,
+                          .types = names,
+                          .one_type = "R",
+                          .x = room.x,
+                          .image = room.image,
+                          .typeid = v->species,
+                          .diameter = sigma,
+                          .one_diameter = v->sigma};
     const int rc = write_frame(g, &fr, err);
     free(sigma);
     frame_room_free(&room);
@@ -326,11 +350,18 @@ int hsbd_gsd_write_spheres(hsbd_gsd *g, const hsbd_spheres_view *v,
             room.x[3 * i + a] = a < d ? v->x[3 * i + a] - 0.5 * v->box[a] : 0.0;
             room.image[3 * i + a] = a < d ? (int32_t)v->image[3 * i + a] : 0;
         }
-    const gsd_frame fr = {.step = v->step, .time = v->time, .dimension = d,
-                          .box = {v->box[0], v->box[1], d == 3 ? v->box[2] : 0.0}, .n = v->n,
-                          .ntypes = names ? v->nspecies : 0, .types = names,
-                          .one_type = HSBD_XYZ_ONE_SPECIES, .x = room.x, .image = room.image,
-                          .typeid = v->species, .diameter = v->sigma};
+    const gsd_frame fr = {.step = v->step,
+                          .time = v->time,
+                          .dimension = d,
+                          .box = {v->box[0], v->box[1], d == 3 ? v->box[2] : 0.0},
+                          .n = v->n,
+                          .ntypes = names ? v->nspecies : 0,
+                          .types = names,
+                          .one_type = HSBD_XYZ_ONE_SPECIES,
+                          .x = room.x,
+                          .image = room.image,
+                          .typeid = v->species,
+                          .diameter = v->sigma};
     const int rc = write_frame(g, &fr, err);
     frame_room_free(&room);
     return rc;
