@@ -12,6 +12,7 @@
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
+#include "hsbd/sim.h"
 #include "hsbd/spheres.h"
 #include "hsbd/table.h"
 #include "hsbd/theory.h"

@@ -98,6 +98,10 @@ static void enter_equilibration(run *r) {
     if (r->model.equilibration_dt) r->model.equilibration_dt(r, 1);
 }
 
+void run_begin(run *r) {
+    enter_equilibration(r);
+}
+
 static void leave_equilibration(run *r) {
     if (r->model.equilibration_dt) r->model.equilibration_dt(r, 0);
     r->stage = RUN_PRODUCING;
@@ -146,9 +150,10 @@ static void account(run *r, stage_clock *t) {
 }
 
 /* The loop: equilibration, then production with its operations, replicas and
- * checkpoints, until done, stopped or failed. Resumable: it continues from whatever
- * stage and counters the run holds (a fresh run or one loaded from a checkpoint). */
-static int run_loop(run *r, hsbd_error *err) {
+ * checkpoints, until done, stopped, failed or `budget` steps are taken. Resumable: it
+ * continues from whatever stage and counters the run holds (a fresh run, one loaded from
+ * a checkpoint, one advanced step by step through hsbd_sim). */
+static int run_loop(run *r, uint64_t budget, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     const uint64_t nprod = hsbd_config_steps(cfg), nequil = hsbd_config_equil_steps(cfg);
     checkpoint_clock ck = {.enabled = r->model.save != NULL && cfg->output.checkpoints,
@@ -158,7 +163,7 @@ static int run_loop(run *r, hsbd_error *err) {
     int shown = -1;
     stage_clock clock = {hsbd_wall_seconds(), cpu_seconds()};
     int rc = HSBD_OK;
-    for (uint64_t iter = 0; rc == HSBD_OK && r->stage != RUN_DONE; ++iter) {
+    for (uint64_t iter = 0, taken = 0; rc == HSBD_OK && r->stage != RUN_DONE; ++iter) {
         if (shown != r->stage) { /* a progress line per stage */
             if (shown >= 0) hsbd_progress_end(&pr);
             hsbd_progress_start(&pr, r->opt->progress,
@@ -184,6 +189,7 @@ static int run_loop(run *r, hsbd_error *err) {
             enter_equilibration(r);
             continue;
         }
+        if (taken++ == budget) break;
         rc = r->model.step(r, err);
         if (rc != HSBD_OK) break;
         if (equilibrating)
@@ -210,6 +216,10 @@ static int run_loop(run *r, hsbd_error *err) {
     /* a stopped or finished run leaves a checkpoint to continue or extend from */
     if (rc == HSBD_OK && ck.enabled) rc = take_checkpoint(r, &ck, err);
     return rc;
+}
+
+int run_advance(run *r, uint64_t steps, hsbd_error *err) {
+    return run_loop(r, steps, err);
 }
 
 void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
@@ -307,7 +317,7 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
         record_inputs(&r);
         r.started = 1;
         enter_equilibration(&r);
-        rc = finish(&r, run_loop(&r, err), err);
+        rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     release(&r);
     return rc;
@@ -521,7 +531,7 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     if (rc == HSBD_OK) {
         r.resumes += 1;
         r.started = 1;
-        rc = finish(&r, run_loop(&r, err), err);
+        rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     if (r.cfg) release(&r);
     run_source_copy_free(&rs.copy);

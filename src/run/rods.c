@@ -660,6 +660,16 @@ static int rods_load(run *r, hsbd_reader *rd) {
     return 0;
 }
 
+static void rods_expose(const run *r, hsbd_sim_parts *p) {
+    const rods_model *m = model_of(r);
+    p->rods = m->rods;
+    p->species = m->species;
+    p->profile = m->profile;
+    p->msd = m->msd;
+    for (size_t q = 0; q < r->cfg->species.n; ++q)
+        p->msd_species[q] = m->msd_species[q];
+}
+
 static void rods_release(run *r) {
     rods_model *m = model_of(r);
     if (!m) return;
@@ -710,6 +720,7 @@ int run_rods_build(run *r, hsbd_error *err) {
                            .load = rods_load,
                            .write_tables = rods_write_tables,
                            .write_summary = rods_write_summary,
+                           .expose = rods_expose,
                            .release = rods_release};
     int rc = build_system(r, m, err);
     if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);

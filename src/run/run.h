@@ -14,6 +14,7 @@
 #include "hsbd/error.h"
 #include "hsbd/io.h"
 #include "hsbd/run.h"
+#include "hsbd/sim.h"
 
 typedef struct run run;
 
@@ -63,6 +64,8 @@ typedef struct run_model {
     int (*load)(run *r, hsbd_reader *rd);
     /* final tables and the model's part of summary.json */
     int (*write_tables)(run *r, hsbd_error *err);
+    /* the state and observers, for hsbd_sim */
+    void (*expose)(const run *r, hsbd_sim_parts *parts);
     void (*write_summary)(run *r, FILE *f);
     void (*release)(run *r);
 } run_model;
@@ -120,6 +123,12 @@ uint64_t run_every(const hsbd_config *cfg, double period);
  * touched: everything that can refuse the input happens here). */
 int run_rods_build(run *r, hsbd_error *err);
 int run_spheres_build(run *r, hsbd_error *err);
+
+/* A built run enters its first equilibration. */
+void run_begin(run *r);
+/* At most `steps` more steps of the run (equilibration, production with its operations,
+ * replicas), fewer when it ends; the lifecycle's own loop, as hsbd_run runs it. */
+int run_advance(run *r, uint64_t steps, hsbd_error *err);
 
 /* The common fields of summary.json (program, version, completion, steps, timings); the
  * model then adds its own. */

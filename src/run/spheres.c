@@ -505,6 +505,15 @@ static void spheres_release(run *r) {
     r->m = NULL;
 }
 
+static void spheres_expose(const run *r, hsbd_sim_parts *p) {
+    const spheres_model *m = model_of(r);
+    p->spheres = m->sys;
+    p->msd = m->msd;
+    for (size_t q = 0; q < r->cfg->species.n; ++q)
+        p->msd_species[q] = m->msd_species[q];
+    p->gr = m->gr;
+}
+
 static int register_ops(run *r, spheres_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     int rc = run_add_op(r, "sample", (uint64_t)cfg->sample.every, sample_virial_msd, m, err);
@@ -527,6 +536,7 @@ int run_spheres_build(run *r, hsbd_error *err) {
                            .load = spheres_load,
                            .write_tables = spheres_write_tables,
                            .write_summary = spheres_write_summary,
+                           .expose = spheres_expose,
                            .release = spheres_release};
     int rc = build_system(r, m, err);
     if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);
