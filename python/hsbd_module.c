@@ -658,6 +658,30 @@ ONE_ARG(hd_contact_henderson, hsbd_hd_contact_henderson, "")
 TWO_ARGS(tonks_pressure, hsbd_tonks_pressure)
 TWO_ARGS(tonks_contact, hsbd_tonks_contact)
 
+static PyObject *mod_single_file_msd(PyObject *mod, PyObject *args, PyObject *kwargs) {
+    (void)mod;
+    static char *kw[] = {"t", "rho", "sigma", "D", NULL};
+    PyObject *times;
+    double rho, sigma, d = 1.0;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "Odd|d:single_file_msd", kw, &times, &rho,
+                                     &sigma, &d))
+        return NULL;
+    PyArrayObject *t = (PyArrayObject *)PyArray_FROMANY(times, NPY_DOUBLE, 0, 0,
+                                                        NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED);
+    if (!t) return NULL;
+    PyArrayObject *out = (PyArrayObject *)PyArray_NewLikeArray(t, NPY_CORDER, NULL, 0);
+    if (out) {
+        const double *in = PyArray_DATA(t);
+        double *o = PyArray_DATA(out);
+        const npy_intp n = PyArray_SIZE(t);
+        Py_BEGIN_ALLOW_THREADS for (npy_intp k = 0; k < n; ++k) o[k] =
+            hsbd_single_file_msd_exact(in[k], rho, sigma, d);
+        Py_END_ALLOW_THREADS
+    }
+    Py_DECREF(t);
+    return PyArray_Return(out);
+}
+
 static PyObject *mod_version(PyObject *mod, PyObject *unused) {
     (void)mod, (void)unused;
     return PyUnicode_FromString(hsbd_version());
@@ -684,6 +708,11 @@ static PyMethodDef module_methods[] = {
      "hd_z_henderson(phi): hard disks, Henderson's compressibility factor"},
     {"hd_contact_henderson", mod_hd_contact_henderson, METH_O,
      "hd_contact_henderson(phi): hard disks, Henderson's g(sigma+)"},
+    {"single_file_msd", (PyCFunction)(void (*)(void))mod_single_file_msd,
+     METH_VARARGS | METH_KEYWORDS,
+     "single_file_msd(t, rho, sigma, D=1): the exact tagged MSD of field-free hard rods "
+     "(single file) at times t (array), from 2 D t to ((1 - rho sigma) / rho) sqrt(4 D t / "
+     "pi)."},
     {"version", mod_version, METH_NOARGS, "version(): the linked libhsbd's version"},
     {NULL, NULL, 0, NULL}};
 
