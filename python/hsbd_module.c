@@ -242,7 +242,9 @@ static int sim_init(SimObject *self, PyObject *args, PyObject *kwargs) {
         return -1;
     }
     hsbd_error err;
-    hsbd_sim_free(self->sim);
+    hsbd_sim_free(self->sim); /* __init__ called again: a new simulation */
+    free(self->x), free(self->diameter), free(self->image), free(self->species);
+    self->x = self->diameter = NULL, self->image = NULL, self->species = NULL;
     Py_BEGIN_ALLOW_THREADS self->sim = hsbd_sim_alloc(&b.cfg, &err);
     Py_END_ALLOW_THREADS built_config_free(&b);
     if (!self->sim) return raise_error(&err), -1;
@@ -586,6 +588,10 @@ static PyObject *mod_run(PyObject *mod, PyObject *args, PyObject *kwargs) {
             value ? assign(&b.cfg, &b.sets, "output.dir", value, "Python (run(out=...))") : -1;
         Py_XDECREF(value);
         if (rc != 0) goto done;
+    }
+    if (!b.cfg.output.dir[0]) {
+        PyErr_SetString(hsbd_input_error, "run(): give the run directory, out=DIR (or output.dir)");
+        goto done;
     }
     if (finalize_config(&b) != 0) goto done;
     const hsbd_run_source source = {.name = b.path,

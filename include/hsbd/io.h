@@ -100,6 +100,7 @@ HSBD_API int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *spe
  * checkpoint keeps besides the file's length) and a scratch buffer. */
 typedef struct hsbd_gsd {
     FILE *f;
+    const char *name;                        /* the file, for messages */
     uint64_t index_location, index_capacity; /* the index block */
     uint64_t entries, frames;                /* written so far */
     uint64_t end;                            /* the file's length */
@@ -107,12 +108,14 @@ typedef struct hsbd_gsd {
     size_t buf_size;
 } hsbd_gsd;
 
-/* A new file in f (opened for update, empty): header, an empty index, the name list. */
-HSBD_API int hsbd_gsd_start(hsbd_gsd *g, FILE *f, hsbd_error *err);
+/* A new file in f (opened for update, empty): header, an empty index, the name list;
+ * name: the file, for messages (kept, not copied). */
+HSBD_API int hsbd_gsd_start(hsbd_gsd *g, FILE *f, const char *name, hsbd_error *err);
 /* Continues a file cut back to `length` bytes whose layout (index_location, index_capacity,
  * entries, frames) g holds from the moment it had that length: the header and the unused
  * index entries, written in place since, are restored. */
-HSBD_API int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, int64_t length, hsbd_error *err);
+HSBD_API int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, const char *name, int64_t length,
+                               hsbd_error *err);
 HSBD_API void hsbd_gsd_free(hsbd_gsd *g);
 /* One frame: configuration/step, box, particles/N, position (float32, centred at the
  * origin), image, log/hsbd/time and log/hsbd/position (float64, the same positions);

@@ -124,13 +124,15 @@ static int reserve(hsbd_gsd *g, size_t bytes) {
     return 0;
 }
 
-static int fail(hsbd_error *err, const char *what) {
-    return hsbd_error_set(err, HSBD_EIO, "GSD trajectory: %s failed: %s", what, strerror(errno));
+static int fail(const hsbd_gsd *g, hsbd_error *err, const char *what) {
+    return hsbd_error_set(err, HSBD_EIO, "%s failed in '%s': %s", what, g->name, strerror(errno));
 }
 
-int hsbd_gsd_start(hsbd_gsd *g, FILE *f, hsbd_error *err) {
-    *g = (hsbd_gsd){
-        .f = f, .index_location = GSD_HEADER_BYTES, .index_capacity = GSD_INITIAL_ENTRIES};
+int hsbd_gsd_start(hsbd_gsd *g, FILE *f, const char *name, hsbd_error *err) {
+    *g = (hsbd_gsd){.f = f,
+                    .name = name,
+                    .index_location = GSD_HEADER_BYTES,
+                    .index_capacity = GSD_INITIAL_ENTRIES};
     const size_t names = GSD_NAMELIST_ENTRIES * GSD_NAME_BYTES;
     const size_t index = GSD_INITIAL_ENTRIES * GSD_ENTRY_BYTES;
     if (reserve(g, index + names) != 0)
@@ -141,20 +143,21 @@ int hsbd_gsd_start(hsbd_gsd *g, FILE *f, hsbd_error *err) {
         at += strlen(chunk_name[k]) + 1;
     }
     if (write_header(g) != 0 || write_at(g, GSD_HEADER_BYTES, g->buf, index + names) != 0)
-        return fail(err, "writing the header");
+        return fail(g, err, "writing the header");
     g->end = GSD_HEADER_BYTES + index + names;
     return HSBD_OK;
 }
 
-int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, int64_t length, hsbd_error *err) {
+int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, const char *name, int64_t length, hsbd_error *err) {
     g->f = f;
+    g->name = name;
     g->end = (uint64_t)length;
     const uint64_t block_end = g->index_location + g->index_capacity * GSD_ENTRY_BYTES;
     if (g->entries > g->index_capacity || block_end > g->end || g->end < GSD_HEADER_BYTES)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "cannot continue the GSD trajectory: its index lies beyond the "
-                              "%lld bytes the checkpoint counts",
-                              (long long)length);
+                              "cannot continue '%s': its index lies beyond the %lld bytes the "
+                              "checkpoint counts",
+                              name, (long long)length);
     /* what was written after the checkpoint in place: the header (a moved index) and the
      * entries after the checkpoint's */
     const size_t unused = (size_t)(g->index_capacity - g->entries) * GSD_ENTRY_BYTES;
@@ -164,7 +167,7 @@ int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, int64_t length, hsbd_error *err) {
     if (write_header(g) != 0 ||
         write_at(g, g->index_location + g->entries * GSD_ENTRY_BYTES, g->buf, unused) != 0 ||
         fseeko(f, 0, SEEK_END) != 0)
-        return fail(err, "restoring the index");
+        return fail(g, err, "restoring the index");
     return HSBD_OK;
 }
 
@@ -269,14 +272,14 @@ static int write_frame(hsbd_gsd *g, const gsd_frame *fr, hsbd_error *err) {
     if (reserve(g, max_size(24 * fr->n, width)) != 0)
         return hsbd_error_set(err, HSBD_ENOMEM, "GSD trajectory: out of memory for N = %zu", fr->n);
     chunk_list c = {.count = 0};
-    if (frame_chunks(g, fr, &c) != 0) return fail(err, "writing a frame");
+    if (frame_chunks(g, fr, &c) != 0) return fail(g, err, "writing a frame");
     const int room = index_room(g, c.count);
     if (room == -2) return hsbd_error_set(err, HSBD_ENOMEM, "GSD trajectory: out of memory");
     if (room != 0 ||
         write_at(g, g->index_location + g->entries * GSD_ENTRY_BYTES, c.entries,
                  c.count * GSD_ENTRY_BYTES) != 0 ||
         fseeko(g->f, 0, SEEK_END) != 0)
-        return fail(err, "writing the index");
+        return fail(g, err, "writing the index");
     g->entries += c.count;
     g->frames += 1;
     return HSBD_OK;

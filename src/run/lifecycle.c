@@ -281,7 +281,8 @@ static int open_streams(run *r, hsbd_error *err) {
         if (hsbd_outfile_open(&s->file, r->cfg->output.dir, s->name, err) != HSBD_OK)
             return err->status;
         if (s->header) s->header(r, s->file.f);
-        if (s->is_gsd && hsbd_gsd_start(&s->gsd, s->file.f, err) != HSBD_OK) return err->status;
+        if (s->is_gsd && hsbd_gsd_start(&s->gsd, s->file.f, s->file.tmp, err) != HSBD_OK)
+            return err->status;
     }
     return HSBD_OK;
 }
@@ -316,7 +317,7 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
     if (rc == HSBD_OK) {
         record_inputs(&r);
         r.started = 1;
-        enter_equilibration(&r);
+        run_begin(&r);
         rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     release(&r);
@@ -392,7 +393,8 @@ static int reopen_streams(run *r, hsbd_error *err) {
         if (hsbd_outfile_reopen(&s->file, r->cfg->output.dir, s->name, s->committed, err) !=
             HSBD_OK)
             return err->status;
-        if (s->is_gsd && hsbd_gsd_continue(&s->gsd, s->file.f, s->committed, err) != HSBD_OK)
+        if (s->is_gsd &&
+            hsbd_gsd_continue(&s->gsd, s->file.f, s->file.tmp, s->committed, err) != HSBD_OK)
             return err->status;
     }
     return HSBD_OK;
