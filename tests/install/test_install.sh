@@ -43,5 +43,9 @@ else
     bad "exported vs declared: $(diff "$T/declared" "$T/exported" | head -10 | tr '\n' ' ')"
 fi
 nm -D --defined-only "$lib" | grep -q ' hsbd_put_u64$' && bad "an internal function is exported"
+# every function the public headers declare is marked HSBD_API (else it is not exported)
+unmarked=$(grep -nE '^[A-Za-z_][A-Za-z0-9_ *]*[ *]hsbd_[a-z0-9_]+\(' "$T"/prefix/include/hsbd/*.h |
+    grep -v 'HSBD_API' | grep -v ':typedef')
+[ -z "$unmarked" ] || bad "declared without HSBD_API: $unmarked"
 echo "test_install: $fail failures"
 [ $fail -eq 0 ]
