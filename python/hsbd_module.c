@@ -352,21 +352,9 @@ static PyObject *state_array(SimObject *self, int which) {
     }
 }
 
-static PyObject *get_positions(SimObject *self, void *c) {
-    (void)c;
-    return state_array(self, ARRAY_POSITIONS);
-}
-static PyObject *get_images(SimObject *self, void *c) {
-    (void)c;
-    return state_array(self, ARRAY_IMAGES);
-}
-static PyObject *get_diameters(SimObject *self, void *c) {
-    (void)c;
-    return state_array(self, ARRAY_DIAMETERS);
-}
-static PyObject *get_species(SimObject *self, void *c) {
-    (void)c;
-    return state_array(self, ARRAY_SPECIES);
+/* the getters of the state arrays: the closure says which */
+static PyObject *get_state(SimObject *self, void *which) {
+    return state_array(self, (int)(intptr_t)which);
 }
 
 static PyObject *get_time(SimObject *self, void *c) {
@@ -419,26 +407,27 @@ static PyObject *three_vectors(npy_intp n, double **a, double **b, double **c) {
     return Py_BuildValue("NNN", x, y, z);
 }
 
-static PyObject *sim_density(SimObject *self, PyObject *unused) {
-    (void)unused;
+/* rods: the density profile (contact = 0) or the contact density (1) so far */
+static PyObject *profile_result(SimObject *self, int contact) {
     if (!sim_ready(self)) return NULL;
     const hsbd_sim_parts p = hsbd_sim_get_parts(self->sim);
-    if (!p.profile) return PyErr_Format(hsbd_error_type, "density(): rods only"), NULL;
-    double *x, *rho, *err;
-    PyObject *t = three_vectors((npy_intp)hsbd_profile_bins(p.profile), &x, &rho, &err);
-    if (t) hsbd_profile_density(p.profile, x, rho, err);
+    if (!p.profile)
+        return PyErr_Format(hsbd_error_type, "%s(): rods only", contact ? "contact" : "density"),
+               NULL;
+    double *x, *value, *err;
+    PyObject *t = three_vectors((npy_intp)hsbd_profile_bins(p.profile), &x, &value, &err);
+    if (t) (contact ? hsbd_profile_contact : hsbd_profile_density)(p.profile, x, value, err);
     return t;
+}
+
+static PyObject *sim_density(SimObject *self, PyObject *unused) {
+    (void)unused;
+    return profile_result(self, 0);
 }
 
 static PyObject *sim_contact(SimObject *self, PyObject *unused) {
     (void)unused;
-    if (!sim_ready(self)) return NULL;
-    const hsbd_sim_parts p = hsbd_sim_get_parts(self->sim);
-    if (!p.profile) return PyErr_Format(hsbd_error_type, "contact(): rods only"), NULL;
-    double *x, *rho2, *err;
-    PyObject *t = three_vectors((npy_intp)hsbd_profile_bins(p.profile), &x, &rho2, &err);
-    if (t) hsbd_profile_contact(p.profile, x, rho2, err);
-    return t;
+    return profile_result(self, 1);
 }
 
 static PyObject *sim_msd(SimObject *self, PyObject *args, PyObject *kwargs) {
@@ -520,14 +509,17 @@ static PyMethodDef sim_methods[] = {
     {NULL, NULL, 0, NULL}};
 
 static PyGetSetDef sim_getset[] = {
-    {"positions", (getter)get_positions, NULL,
+    {"positions", (getter)get_state, NULL,
      "(N, 3) float64, read-only view of the wrapped positions (rods: x in [0, L) with "
      "y = z = 0); valid until the next step.",
-     NULL},
-    {"images", (getter)get_images, NULL,
-     "(N, 3) int64 read-only view: box crossings; valid until the next step.", NULL},
-    {"diameters", (getter)get_diameters, NULL, "(N,) float64 read-only view: sigma.", NULL},
-    {"species", (getter)get_species, NULL, "(N,) int read-only view: species indices.", NULL},
+     (void *)(intptr_t)ARRAY_POSITIONS},
+    {"images", (getter)get_state, NULL,
+     "(N, 3) int64 read-only view: box crossings; valid until the next step.",
+     (void *)(intptr_t)ARRAY_IMAGES},
+    {"diameters", (getter)get_state, NULL, "(N,) float64 read-only view: sigma.",
+     (void *)(intptr_t)ARRAY_DIAMETERS},
+    {"species", (getter)get_state, NULL, "(N,) int read-only view: species indices.",
+     (void *)(intptr_t)ARRAY_SPECIES},
     {"time", (getter)get_time, NULL, "simulated time (restarts at 0 for production)", NULL},
     {"stage", (getter)get_stage, NULL, "'equilibrating', 'producing' or 'done'", NULL},
     {"steps", (getter)get_steps, NULL, "(equilibration steps, production steps) done", NULL},

@@ -18,36 +18,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-
-def read_table_names(path):
-    """Column names and data."""
-    names, rows = None, []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#"):
-                continue
-            if names is None:
-                names = line.split()
-                continue
-            rows.append([float(x) for x in line.split()])
-    return names, np.array(rows)
-
-
-def read_table(path):
-    """Return (parameters dict from '# key = value' lines, data array)."""
-    params, rows = {}, []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#"):
-                if " = " in line:
-                    k, v = line[1:].split(" = ", 1)
-                    params[k.strip()] = v.strip()
-                continue
-            if line[0].isalpha():
-                continue  # column names
-            rows.append([float(x) for x in line.split()])
-    return params, np.array(rows)
+from hsbd_tools import read_table, save_figure  # noqa: E402
 
 
 def floats(v):
@@ -123,7 +94,7 @@ def main():
     dens_path = os.path.join(a.run_dir, "density.tsv")
     if not os.path.exists(dens_path):
         sys.exit(f"plot_rods: no density.tsv in {a.run_dir}")
-    p, dens = read_table(dens_path)
+    p, _, dens = read_table(dens_path)
     n, length = float(p["system.N"]), float(p["system.L"])
     names = p.get("species.names", "").split()
     sigmas = floats(p["species.sigma"]) if names else [float(p["system.sigma"])]
@@ -143,7 +114,7 @@ def main():
 
     x = dens[:, 0]
     period = float(p.get("sample.period") or length)
-    theory = read_table(a.theory)[1] if a.theory else None
+    theory = read_table(a.theory).data if a.theory else None
     if theory is not None:
         ax[0].plot(theory[:, 0], theory[:, 1], "k-", lw=1.2, label="Percus (exact)", zorder=2)
     ax[0].errorbar(x, dens[:, 1], yerr=dens[:, 2], fmt="o-" if len(x) > 100 else "o",
@@ -161,7 +132,7 @@ def main():
     ax[0].legend(fontsize=8)
 
     if panels == 3:
-        cp, con = read_table(contact_path)
+        cp, _, con = read_table(contact_path)
         # columns: x, rho2 (default estimator), theorem, window, extrapolated (value, error)
         default = ("extrapolated" if cp.get("system.contact_rule") == "reflect"
                    else "contact theorem")
@@ -178,7 +149,7 @@ def main():
         ax[1].set_ylabel(r"$\rho_2(x, x+\sigma)$  [per length$^2$]")
         ax[1].set_title(f"contact density (window {window:.3g})", fontsize=10)
 
-    cols, msd = read_table_names(os.path.join(a.run_dir, "msd.tsv"))
+    _, cols, msd = read_table(os.path.join(a.run_dir, "msd.tsv"))
     m = ax[-1]
     t = msd[:, 0]
     for k in range(len(names) or 1):
@@ -200,11 +171,7 @@ def main():
     m.set_title("tagged-rod MSD", fontsize=10)
     m.legend(fontsize=8)
     fig.tight_layout()
-    out = a.out or os.path.join(a.run_dir, "plot.png")
-    tmp = out + ".part.png"
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, out)
-    print(f"plot: {out}")
+    save_figure(fig, a.out or os.path.join(a.run_dir, "plot.png"))
 
 
 if __name__ == "__main__":

@@ -23,20 +23,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-
-def read_table(path):
-    """Column names and data of an hsbd table ('#' header lines, then names, then rows)."""
-    names, rows = None, []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#"):
-                continue
-            if names is None:
-                names = line.split()
-                continue
-            rows.append([float(v) for v in line.split()])
-    return names, np.array(rows)
+from hsbd_tools import read_table, save_figure  # noqa: E402
 
 
 def as_list(v):
@@ -76,7 +63,7 @@ def main():
     gr_path = os.path.join(a.run_dir, "gr.tsv")
     g = ax[0]
     if os.path.exists(gr_path):
-        cols, gr = read_table(gr_path)
+        _, cols, gr = read_table(gr_path)
         contacts = s.get("contacts", [])
         for p in range(len(contacts) or 1):
             c = colours[p % len(colours)]
@@ -112,7 +99,7 @@ def main():
         g.text(0.5, 0.5, "no g(r) (sample.gr_every = 0)", ha="center", transform=g.transAxes)
 
     # MSD per species with 2 d D t and 2 d D_L t
-    cols, msd = read_table(os.path.join(a.run_dir, "msd.tsv"))
+    _, cols, msd = read_table(os.path.join(a.run_dir, "msd.tsv"))
     m = ax[1]
     t = msd[:, 0]
     dl_species = s.get("D_long_species", {})
@@ -143,7 +130,7 @@ def main():
     f = ax[2]
     fs_path = os.path.join(a.run_dir, "fs.tsv")
     if os.path.exists(fs_path):
-        cols, fs = read_table(fs_path)
+        _, cols, fs = read_table(fs_path)
         for k in range(ns):
             c = colours[k % len(colours)]
             name = names[k] if names else "all"
@@ -161,11 +148,7 @@ def main():
                     fontsize=9)
         f.legend(fontsize=7)
     fig.tight_layout()
-    out = a.out or os.path.join(a.run_dir, "plot.png")
-    tmp = out + ".part.png"
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, out)
-    print(f"plot: {out}")
+    save_figure(fig, a.out or os.path.join(a.run_dir, "plot.png"))
 
 
 if __name__ == "__main__":

@@ -542,6 +542,20 @@ int run_checkpoint_try_load(const char *dir, hsbd_error *err) {
     return rc;
 }
 
+/* summary.json, written last, says the run's results are all committed (a run stopped
+ * after its final checkpoint but before its results, e.g. by kill -9, has none or an old
+ * one: resuming it writes them). */
+static int results_written(const char *dir) {
+    char path[HSBD_PATH_MAX + 16], line[256];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    FILE *f = fopen(path, "r");
+    int done = 0;
+    while (f && !done && fgets(line, sizeof line, f))
+        done = strstr(line, "\"completed\": true") != NULL;
+    if (f) fclose(f);
+    return done;
+}
+
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
                 hsbd_error *err) {
     hsbd_error_clear(err);
@@ -550,13 +564,16 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     run r = {.opt = opt};
     resumed_source rs = {0};
     int rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
-    if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg))
+    if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg) &&
+        results_written(dir))
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: the run in '%s' is complete (%llu of %llu steps); to "
                             "extend it: --set run.t_total=T with T > %g",
                             dir, (unsigned long long)r.steps_done,
                             (unsigned long long)hsbd_config_steps(cfg), cfg->run.t_total);
-    if (rc == HSBD_OK && r.stage == RUN_DONE) r.stage = RUN_PRODUCING; /* extended */
+    if (rc == HSBD_OK && r.stage == RUN_DONE)
+        r.stage = RUN_PRODUCING; /* extended, or the
+                                    results unwritten */
     if (rc == HSBD_OK) rc = reopen_streams(&r, err);
     if (rc == HSBD_OK) {
         r.resumes += 1;
