@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hsbd/field.h"
 #include "hsbd/spheres.h"
 
 #define INF HUGE_VAL
@@ -350,6 +351,69 @@ static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
 
 /* ---- rods ---------------------------------------------------------------------------- */
 
+/* ---- drives --------------------------------------------------------------------------- */
+
+/* A drive must change a parameter of a term in field.type, with a wave of a period of at
+ * least one step (and one amplitude) or a velocity; sample.phases needs the wave. */
+static int check_drive(const hsbd_config *cfg, hsbd_error *err) {
+    static const char *const keys[] = {"wave", "amplitude", "period", "phase", "velocity"};
+    static const int term_of[] = {0,
+                                  HSBD_FIELD_TILT,
+                                  HSBD_FIELD_COSINE,
+                                  HSBD_FIELD_COSINE,
+                                  HSBD_FIELD_HARMONIC,
+                                  HSBD_FIELD_HARMONIC};
+    static const char *const term_name[] = {"", "tilt", "cosine", "cosine", "harmonic", "harmonic"};
+    const int p = cfg->drive.parameter, wave = cfg->drive.wave != HSBD_WAVE_NONE;
+    if (p == HSBD_DRIVE_NONE) {
+        for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
+            if (!config_is_default(cfg, "drive", keys[k]))
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "%s: drive.%s is set, but drive.parameter = none drives "
+                                      "nothing; allowed: drive.parameter = "
+                                      "force|amplitude|shift|stiffness|center",
+                                      config_origin_of(cfg, "drive", keys[k]), keys[k]);
+    } else if (!(cfg->field.type & term_of[p])) {
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: drive.parameter drives the %s term, which field.type does not "
+                              "have; allowed: a parameter of a term in field.type",
+                              config_origin_of(cfg, "drive", "parameter"), term_name[p]);
+    } else if (wave) {
+        const double dt = fmax(cfg->run.dt, hsbd_config_dt_equil(cfg));
+        if (!(cfg->drive.period >= dt))
+            return hsbd_error_set(
+                err, HSBD_EINPUT,
+                "%s: drive.period = %g with drive.wave set; allowed: drive.period "
+                ">= the time step %g (run.dt, run.dt_equil)",
+                config_origin_of(cfg, "drive", "period"), cfg->drive.period, dt);
+        if (cfg->drive.amplitude == 0)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: drive.amplitude = 0 with drive.wave set changes nothing; "
+                                  "allowed: drive.amplitude != 0",
+                                  config_origin_of(cfg, "drive", "amplitude"));
+    } else {
+        for (size_t k = 1; k < 4; ++k)
+            if (!config_is_default(cfg, "drive", keys[k]))
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "%s: drive.%s is set, but drive.wave = none; allowed: "
+                                      "drive.wave = cosine|square, or leave drive.%s out",
+                                      config_origin_of(cfg, "drive", keys[k]), keys[k], keys[k]);
+        if (cfg->drive.velocity == 0)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: drive.parameter is set, but neither drive.wave nor "
+                                  "drive.velocity changes it; allowed: drive.wave = cosine|square "
+                                  "or drive.velocity != 0",
+                                  config_origin_of(cfg, "drive", "parameter"));
+    }
+    if (cfg->sample.phases > 0 && !(p != HSBD_DRIVE_NONE && wave))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.phases = %lld needs a periodic drive; allowed: "
+                              "sample.phases = 0, or drive.wave = cosine|square",
+                              config_origin_of(cfg, "sample", "phases"),
+                              (long long)cfg->sample.phases);
+    return HSBD_OK;
+}
+
 static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
     if (parse_species(cfg, err) != HSBD_OK) return err->status;
     const double L = cfg->system.length, sigma = cfg->system.sigma;
@@ -461,6 +525,7 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
                               config_origin_of(cfg, "sample", "blocks"),
                               (long long)cfg->sample.blocks, L / cfg->sample.period);
     if (check_run_keys(cfg, err) != HSBD_OK) return err->status;
+    if (check_drive(cfg, err) != HSBD_OK) return err->status;
     return config_check_memory(cfg, 0, err);
 }
 
