@@ -19,7 +19,8 @@
  *    force): the centre of mass X obeys Euler's Ornstein-Uhlenbeck recursion exactly (the
  *    pair and contact forces cancel in the sum and the regression keeps the sum), so at
  *    the step ends <X - c(t)> = -v / (mu k) and var X = (kT / (N k)) / (1 - mu k dt / 2)
- *    hold at any density and any dt.
+ *    hold at any density and any dt. The sticky case's step is far above Antonov's Eq. (33)
+ *    limit for its contact physics; what it tests is that the pair forces cancel in the sum.
  * 4. A rocked particle, F(t) = F0 + F1 cos(2 pi t / P), P = 20 much longer than the
  *    relaxation (U0 = 4 kT, F0 = 3, F1 = 9): the adiabatic drift, the period average of the
  *    static velocity (hsbd_washboard_rocking); 200 particles, dt = 5e-4, 10 blocks of one
