@@ -2,6 +2,7 @@
 #ifndef HSBD_RUN_H
 #define HSBD_RUN_H
 
+#include "hsbd/export.h"
 #include <signal.h>
 
 #include "hsbd/config.h"
@@ -32,10 +33,10 @@ typedef struct hsbd_run_options {
  * HSBD_EINPUT for bad input (nothing is written then), HSBD_EINTERRUPT when stopped
  * (valid partial results and "completed": false in summary.json, and a checkpoint to
  * continue from). */
-int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
+HSBD_API int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
 /* The same, by model (kept for callers that name it). */
-int hsbd_run_rods(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
-int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
+HSBD_API int hsbd_run_rods(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
+HSBD_API int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
 
 /* Continues the run in dir from its newest valid checkpoint (the previous one when the
  * newest is damaged): the configuration is built again from its source, the state and
@@ -44,7 +45,7 @@ int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_e
  * run.t_total may be given (a longer time extends the run, also a completed one).
  * HSBD_EINPUT for a missing, damaged or incompatible checkpoint, a changed input file, or
  * a completed run without a longer run.t_total. */
-int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
-                hsbd_error *err);
+HSBD_API int hsbd_resume(const char *dir, const char *const *sets, size_t nsets,
+                         const hsbd_run_options *opt, hsbd_error *err);
 
 #endif

@@ -198,7 +198,8 @@ const key_spec config_schema[] = {
     {"output", "dir", ALL_MODELS, K_STRING, OFF(output.dir), 0, 0, NO_HEADER, "", 0,
      "run directory (default: runs/<config name>); --out overrides"},
     {"output", "trajectory", ALL_MODELS, K_ENUM, OFF(output.trajectory), 0, 0, 0, "none",
-     "none|xyz", "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD)"},
+     "none|xyz|gsd",
+     "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD; gsd: GSD, HOOMD schema)"},
     {"output", "trajectory_every", ALL_MODELS, K_DOUBLE, OFF(output.trajectory_every), 0, INF,
      OPEN_MAX, "0", 0, "time between trajectory frames (0: t_total/100, at least run.dt)"},
     {"output", "checkpoints", ALL_MODELS, K_BOOL, OFF(output.checkpoints), 0, 1, NO_HEADER, "on", 0,
@@ -247,6 +248,16 @@ int config_section_known(const char *name) {
     for (size_t i = 0; i < NKEYS; ++i)
         if (!strcmp(config_schema[i].section, name)) return 1;
     return 0;
+}
+
+void config_section_list(char *buf, size_t len) {
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < NKEYS; ++i)
+        if ((i == 0 || strcmp(config_schema[i - 1].section, config_schema[i].section)) &&
+            used < len)
+            used += (size_t)snprintf(buf + used, len - used, "%s[%s]", used ? ", " : "",
+                                     config_schema[i].section);
 }
 
 int config_key_read(const hsbd_config *cfg, const key_spec *k) {

@@ -344,7 +344,9 @@ static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
 static int write_frame(run *r, void *ctx, hsbd_error *err) {
     rods_model *m = ctx;
     const hsbd_rods_view v = hsbd_rods_get_view(m->rods);
-    hsbd_xyz_write_rods(m->trajectory->file.f, &v, r->cfg->species.n ? r->cfg->species.name : NULL);
+    const char(*names)[HSBD_SPECIES_NAME] = r->cfg->species.n ? r->cfg->species.name : NULL;
+    if (m->trajectory->is_gsd) return hsbd_gsd_write_rods(&m->trajectory->gsd, &v, names, err);
+    hsbd_xyz_write_rods(m->trajectory->file.f, &v, names);
     return run_stream_check(m->trajectory, err);
 }
 
@@ -817,6 +819,16 @@ static int rods_load(run *r, hsbd_reader *rd) {
     return 0;
 }
 
+static void rods_expose(const run *r, hsbd_sim_parts *p) {
+    const rods_model *m = model_of(r);
+    p->rods = m->rods;
+    p->species = m->species;
+    p->profile = m->profile;
+    p->msd = m->msd;
+    for (size_t q = 0; q < r->cfg->species.n; ++q)
+        p->msd_species[q] = m->msd_species[q];
+}
+
 static void rods_release(run *r) {
     rods_model *m = model_of(r);
     if (!m) return;
@@ -847,13 +859,7 @@ static void rods_release(run *r) {
 static int register_ops(run *r, rods_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     int rc = run_add_op(r, "sample", (uint64_t)cfg->sample.every, sample_profiles, m, err);
-    if (rc == HSBD_OK && cfg->output.trajectory == HSBD_TRAJ_XYZ) {
-        m->trajectory = run_add_stream(r, "trajectory.xyz", err);
-        rc = m->trajectory
-                 ? run_add_op(r, "trajectory", run_every(cfg, cfg->output.trajectory_every),
-                              write_frame, m, err)
-                 : err->status;
-    }
+    if (rc == HSBD_OK) rc = run_add_trajectory(r, write_frame, m, &m->trajectory, err);
     if (rc == HSBD_OK && cfg->sample.current_every > 0) {
         m->current = run_add_stream(r, "current.tsv", err);
         if (m->current) m->current->header = current_header;
@@ -880,6 +886,7 @@ int run_rods_build(run *r, hsbd_error *err) {
                            .load = rods_load,
                            .write_tables = rods_write_tables,
                            .write_summary = rods_write_summary,
+                           .expose = rods_expose,
                            .release = rods_release};
     int rc = build_system(r, m, err);
     if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);
