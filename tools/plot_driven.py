@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Driven rods against exact theory, one figure per family (docs/validation.md section 17).
 
-    tools/plot_driven.py build/hsbd OUTDIR [--quick]
+    tools/plot_driven.py build/hsbd OUTDIR [--quick] [--only washboard|trap|rocking]
 
 Runs hsbd (fixed seeds) and writes OUTDIR/driven-washboard.png (one particle and rods of
 one wavelength in a tilted cosine: mean velocity and D_eff against the tilt, with
@@ -97,9 +97,9 @@ def trap(hsbd, out, scale):
                     "drive.parameter": "center", "drive.velocity": v, "run.dt": 1e-3,
                     "run.t_equil": 5, "run.t_total": 100 * scale, "sample.blocks": 20,
                     "sample.bin_width": 0.5, "sample.period": 200}
-            if sticky:
+            if sticky:  # the small step of Antonov Eq. (33): mu max|f| dt / eps = 0.086
                 sets.update({"contact.gamma": 2, "system.contact_rule": "sticky",
-                             "run.dt": 2e-4})
+                             "run.dt": 2.5e-5, "run.t_total": 25 * scale})
             s = run(hsbd, os.path.join(out, "runs", f"trap{j}{sticky}"), sets)
             dt = sets["run.dt"]
             rows.append((sticky, v, s["trap_offset"], s["trap_offset_err"],
@@ -164,10 +164,11 @@ def main():
         sys.exit(__doc__)
     hsbd, out = sys.argv[1], sys.argv[2]
     scale = 0.25 if "--quick" in sys.argv[3:] else 1.0
+    only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
     os.makedirs(os.path.join(out, "runs"), exist_ok=True)
-    washboard(hsbd, out, scale)
-    trap(hsbd, out, scale)
-    rocking(hsbd, out, scale)
+    for family in (washboard, trap, rocking):
+        if only in (None, family.__name__):
+            family(hsbd, out, scale)
 
 
 if __name__ == "__main__":

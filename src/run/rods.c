@@ -32,6 +32,7 @@ typedef struct rods_model {
     double *drift_x;   /* its scratch: N unwrapped positions */
     hsbd_profile **phase_profile; /* sample.phases: one density profile per phase bin */
     hsbd_blocks *trap; /* field.type with harmonic: X - c(t) and its square at the samples */
+    double *trap_rows; /* its block means, for the summary (2 per block) */
     hsbd_rods_step_stats stats; /* of the last step, when it is sampled */
     run_stream *trajectory, *current;
     double sum_x_start, sum_x_last_current; /* for the particle current */
@@ -414,7 +415,8 @@ static int build_observers(const hsbd_config *cfg, rods_model *m, hsbd_error *er
     m->drift_x = malloc(n * sizeof *m->drift_x);
     if (!m->drift_x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     if ((cfg->field.type & HSBD_FIELD_HARMONIC) &&
-        !(m->trap = hsbd_blocks_alloc(2, blocks, samples)))
+        (!(m->trap = hsbd_blocks_alloc(2, blocks, samples)) ||
+         !(m->trap_rows = malloc(2 * blocks * sizeof *m->trap_rows))))
         return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     const size_t phases = (size_t)cfg->sample.phases;
     if (phases > 0) {
@@ -717,22 +719,18 @@ static void write_drift_json(const rods_model *m, const hsbd_rods_view *v, FILE 
  * variance of X - c, per block about the overall mean (errors from the blocks' scatter) */
 static void write_trap_json(const rods_model *m, FILE *f) {
     const size_t nb = hsbd_blocks_count(m->trap);
-    double mean[2], err[2], *rows = malloc(2 * nb * sizeof *rows);
+    double mean[2], err[2], *rows = m->trap_rows;
     hsbd_blocks_result(m->trap, mean, err);
-    double var = NAN, var_err = NAN;
-    if (rows) {
-        hsbd_blocks_block_means(m->trap, 0, rows);
-        double s = 0, ss = 0;
-        size_t used = 0;
-        for (size_t k = 0; k < nb; ++k) {
-            const double vb = rows[2 * k + 1] - 2 * mean[0] * rows[2 * k] + mean[0] * mean[0];
-            if (isfinite(vb)) s += vb, ss += vb * vb, ++used;
-        }
-        if (used > 1) {
-            var = s / (double)used;
-            var_err = sqrt(fmax(ss / (double)used - var * var, 0) / (double)(used - 1));
-        }
-        free(rows);
+    hsbd_blocks_block_means(m->trap, 0, rows);
+    double var = NAN, var_err = NAN, s = 0, ss = 0;
+    size_t used = 0;
+    for (size_t k = 0; k < nb; ++k) {
+        const double vb = rows[2 * k + 1] - 2 * mean[0] * rows[2 * k] + mean[0] * mean[0];
+        if (isfinite(vb)) s += vb, ss += vb * vb, ++used;
+    }
+    if (used > 1) {
+        var = s / (double)used;
+        var_err = sqrt(fmax(ss / (double)used - var * var, 0) / (double)(used - 1));
     }
     hsbd_json_number(f, "trap_offset", mean[0], 1);
     hsbd_json_number(f, "trap_offset_err", err[0], 1);
@@ -809,6 +807,11 @@ static int rods_load(run *r, hsbd_reader *rd) {
         if (hsbd_msd_load(m->msd_species[q], rd)) return -1;
     if (hsbd_clusters_load(m->clusters, rd) || hsbd_drift_load(m->drift, rd)) return -1;
     if (m->trap && hsbd_blocks_load(m->trap, rd)) return -1;
+    if (m->trap) { /* an extended run has more blocks */
+        double *rows = realloc(m->trap_rows, 2 * hsbd_blocks_count(m->trap) * sizeof *rows);
+        if (!rows) return hsbd_reader_oom(rd, "the trap's block means");
+        m->trap_rows = rows;
+    }
     for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
         if (hsbd_profile_load(m->phase_profile[k], rd)) return -1;
     if (m->contacts && hsbd_contacts_load(m->contacts, rd)) return -1;
@@ -841,6 +844,7 @@ static void rods_release(run *r) {
     hsbd_clusters_free(m->clusters);
     hsbd_drift_free(m->drift);
     hsbd_blocks_free(m->trap);
+    free(m->trap_rows);
     free(m->drift_x);
     for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
         hsbd_profile_free(m->phase_profile[k]);

@@ -9,7 +9,6 @@
 #include "../test_util.h"
 #include "bcd_oracle.h"
 #include "hsbd/field.h"
-#include "hsbd/rng.h"
 #include "hsbd/rods.h"
 
 static const double PI = 3.141592653589793;
@@ -96,34 +95,8 @@ static void test_driven_step_vs_oracle(void) {
     hsbd_field_term_drive(&tilt, HSBD_DRIVE_STRENGTH, HSBD_WAVE_SQUARE, 1.5, 2 * PI / 0.37, 0.1, 0);
     hsbd_field_add(&par.field, wave);
     hsbd_field_add(&par.field, tilt);
-    hsbd_error err;
-    hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
-    hsbd_rods_init_equilibrium(rods);
-    const double mu = par.diffusion / par.kT;
-    double worst = 0;
-    for (int s = 0; s < 400; ++s) {
-        const hsbd_rods_view v = hsbd_rods_get_view(rods);
-        double x[N], force[N], g[N], mob[N];
-        hsbd_rng_normals(par.seed, HSBD_STREAM_NOISE, v.step, 0, N, g);
-        for (size_t i = 0; i < N; ++i) {
-            x[i] = v.z[i] + v.offset[i];
-            mob[i] = mu;
-        }
-        hsbd_field now;
-        hsbd_field_force(hsbd_field_at(&par.field, v.time, &now), N, x, force);
-        for (size_t i = 0; i < N; ++i)
-            force[i] += sqrt(2 * par.diffusion / par.dt) / mu * g[i];
-        const double shift = v.unwrap;
-        oracle_step(N, x, force, mob, par.sigma, par.length, par.dt, 1e-12);
-        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
-        const hsbd_rods_view w = hsbd_rods_get_view(rods);
-        for (size_t i = 0; i < N; ++i) {
-            const double d = fabs((w.z[i] + w.offset[i] + w.unwrap) - (x[i] + shift));
-            if (d > worst) worst = d;
-        }
-    }
+    const double worst = oracle_library_deviation(&par, 400);
     CHECK(worst <= 1e-12, "driven step vs oracle: max deviation %.3g", worst);
-    hsbd_rods_free(rods);
 }
 
 int main(void) {
