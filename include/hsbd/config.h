@@ -26,6 +26,15 @@ enum hsbd_field_terms {
     HSBD_FIELD_HARMONIC = 4,
     HSBD_FIELD_TABLE = 8
 };
+/* drive.parameter: the field parameter a drive changes in time (the term it belongs to) */
+enum hsbd_drive_parameter {
+    HSBD_DRIVE_NONE = 0,
+    HSBD_DRIVE_FORCE,     /* tilt */
+    HSBD_DRIVE_AMPLITUDE, /* cosine: U0 */
+    HSBD_DRIVE_SHIFT,     /* cosine: its position (a travelling wave) */
+    HSBD_DRIVE_STIFFNESS, /* harmonic */
+    HSBD_DRIVE_CENTER     /* harmonic: its centre (dragged or oscillating trap) */
+};
 enum hsbd_boundary { HSBD_BOUNDARY_PERIODIC = 0, HSBD_BOUNDARY_WALLS };
 enum hsbd_pair_type { HSBD_PAIR_NONE = 0, HSBD_PAIR_YUKAWA, HSBD_PAIR_LJ, HSBD_PAIR_TABLE };
 enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ, HSBD_TRAJ_GSD };
@@ -68,6 +77,11 @@ typedef struct hsbd_config {
         int table_kind; /* HSBD_TABLE_POTENTIAL or HSBD_TABLE_FORCE */
     } field;
     struct {
+        int parameter; /* enum hsbd_drive_parameter */
+        int wave;      /* enum hsbd_wave of hsbd/field.h */
+        double amplitude, period, phase, velocity;
+    } drive;
+    struct {
         /* the keys' texts: whitespace- or comma-separated lists */
         char names_text[HSBD_PATH_MAX], count_text[HSBD_PATH_MAX], sigma_text[HSBD_PATH_MAX],
             d_text[HSBD_PATH_MAX], fraction_text[HSBD_PATH_MAX];
@@ -91,6 +105,7 @@ typedef struct hsbd_config {
         int blocking;
         int64_t gr_every;
         double gr_max, gr_bin, contact_fit, fs_k;
+        int64_t phases; /* profiles resolved by the drive's phase: bins of its period */
     } sample;
     struct {
         char dir[HSBD_PATH_MAX];

@@ -29,6 +29,8 @@ HSBD_API size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *e
 /* the number of blocks (sample.blocks, more after a run was extended) */
 HSBD_API size_t hsbd_blocks_count(const hsbd_blocks *b);
 HSBD_API uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
+/* The time block the next sample goes to (0 for spatial blocks). */
+HSBD_API size_t hsbd_blocks_current(const hsbd_blocks *b);
 /* The time block that sample number `sample` (from 0) of nsamples_total falls in. */
 HSBD_API size_t hsbd_blocks_block_of(uint64_t sample, size_t nblocks, uint64_t nsamples_total);
 /* As hsbd_blocks_result, but the error is that of the shape: each block's values are
@@ -128,6 +130,34 @@ HSBD_API size_t hsbd_msd_lags(const hsbd_msd *m);
 /* lag time, MSD, its error (time blocks or rod segments) and number of origins */
 HSBD_API void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double *err,
                               size_t *origins);
+
+/* ---- drift: mean velocity and effective diffusion (tagged, centre of mass) ----
+ * From the displacements over blocks of time (src/observe/drift.c has the estimator):
+ * D_eff = lim var x(t) / 2t estimated at t = the block length, with the blocks' errors. */
+typedef struct hsbd_drift hsbd_drift;
+typedef struct hsbd_drift_result {
+    double velocity, velocity_err; /* mean velocity of a particle */
+    double d_tagged, d_tagged_err; /* var of a tagged particle's displacement / 2T */
+    double d_cm, d_cm_err;         /* var of the centre of mass's displacement / 2T */
+    double block_time;             /* mean block length T */
+    size_t blocks;                 /* closed blocks (NaN results below 2) */
+} hsbd_drift_result;
+/* n tagged coordinates, nsamples_total samples cut into nblocks time blocks (as
+ * hsbd_blocks_alloc; blocks of an extended run and replicas' blocks fit as there) */
+HSBD_API hsbd_drift *hsbd_drift_alloc(size_t n, size_t nblocks, uint64_t nsamples_total,
+                                      hsbd_error *err);
+HSBD_API void hsbd_drift_free(hsbd_drift *d);
+/* A sample at time t of the unwrapped positions x (n values): the first sample of a time
+ * block closes the open block here and starts the next. HSBD_OK or HSBD_ENOMEM. */
+HSBD_API int hsbd_drift_sample_values(hsbd_drift *d, double t, const double *x);
+/* Close the open block at time t with positions x (the run's end, a replica's end). */
+HSBD_API int hsbd_drift_close_values(hsbd_drift *d, double t, const double *x);
+/* The same from a rods view (unwrapped positions); scratch holds n doubles. */
+HSBD_API int hsbd_drift_sample(hsbd_drift *d, const hsbd_rods_view *v, double *scratch);
+HSBD_API int hsbd_drift_close(hsbd_drift *d, const hsbd_rods_view *v, double *scratch);
+/* The estimates; x != NULL: the open block counted as if closed at time t with positions x
+ * (the run's current state; d is not changed). Allocates nothing; returns HSBD_OK. */
+HSBD_API int hsbd_drift_get(const hsbd_drift *d, double t, const double *x, hsbd_drift_result *out);
 
 /* ---- disks / spheres: radial distribution per species pair, contact values ---- */
 typedef struct hsbd_gr hsbd_gr;

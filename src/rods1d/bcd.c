@@ -306,6 +306,8 @@ static void compute_endpoints(hsbd_rods *r) {
     const int has_field = r->par.field.nterms > 0, has_pair = r->fpair != NULL;
     if (has_pair) compute_pair_forces(r);
     if (r->species) species_step_factors(r);
+    hsbd_field now; /* a driven field at the step's start, frozen over the step */
+    const hsbd_field *field = hsbd_field_at(&r->par.field, r->time, &now);
     double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];
     for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK) {
         const size_t m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
@@ -315,7 +317,7 @@ static void compute_endpoints(hsbd_rods *r) {
         if (has_field || has_pair) {
             for (size_t j = 0; j < m; ++j)
                 x[j] = z[j] + r->offset[i0 + j];
-            hsbd_field_force(&r->par.field, m, x, f);
+            hsbd_field_force(field, m, x, f);
             if (has_pair)
                 for (size_t j = 0; j < m; ++j)
                     f[j] += r->fpair[i0 + j];

@@ -542,10 +542,8 @@ int run_checkpoint_try_load(const char *dir, hsbd_error *err) {
     return rc;
 }
 
-/* summary.json, written last, says the run's results are all committed (a run stopped
- * after its final checkpoint but before its results, e.g. by kill -9, has none or an old
- * one: resuming it writes them). */
-static int results_written(const char *dir) {
+/* whether DIR/summary.json is that of a completed run: its results are all committed */
+static int summary_completed(const char *dir) {
     char path[HSBD_PATH_MAX + 16], line[256];
     snprintf(path, sizeof path, "%s/summary.json", dir);
     FILE *f = fopen(path, "r");
@@ -564,16 +562,17 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     run r = {.opt = opt};
     resumed_source rs = {0};
     int rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
+    /* a run stopped after its last checkpoint but before its summary was committed is
+     * finished here (no steps), not refused */
     if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg) &&
-        results_written(dir))
+        summary_completed(dir))
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: the run in '%s' is complete (%llu of %llu steps); to "
                             "extend it: --set run.t_total=T with T > %g",
                             dir, (unsigned long long)r.steps_done,
                             (unsigned long long)hsbd_config_steps(cfg), cfg->run.t_total);
-    if (rc == HSBD_OK && r.stage == RUN_DONE)
-        r.stage = RUN_PRODUCING; /* extended, or the
-                                    results unwritten */
+    if (rc == HSBD_OK && r.stage == RUN_DONE) /* extended, or its results unwritten */
+        r.stage = RUN_PRODUCING;
     if (rc == HSBD_OK) rc = reopen_streams(&r, err);
     if (rc == HSBD_OK) {
         r.resumes += 1;
