@@ -571,9 +571,8 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
                             "extend it: --set run.t_total=T with T > %g",
                             dir, (unsigned long long)r.steps_done,
                             (unsigned long long)hsbd_config_steps(cfg), cfg->run.t_total);
-    if (rc == HSBD_OK && r.stage == RUN_DONE)
-        r.stage = RUN_PRODUCING; /* extended, or the
-                                    results unwritten */
+    if (rc == HSBD_OK && r.stage == RUN_DONE) /* extended, or its results unwritten */
+        r.stage = RUN_PRODUCING;
     if (rc == HSBD_OK) rc = reopen_streams(&r, err);
     if (rc == HSBD_OK) {
         r.resumes += 1;
