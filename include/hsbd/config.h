@@ -82,6 +82,9 @@ typedef struct hsbd_config {
     } species;
     struct {
         double dt, t_equil, t_total, dt_equil;
+        /* ensembles: replicas in all (0: one per MPI rank), and this run's replica index
+         * (-1: not one replica of an ensemble) */
+        int64_t replicas, replica;
     } run;
     struct {
         double bin_width, contact_width, period;
