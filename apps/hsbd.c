@@ -123,7 +123,7 @@ static void usage(FILE *out) {
 
 static void run_help(void) {
     printf("usage: hsbd run CONFIG.ini [--set section.key=value]... [--out DIR] [--seed S]\n"
-           "                [--replica K] [--force] [--check] [--quiet]\n"
+           "                [--replica K] [--threads N] [--force] [--check] [--quiet]\n"
            "       hsbd run --defaults [options]\n"
            "       mpirun -n P hsbd run CONFIG.ini [options]   run.replicas (default P)\n"
            "              replicas spread over the ranks, merged into DIR (docs/scaling.md)\n\n"
@@ -132,6 +132,8 @@ static void run_help(void) {
            "  --seed S    random seed (same as --set system.seed=S)\n"
            "  --replica K run replica K of an ensemble alone (same as --set run.replica=K;\n"
            "              join replicas with hsbd merge)\n"
+           "  --threads N threads of the run (same as --set run.threads=N; default: the\n"
+           "              cores the process may use; rods only, same results for every N)\n"
            "  --defaults  no configuration file: every key at its default (runs/defaults);\n"
            "              a file that sets no key is refused\n"
            "  --force     write into an existing, non-empty run directory\n"
@@ -310,7 +312,7 @@ static int cmd_run(int argc, char **argv) {
             return 0;
         }
         if (!strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed") ||
-            !strcmp(a, "--replica")) {
+            !strcmp(a, "--replica") || !strcmp(a, "--threads")) {
             const char *v = flag_value("run", argc, argv, &i);
             if (!v) return free(overrides), EXIT_INPUT;
             overrides[noverrides++] = (run_override){a, v};
@@ -370,6 +372,7 @@ static int cmd_run(int argc, char **argv) {
             snprintf(buf, sizeof buf, "%s=%s",
                      !strcmp(o->flag, "--out")       ? "output.dir"
                      : !strcmp(o->flag, "--replica") ? "run.replica"
+                     : !strcmp(o->flag, "--threads") ? "run.threads"
                                                      : "system.seed",
                      o->value);
         snprintf(origin, sizeof origin, "command line (%s)", o->flag);

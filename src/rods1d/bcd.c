@@ -289,6 +289,12 @@ static void compute_pair_forces(hsbd_rods *r) {
     }
 }
 
+/* Threads for a loop over n rods: the configured number, one below a few chunks' worth
+ * (a parallel region costs a few microseconds). */
+static int step_threads(const hsbd_rods *r, size_t n) {
+    return r->par.threads > 1 && n >= 4 * STEP_CHUNK ? r->par.threads : 1;
+}
+
 /* mixtures: each species' mu dt and noise amplitude sqrt(2 D dt) for the current dt */
 static void species_step_factors(hsbd_rods *r) {
     for (size_t k = 0; k < r->par.nspecies; ++k) {
@@ -306,8 +312,14 @@ static void compute_endpoints(hsbd_rods *r) {
     const int has_field = r->par.field.nterms > 0, has_pair = r->fpair != NULL;
     if (has_pair) compute_pair_forces(r);
     if (r->species) species_step_factors(r);
-    double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];
-    for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK) {
+    /* chunks are independent (each rod's noise is its own Philox counter): threads
+     * share them out without changing a bit */
+    const long nchunks = (long)((n + STEP_CHUNK - 1) / STEP_CHUNK);
+    const int threads = step_threads(r, n);
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (long c = 0; c < nchunks; ++c) {
+        double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];
+        const size_t i0 = (size_t)c * STEP_CHUNK;
         const size_t m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
         const double *restrict z = r->z + i0;
         double *restrict y = r->y + i0;
@@ -396,15 +408,55 @@ static void recenter(hsbd_rods *r) {
  * variance 2 d_rel dt (d_rel: relative diffusion), drawn with the uniform u:
  * P(min < m) = exp(-(g0 - m)(g1 - m) / (d_rel dt)). Returns the push -m > 0 that reflects
  * the gap at zero (Skorokhod; design note 7), or 0. */
-static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed,
-                                 uint64_t step, size_t gap) {
-    /* crossing probability exp(-g0 g1 / (d_rel dt)) < 2e-9 otherwise */
-    if (g1 > 0 && g0 * g1 > 20.0 * d_rel_dt) return 0.0;
-    double u;
-    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, gap, 1, &u);
+/* a gap may have touched zero: its crossing probability exp(-g0 g1 / (d_rel dt)) is not
+ * below 2e-9 */
+static inline int bridge_may_cross(double g0, double g1, double d_rel_dt) {
+    return !(g1 > 0 && g0 * g1 > 20.0 * d_rel_dt);
+}
+
+/* the push of a gap that may cross, with its uniform u */
+static inline double bridge_push_with(double g0, double g1, double d_rel_dt, double u) {
     const double d = g1 - g0;
     const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));
     return m < 0 ? -m : 0.0;
+}
+
+static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed,
+                                 uint64_t step, size_t gap) {
+    if (!bridge_may_cross(g0, g1, d_rel_dt)) return 0.0;
+    double u;
+    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, gap, 1, &u);
+    return bridge_push_with(g0, g1, d_rel_dt, u);
+}
+
+enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pairs align */
+
+/* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in three
+ * passes that give the same bits as bridge_push gap by gap: the uniforms of every gap of
+ * the batch (one Philox call per two gaps, four calls at a time with AVX2: a gap's number
+ * depends only on its index, hsbd/rng.h), the gaps that may cross collected without
+ * branches, then the bridge minimum (scalar libm log and sqrt) of those only. */
+static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
+                           double *restrict push) {
+    double u[GAP_CHUNK], g0[GAP_CHUNK], g1[GAP_CHUNK], d[GAP_CHUNK];
+    unsigned idx[GAP_CHUNK];
+    const double *restrict z = r->z + first, *restrict y = r->y + first;
+    const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
+    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, u);
+    size_t count = 0;
+    for (size_t j = 0; j < m; ++j) {
+        const size_t i = first + j;
+        g0[j] = z[j + 1] - z[j];
+        g1[j] = y[j + 1] - y[j];
+        d[j] = r->species ? (rod_mobility(r, i) + rod_mobility(r, i + 1)) * kt_dt : d_one;
+        push[j] = 0.0;
+        idx[count] = (unsigned)j;
+        count += (size_t)bridge_may_cross(g0[j], g1[j], d[j]);
+    }
+    for (size_t k = 0; k < count; ++k) {
+        const size_t j = idx[k];
+        push[j] = bridge_push_with(g0[j], g1[j], d[j], u[j]);
+    }
 }
 
 /* The part of a gap's push that rod i takes: mu_i / (mu_i + mu_nb) against rod nb, all of
@@ -425,14 +477,16 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
 static void reflect_gaps(hsbd_rods *r) {
     const size_t n = r->par.n;
     const double kt_dt = r->par.kT * r->par.dt, lf = r->free_length;
-    const double d_rel_dt_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
     const uint64_t seed = r->par.seed, step = r->step;
     const double *z = r->z, *y = r->y;
     double *push = r->push;
-    for (size_t i = 0; i + 1 < n; ++i) {
-        const double d_rel_dt =
-            r->species ? (rod_mobility(r, i) + rod_mobility(r, i + 1)) * kt_dt : d_rel_dt_one;
-        push[i] = bridge_push(z[i + 1] - z[i], y[i + 1] - y[i], d_rel_dt, seed, step, i);
+    const int threads = step_threads(r, n);
+    const long nbatches = (long)((n - 1 + GAP_CHUNK - 1) / GAP_CHUNK);
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (long b = 0; b < nbatches; ++b) {
+        const size_t first = (size_t)b * GAP_CHUNK;
+        const size_t m = n - 1 - first < GAP_CHUNK ? n - 1 - first : GAP_CHUNK;
+        push_gap_batch(r, first, m, kt_dt, push + first);
     }
     if (r->walls) { /* the rod's own D against each wall */
         const double d_last = rod_mobility(r, n - 1) * kt_dt, d_first = rod_mobility(r, 0) * kt_dt;
@@ -447,8 +501,11 @@ static void reflect_gaps(hsbd_rods *r) {
     }
     /* interior rods of one species take half of each neighbouring push */
     const size_t first_general = r->species ? n : 1;
-    for (size_t i = first_general; i + 1 < n; ++i)
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (long li = (long)first_general; li < (long)n - 1; ++li) {
+        const size_t i = (size_t)li;
         r->ypush[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
+    }
     for (size_t i = 0; i < n; ++i) {
         if (i >= first_general && i + 1 < n) continue;
         const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;

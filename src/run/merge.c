@@ -101,9 +101,11 @@ static const char *json_entry(const char *line, size_t indent, char *key, size_t
     return q + 3;
 }
 
-/* Parameters that differ between replicas of one configuration. */
+/* Parameters that differ between replicas of one configuration (or do not change
+ * results: the threads). */
 static int replica_parameter(const char *key) {
-    return !strcmp(key, "replica") || !strcmp(key, "replicas") || !strcmp(key, "dir");
+    return !strcmp(key, "replica") || !strcmp(key, "replicas") || !strcmp(key, "dir") ||
+           !strcmp(key, "threads");
 }
 
 static int load_source(merge_source *s, hsbd_error *err) {
