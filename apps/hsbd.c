@@ -92,7 +92,7 @@ static const char *const synopsis_resume =
 static const char *const synopsis_merge =
     "hsbd merge OUT DIR... [--force]        merge replicas of one configuration\n";
 static const char *const synopsis_bench =
-    "hsbd bench [--seconds S] [--case NAME] [--list]\n"
+    "hsbd bench [--seconds S] [--case NAME] [--list] [--threads]\n"
     "                                       throughput, with the free-particle bound\n";
 static const char *const synopsis_percus =
     "hsbd theory percus --sigma S --rho R --amplitude U0 [--gamma G]\n"
@@ -466,6 +466,7 @@ static int cmd_resume(int argc, char **argv) {
 
 static int cmd_bench(int argc, char **argv) {
     double seconds = 2.0;
+    int threads = 0;
     const char *only = NULL;
     for (int i = 2; i < argc; ++i) {
         if (is_help(argv[i])) {
@@ -473,13 +474,19 @@ static int cmd_bench(int argc, char **argv) {
                    "  --seconds S   measuring time per case and variant (default 2; 0 < S < "
                    "3600)\n"
                    "  --case NAME   only this case\n"
-                   "  --list        print the names of the cases and exit\n",
+                   "  --list        print the names of the cases and exit\n"
+                   "  --threads     rods: one thread against all the process may use (wall\n"
+                   "                clock) instead of the one-core tables\n",
                    synopsis_bench);
             return 0;
         }
         if (!strcmp(argv[i], "--list")) {
             hsbd_bench_list(stdout);
             return 0;
+        }
+        if (!strcmp(argv[i], "--threads")) {
+            threads = 1;
+            continue;
         }
         if (!strcmp(argv[i], "--seconds")) {
             const char *v = flag_value("bench", argc, argv, &i);
@@ -502,7 +509,10 @@ static int cmd_bench(int argc, char **argv) {
                 "hsbd bench: --case: no case named '%.60s' (hsbd bench --list names them)\n", only);
         return EXIT_INPUT;
     }
-    hsbd_bench_run(only, seconds, stdout);
+    if (threads)
+        hsbd_bench_threads(only, seconds, stdout);
+    else
+        hsbd_bench_run(only, seconds, stdout);
     return 0;
 }
 
