@@ -411,14 +411,21 @@ static void recenter(hsbd_rods *r) {
 /* a gap may have touched zero: its crossing probability exp(-g0 g1 / (d_rel dt)) is not
  * below 2e-9 */
 static inline int bridge_may_cross(double g0, double g1, double d_rel_dt) {
-    return !(g1 > 0 && g0 * g1 > 20.0 * d_rel_dt);
+    return !(g1 > 0) | !(g0 * g1 > 20.0 * d_rel_dt); /* no branch: | evaluates both */
 }
 
-/* the push of a gap that may cross, with its uniform u */
+/* the push of a gap that may cross, with its uniform u: -m when the minimum m < 0, else
+ * +0.0, selected by a mask (the same bits as the branch, without its mispredictions) */
 static inline double bridge_push_with(double g0, double g1, double d_rel_dt, double u) {
     const double d = g1 - g0;
     const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));
-    return m < 0 ? -m : 0.0;
+    const double neg = -m;
+    uint64_t bits;
+    memcpy(&bits, &neg, sizeof bits);
+    bits &= -(uint64_t)(m < 0);
+    double push;
+    memcpy(&push, &bits, sizeof push);
+    return push;
 }
 
 static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed,
@@ -444,11 +451,15 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
     const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
     hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, u);
     size_t count = 0;
+    if (r->species)
+        for (size_t j = 0; j < m; ++j)
+            d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
+    else
+        for (size_t j = 0; j < m; ++j)
+            d[j] = d_one;
     for (size_t j = 0; j < m; ++j) {
-        const size_t i = first + j;
         g0[j] = z[j + 1] - z[j];
         g1[j] = y[j + 1] - y[j];
-        d[j] = r->species ? (rod_mobility(r, i) + rod_mobility(r, i + 1)) * kt_dt : d_one;
         push[j] = 0.0;
         idx[count] = (unsigned)j;
         count += (size_t)bridge_may_cross(g0[j], g1[j], d[j]);
