@@ -295,6 +295,48 @@ static int step_threads(const hsbd_rods *r, size_t n) {
     return r->par.threads > 1 && n >= 4 * STEP_CHUNK ? r->par.threads : 1;
 }
 
+/* Distance from rod i to rod j to its right as compute_pair_forces computes it (j
+ * reached across the ring when wrapped), the same operations in the same order. */
+static inline double pair_distance(const hsbd_rods *r, size_t i, size_t j, int wrapped) {
+    const double xi = r->z[i] + r->offset[i];
+    return r->z[j] + r->offset[j] + (wrapped ? r->par.length : 0.0) - xi;
+}
+
+/* The pair forces of compute_pair_forces on threads: each rod gathers its own, adding the
+ * terms in the order the serial walk adds them to it (rods to its left that reach it,
+ * from the farthest; then its own walk to the right; then, on a ring, rods that reach it
+ * across the end), so the sums have the same bits. Each pair is evaluated twice. */
+static void gather_pair_forces(hsbd_rods *r, int threads) {
+    const size_t n = r->par.n;
+    const double range = r->pair_range;
+    const int ring = !r->walls;
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long lt = 0; lt < (long)n; ++lt) {
+        const size_t t = (size_t)lt;
+        double acc = 0.0;
+        size_t lo = t; /* rods lo .. t-1 reach t from the left */
+        while (lo > 0 && pair_distance(r, lo - 1, t, 0) < range)
+            --lo;
+        for (size_t i = lo; i < t; ++i)
+            acc += hsbd_pair_force(&r->par.pair, pair_distance(r, i, t, 0));
+        for (size_t k = 1; k < n; ++k) { /* t's own walk */
+            if (!ring && t + k >= n) break;
+            const size_t j = t + k < n ? t + k : t + k - n;
+            const double d = pair_distance(r, t, j, t + k >= n);
+            if (d >= range) break;
+            acc -= hsbd_pair_force(&r->par.pair, d);
+        }
+        if (ring) {        /* rods t+1 .. n-1 whose walk wraps to t: the nearest ones, ascending */
+            size_t hi = n; /* rods hi .. n-1 reach t across the end */
+            while (hi > t + 1 && pair_distance(r, hi - 1, t, 1) < range)
+                --hi;
+            for (size_t i = hi; i < n; ++i)
+                acc += hsbd_pair_force(&r->par.pair, pair_distance(r, i, t, 1));
+        }
+        r->fpair[t] = acc;
+    }
+}
+
 /* mixtures: each species' mu dt and noise amplitude sqrt(2 D dt) for the current dt */
 static void species_step_factors(hsbd_rods *r) {
     for (size_t k = 0; k < r->par.nspecies; ++k) {
@@ -310,12 +352,15 @@ static void compute_endpoints(hsbd_rods *r) {
     const double mu_dt = r->mobility * r->par.dt;
     const double noise = sqrt(2.0 * r->par.diffusion * r->par.dt);
     const int has_field = r->par.field.nterms > 0, has_pair = r->fpair != NULL;
-    if (has_pair) compute_pair_forces(r);
+    const int threads = step_threads(r, n);
+    if (has_pair && threads > 1)
+        gather_pair_forces(r, threads);
+    else if (has_pair)
+        compute_pair_forces(r);
     if (r->species) species_step_factors(r);
     /* chunks are independent (each rod's noise is its own Philox counter): threads
      * share them out without changing a bit */
     const long nchunks = (long)((n + STEP_CHUNK - 1) / STEP_CHUNK);
-    const int threads = step_threads(r, n);
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
     for (long c = 0; c < nchunks; ++c) {
         double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];

@@ -2,8 +2,9 @@
 # Threads change no result: rods runs on 1, 2 and 4 threads (oversubscribed on a small
 # machine, which is fine) write byte-identical tables (every file, headers included) and
 # the same physical results in summary.json, for a ring with a field (the default reflect
-# rule), the sticky rule, walls with a tilt, a mixture, and pair forces. N is large enough
-# that every threaded loop is split (more than four chunks of rods and of gaps).
+# rule), the sticky rule, walls with a tilt, a mixture (ring and walls), and pair forces
+# (ring and walls; on threads each rod gathers its pair forces in the serial order). N is
+# large enough that every threaded loop is split (more than four chunks of rods and gaps).
 set -u
 HSBD=${1:?usage: test_threads.sh path/to/hsbd}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -69,7 +70,8 @@ cases=(
   "walls|ring.ini|--set system.boundary=walls --set field.type=cosine+tilt --set field.force=0.5 --set init.positions=even.txt --set sample.bin_width=2"
   "mixture|mixture.ini|"
   "mixture-walls|mixture.ini|--set system.boundary=walls --set system.L=10000 --set init.positions=even-mix.txt --set sample.bin_width=2"
-  "yukawa|ring.ini|--set pair.type=yukawa --set pair.strength=1 --set pair.kappa=2 --set pair.cutoff=2"
+  "yukawa|ring.ini|--set pair.type=yukawa --set pair.strength=1 --set pair.kappa=1 --set pair.cutoff=4"
+  "yukawa-walls|ring.ini|--set pair.type=yukawa --set pair.strength=1 --set pair.kappa=1 --set pair.cutoff=4 --set system.boundary=walls --set init.positions=even.txt --set sample.bin_width=2"
 )
 for c in "${cases[@]}"; do
     IFS='|' read -r name cfg extra <<<"$c"
