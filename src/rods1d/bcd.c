@@ -345,51 +345,59 @@ static void species_step_factors(hsbd_rods *r) {
     }
 }
 
-/* y_i = z_i + mu_i dt F_i + sqrt(2 D_i dt) N_i: the free end point of Eq. (10), i.e.
- * z_i + mu_i F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28). */
-static void compute_endpoints(hsbd_rods *r) {
-    const size_t n = r->par.n;
+/* The free end points of rods i0 .. i0 + STEP_CHUNK - 1 (see compute_endpoints). */
+static void endpoints_chunk(const hsbd_rods *r, size_t i0) {
+    const size_t n = r->par.n, m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
     const double mu_dt = r->mobility * r->par.dt;
     const double noise = sqrt(2.0 * r->par.diffusion * r->par.dt);
     const int has_field = r->par.field.nterms > 0, has_pair = r->fpair != NULL;
+    double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];
+    const double *restrict z = r->z + i0;
+    double *restrict y = r->y + i0;
+    hsbd_rng_normals(r->par.seed, HSBD_STREAM_NOISE, r->step, i0, m, g);
+    if (has_field || has_pair) {
+        for (size_t j = 0; j < m; ++j)
+            x[j] = z[j] + r->offset[i0 + j];
+        hsbd_field_force(&r->par.field, m, x, f);
+        if (has_pair)
+            for (size_t j = 0; j < m; ++j)
+                f[j] += r->fpair[i0 + j];
+    } else if (r->species) {
+        memset(f, 0, m * sizeof *f);
+    }
+    if (r->species) {
+        const int *sp = r->species + i0;
+        for (size_t j = 0; j < m; ++j)
+            y[j] = z[j] + r->sp_mu_dt[sp[j]] * f[j] + r->sp_noise[sp[j]] * g[j];
+    } else if (has_field || has_pair) {
+        for (size_t j = 0; j < m; ++j)
+            y[j] = z[j] + mu_dt * f[j] + noise * g[j];
+    } else {
+        for (size_t j = 0; j < m; ++j)
+            y[j] = z[j] + noise * g[j];
+    }
+}
+
+/* y_i = z_i + mu_i dt F_i + sqrt(2 D_i dt) N_i: the free end point of Eq. (10), i.e.
+ * z_i + mu_i F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28).
+ * Chunks of rods are independent (each rod's noise is its own Philox counter): threads
+ * share them out without changing a bit; one thread enters no parallel region. */
+static void compute_endpoints(hsbd_rods *r) {
+    const size_t n = r->par.n;
     const int threads = step_threads(r, n);
-    if (has_pair && threads > 1)
+    if (r->fpair && threads > 1)
         gather_pair_forces(r, threads);
-    else if (has_pair)
+    else if (r->fpair)
         compute_pair_forces(r);
     if (r->species) species_step_factors(r);
-    /* chunks are independent (each rod's noise is its own Philox counter): threads
-     * share them out without changing a bit */
-    const long nchunks = (long)((n + STEP_CHUNK - 1) / STEP_CHUNK);
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
-    for (long c = 0; c < nchunks; ++c) {
-        double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];
-        const size_t i0 = (size_t)c * STEP_CHUNK;
-        const size_t m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
-        const double *restrict z = r->z + i0;
-        double *restrict y = r->y + i0;
-        hsbd_rng_normals(r->par.seed, HSBD_STREAM_NOISE, r->step, i0, m, g);
-        if (has_field || has_pair) {
-            for (size_t j = 0; j < m; ++j)
-                x[j] = z[j] + r->offset[i0 + j];
-            hsbd_field_force(&r->par.field, m, x, f);
-            if (has_pair)
-                for (size_t j = 0; j < m; ++j)
-                    f[j] += r->fpair[i0 + j];
-        } else if (r->species) {
-            memset(f, 0, m * sizeof *f);
-        }
-        if (r->species) {
-            const int *sp = r->species + i0;
-            for (size_t j = 0; j < m; ++j)
-                y[j] = z[j] + r->sp_mu_dt[sp[j]] * f[j] + r->sp_noise[sp[j]] * g[j];
-        } else if (has_field || has_pair) {
-            for (size_t j = 0; j < m; ++j)
-                y[j] = z[j] + mu_dt * f[j] + noise * g[j];
-        } else {
-            for (size_t j = 0; j < m; ++j)
-                y[j] = z[j] + noise * g[j];
-        }
+    if (threads > 1) {
+        const long nchunks = (long)((n + STEP_CHUNK - 1) / STEP_CHUNK);
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (long c = 0; c < nchunks; ++c)
+            endpoints_chunk(r, (size_t)c * STEP_CHUNK);
+    } else {
+        for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK)
+            endpoints_chunk(r, i0);
     }
 }
 
@@ -484,17 +492,16 @@ static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t
 enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pairs align */
 
 /* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in three
- * passes that give the same bits as bridge_push gap by gap: the uniforms of every gap of
- * the batch (one Philox call per two gaps, four calls at a time with AVX2: a gap's number
- * depends only on its index, hsbd/rng.h), the gaps that may cross collected without
- * branches, then the bridge minimum (scalar libm log and sqrt) of those only. */
+ * passes that give the same bits as bridge_push gap by gap: the gaps that may cross
+ * collected without branches, their uniforms (four Philox counters at a time with AVX2: a
+ * gap's number depends only on its index, hsbd/rng.h), then their bridge minima (scalar
+ * libm log and sqrt). */
 static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
                            double *restrict push) {
     double u[GAP_CHUNK], g0[GAP_CHUNK], g1[GAP_CHUNK], d[GAP_CHUNK];
     unsigned idx[GAP_CHUNK];
     const double *restrict z = r->z + first, *restrict y = r->y + first;
     const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
-    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, u);
     size_t count = 0;
     if (r->species)
         for (size_t j = 0; j < m; ++j)
@@ -509,9 +516,10 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
         idx[count] = (unsigned)j;
         count += (size_t)bridge_may_cross(g0[j], g1[j], d[j]);
     }
+    hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
     for (size_t k = 0; k < count; ++k) {
         const size_t j = idx[k];
-        push[j] = bridge_push_with(g0[j], g1[j], d[j], u[j]);
+        push[j] = bridge_push_with(g0[j], g1[j], d[j], u[k]);
     }
 }
 
@@ -522,6 +530,22 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
     if (!r->species) return 0.5;
     const double mi = rod_mobility(r, i);
     return mi / (mi + rod_mobility(r, nb));
+}
+
+/* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at the last one, n - 2), in
+ * batches of GAP_CHUNK from lo. */
+static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt) {
+    if (hi > r->par.n - 1) hi = r->par.n - 1;
+    for (size_t first = lo; first < hi; first += GAP_CHUNK)
+        push_gap_batch(r, first, hi - first < GAP_CHUNK ? hi - first : GAP_CHUNK, kt_dt,
+                       r->push + first);
+}
+
+/* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push. */
+static void take_half_pushes(hsbd_rods *r, size_t lo, size_t hi) {
+    const double *y = r->y, *push = r->push;
+    for (size_t i = lo; i < hi; ++i)
+        r->ypush[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
 }
 
 /* Reflect rule: for every gap that may have touched zero during the step, draw the
@@ -536,13 +560,26 @@ static void reflect_gaps(hsbd_rods *r) {
     const uint64_t seed = r->par.seed, step = r->step;
     const double *z = r->z, *y = r->y;
     double *push = r->push;
+    /* interior rods of one species take half of each neighbouring push */
+    const size_t first_general = r->species ? n : 1;
     const int threads = step_threads(r, n);
-    const long nbatches = (long)((n - 1 + GAP_CHUNK - 1) / GAP_CHUNK);
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
-    for (long b = 0; b < nbatches; ++b) {
-        const size_t first = (size_t)b * GAP_CHUNK;
-        const size_t m = n - 1 - first < GAP_CHUNK ? n - 1 - first : GAP_CHUNK;
-        push_gap_batch(r, first, m, kt_dt, push + first);
+    if (threads > 1) { /* one parallel region, a barrier between pushes and their use */
+        const long nbatches = (long)((n - 1 + GAP_CHUNK - 1) / GAP_CHUNK);
+#pragma omp parallel num_threads(threads)
+        {
+#pragma omp for schedule(static)
+            for (long b = 0; b < nbatches; ++b)
+                push_gap_batches(r, (size_t)b * GAP_CHUNK, (size_t)(b + 1) * GAP_CHUNK, kt_dt);
+#pragma omp for schedule(static)
+            for (long b = 0; b < nbatches; ++b) {
+                const size_t lo = (size_t)b * GAP_CHUNK, hi = lo + GAP_CHUNK;
+                take_half_pushes(r, lo > first_general ? lo : first_general,
+                                 hi < n - 1 ? hi : n - 1);
+            }
+        }
+    } else {
+        push_gap_batches(r, 0, n - 1, kt_dt);
+        take_half_pushes(r, first_general, n - 1);
     }
     if (r->walls) { /* the rod's own D against each wall */
         const double d_last = rod_mobility(r, n - 1) * kt_dt, d_first = rod_mobility(r, 0) * kt_dt;
@@ -554,13 +591,6 @@ static void reflect_gaps(hsbd_rods *r) {
                                           seed, step, n - 1)
                             : 0.0;
         push[n] = 0.0;
-    }
-    /* interior rods of one species take half of each neighbouring push */
-    const size_t first_general = r->species ? n : 1;
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
-    for (long li = (long)first_general; li < (long)n - 1; ++li) {
-        const size_t i = (size_t)li;
-        r->ypush[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
     }
     for (size_t i = 0; i < n; ++i) {
         if (i >= first_general && i + 1 < n) continue;
