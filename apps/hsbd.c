@@ -255,7 +255,8 @@ static void merge_help(void) {
            "that of one ensemble run (mpirun) of the same replicas byte for byte.\n"
            "Refused (exit 2, nothing written): fewer than two directories, a run that did\n"
            "not complete, runs that are no replicas, the same replica twice, and runs of\n"
-           "different configurations (any parameter but run.replica and output.dir).\n\n"
+           "different configurations (any parameter but run.replica, run.replicas,\n"
+           "run.threads and output.dir).\n\n"
            "  --force  write into an existing, non-empty OUT (an earlier run's files)\n");
 }
 
