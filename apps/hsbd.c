@@ -106,15 +106,21 @@ static const char *const synopsis_box =
     "                      [--center C] [--amplitude U0] [--wavelength W] [--bin W]\n"
     "                      [--points M] --out FILE|-\n"
     "                                       exact profile between hard walls\n";
+static const char *const synopsis_washboard =
+    "hsbd theory washboard --amplitude U0 [--wavelength W] [--D D] [--kT kT]\n"
+    "                      [--force F | --force-min A --force-max B --forces K]\n"
+    "                      [--rocking F1] [--tol T] --out FILE|-\n"
+    "                                       one particle in a tilted cosine: <v>, D_eff\n";
 static const char *const synopsis_validate =
     "hsbd validate [--quick] [--dt-scan] [--sticky] [--out DIR] [--case TEXT]\n"
     "                     [--jobs N] [--seed-offset K]\n"
     "                                       simulations against exact theory\n";
 
 static void usage(FILE *out) {
-    fprintf(out, "usage: %s       %s       %s       %s       %s       %s       %s       %s",
+    fprintf(out,
+            "usage: %s       %s       %s       %s       %s       %s       %s       %s       %s",
             synopsis_run, synopsis_resume, synopsis_merge, synopsis_bench, synopsis_percus,
-            synopsis_tonks, synopsis_box, synopsis_validate);
+            synopsis_tonks, synopsis_box, synopsis_washboard, synopsis_validate);
     fprintf(out, "       hsbd config-doc                 print the configuration reference "
                  "(Markdown)\n"
                  "       hsbd version\n"
@@ -771,6 +777,78 @@ static int cmd_theory_percus(int argc, char **argv) {
     return close_theory_output(&o, f, 0);
 }
 
+/* One overdamped particle in U0/2 cos(2 pi x / lambda) - F x: the exact mean velocity
+ * (Stratonovich) and D_eff (Reimann et al. 2001) at one tilt or over a grid of tilts, and
+ * the adiabatically rocked drift for F(t) = F + F1 cos(omega t) (src/theory/washboard.c). */
+static int cmd_theory_washboard(int argc, char **argv) {
+    double u0 = 0, wavelength = 1, d = 1, kT = 1, force = NAN, fmin = NAN, fmax = NAN, nforces = 0,
+           rocking = 0, tol = 1e-10;
+    const char *out = NULL;
+    num_flag flags[] = {
+        {"--amplitude", &u0, -1e4, 1e4, 0, 0, 1, "cosine amplitude U0 (energy)", 0},
+        {"--wavelength", &wavelength, 0, 1e300, 1, 1, 0, "wavelength lambda (default 1)", 0},
+        {"--D", &d, 0, 1e300, 1, 1, 0, "diffusion coefficient (default 1)", 0},
+        {"--kT", &kT, 0, 1e300, 1, 1, 0, "thermal energy (default 1)", 0},
+        {"--force", &force, -1e6, 1e6, 0, 0, 0, "tilt F (energy/length); or a grid:", 0},
+        {"--force-min", &fmin, -1e6, 1e6, 0, 0, 0, "first tilt of the grid", 0},
+        {"--force-max", &fmax, -1e6, 1e6, 0, 0, 0, "last tilt of the grid", 0},
+        {"--forces", &nforces, 2, 1e5, 0, 0, 0, "tilts in the grid (whole)", 0},
+        {"--rocking", &rocking, 0, 1e6, 0, 0, 0,
+         "F1: add the adiabatic drift of F(t) = F + F1 cos(omega t) (default 0: none)", 0},
+        {"--tol", &tol, 1e-14, 1e-2, 0, 0, 0, "relative accuracy (default 1e-10)", 0},
+    };
+    const size_t nflags = sizeof flags / sizeof flags[0];
+    const int rc = parse_num_flags("theory washboard", argc, argv, flags, nflags, &out);
+    if (rc < 0)
+        num_flags_help(synopsis_washboard,
+                       "One overdamped Brownian particle in U(x) = (U0/2) cos(2 pi x / lambda) - "
+                       "F x: the exact\nmean velocity (Stratonovich) and effective diffusion "
+                       "coefficient D_eff (Reimann et al.,\nPRL 87, 010602 (2001)); columns force "
+                       "velocity d_eff rel_error [velocity_rocking]\n(docs/theory.md). Critical "
+                       "tilt: pi U0 / lambda.",
+                       flags, nflags, 1);
+    if (rc) return rc < 0 ? 0 : rc;
+    const int grid = !isnan(fmin) || !isnan(fmax) || nforces > 0;
+    if (grid == !isnan(force) || (grid && (isnan(fmin) || isnan(fmax) || nforces == 0)) ||
+        nforces != floor(nforces) || (grid && !(fmax > fmin))) {
+        fprintf(stderr, "hsbd theory washboard: give --force F, or --force-min A --force-max B "
+                        "--forces K with A < B and K whole (not both)\n");
+        return EXIT_INPUT;
+    }
+    hsbd_outfile o = {0};
+    FILE *f;
+    if (open_theory_output("theory washboard", out, &o, &f)) return EXIT_INPUT;
+    hsbd_field field = {0};
+    hsbd_field_add(&field, hsbd_field_cosine(u0, wavelength));
+    hsbd_washboard_params p = {
+        .diffusion = d, .kT = kT, .period = wavelength, .field = &field, .tol = tol};
+    const size_t nf = grid ? (size_t)nforces : 1;
+    fprintf(f,
+            "# hsbd %s (git %s): one particle in a tilted cosine, exact stationary drift and "
+            "D_eff (docs/theory.md)\n# amplitude = %.17g\n# wavelength = %.17g\n# D = %.17g\n"
+            "# kT = %.17g\n# critical_force = %.17g\n# rocking = %.17g\n",
+            HSBD_VERSION_STRING, HSBD_GIT_COMMIT, u0, wavelength, d, kT,
+            3.141592653589793 * fabs(u0) / wavelength, rocking);
+    fprintf(f, "force\tvelocity\td_eff\trel_error%s\n", rocking > 0 ? "\tvelocity_rocking" : "");
+    for (size_t k = 0; k < nf; ++k) {
+        p.force = grid ? fmin + (fmax - fmin) * (double)k / (double)(nf - 1) : force;
+        hsbd_washboard_result r;
+        hsbd_error err;
+        int st = hsbd_washboard_solve(&p, &r, &err);
+        if (st != HSBD_OK) return close_theory_output(&o, f, fail(st, err.message));
+        fprintf(f, "%.10g\t%.15g\t%.15g\t%.3g", p.force, r.velocity, r.diffusion_eff, r.error);
+        hsbd_washboard_result_free(&r);
+        if (rocking > 0) {
+            hsbd_washboard_rocking_result rr;
+            st = hsbd_washboard_rocking(&p, p.force, rocking, &rr, &err);
+            if (st != HSBD_OK) return close_theory_output(&o, f, fail(st, err.message));
+            fprintf(f, "\t%.15g", rr.velocity);
+        }
+        fputc('\n', f);
+    }
+    return close_theory_output(&o, f, 0);
+}
+
 static int cmd_theory_tonks(int argc, char **argv) {
     double sigma = 0, rho = 0, gamma = 0, d = 1;
     num_flag flags[] = {
@@ -881,18 +959,20 @@ static int cmd_theory(int argc, char **argv) {
     if (argc >= 3 && !strcmp(argv[2], "percus")) return cmd_theory_percus(argc, argv);
     if (argc >= 3 && !strcmp(argv[2], "tonks")) return cmd_theory_tonks(argc, argv);
     if (argc >= 3 && !strcmp(argv[2], "box")) return cmd_theory_box(argc, argv);
+    if (argc >= 3 && !strcmp(argv[2], "washboard")) return cmd_theory_washboard(argc, argv);
     if (argc >= 3 && is_help(argv[2])) {
-        printf("usage: %s       %s       %s", synopsis_percus, synopsis_tonks, synopsis_box);
+        printf("usage: %s       %s       %s       %s", synopsis_percus, synopsis_tonks,
+               synopsis_box, synopsis_washboard);
         return 0;
     }
     if (argc >= 3)
         fprintf(stderr,
-                "hsbd theory: unknown theory '%.60s'; allowed: percus, tonks, box (hsbd theory "
-                "--help)\n",
+                "hsbd theory: unknown theory '%.60s'; allowed: percus, tonks, box, washboard "
+                "(hsbd theory --help)\n",
                 argv[2]);
     else
-        fprintf(stderr, "hsbd theory: which theory? allowed: percus, tonks, box (hsbd theory "
-                        "--help)\n");
+        fprintf(stderr, "hsbd theory: which theory? allowed: percus, tonks, box, "
+                        "washboard (hsbd theory --help)\n");
     return EXIT_INPUT;
 }
 

@@ -14,21 +14,28 @@
 #include "hsbd/spheres.h"
 #include "hsbd_version.h"
 
+/* the field of a case: the cosine, plus a static tilt, or plus a rocking tilt */
+enum { BENCH_COSINE = 0, BENCH_TILT, BENCH_ROCKING };
+
 typedef struct bench_case {
     const char *name;
     double sigma, rho;
-    size_t n; /* 0: L = 100 */
+    size_t n;  /* 0: L = 100 */
+    int field; /* BENCH_COSINE (0), BENCH_TILT or BENCH_ROCKING */
 } bench_case;
 
 static const bench_case bench_cases[] = {
-    {"s0.5-rho0.2", 0.5, 0.2, 0},
-    {"s0.5-rho0.5", 0.5, 0.5, 0},
-    {"s0.5-rho0.8", 0.5, 0.8, 0},
-    {"s0.1-rho0.8", 0.1, 0.8, 0},
-    {"s0.5-rho0.5-N1e4", 0.5, 0.5, 10000},
-    {"s0.5-rho0.5-N1e5", 0.5, 0.5, 100000},
-    {"s0.5-rho0.5-N1e6", 0.5, 0.5, 1000000},
-    {"dense-s0.9-rho1.0-N1e4", 0.9, 1.0, 10000},
+    {"s0.5-rho0.2", 0.5, 0.2, 0, BENCH_COSINE},
+    {"s0.5-rho0.5", 0.5, 0.5, 0, BENCH_COSINE},
+    {"s0.5-rho0.8", 0.5, 0.8, 0, BENCH_COSINE},
+    {"s0.1-rho0.8", 0.1, 0.8, 0, BENCH_COSINE},
+    {"s0.5-rho0.5-N1e4", 0.5, 0.5, 10000, BENCH_COSINE},
+    {"s0.5-rho0.5-N1e5", 0.5, 0.5, 100000, BENCH_COSINE},
+    {"s0.5-rho0.5-N1e6", 0.5, 0.5, 1000000, BENCH_COSINE},
+    {"dense-s0.9-rho1.0-N1e4", 0.9, 1.0, 10000, BENCH_COSINE},
+    /* a driven field against its static twin: F = 3 + 9 cos(2 pi t) against F = 3 */
+    {"tilt-s0.5-rho0.5-N1e4", 0.5, 0.5, 10000, BENCH_TILT},
+    {"rocking-s0.5-rho0.5-N1e4", 0.5, 0.5, 10000, BENCH_ROCKING},
 };
 
 /* CPU time of the calling thread: on a shared machine the wall clock also counts the time
@@ -64,6 +71,11 @@ static double bench_rate_on(const bench_case *c, int hard_core, int contact_rule
                           .contact_rule = contact_rule,
                           .threads = threads};
     hsbd_field_add(&p.field, hsbd_field_cosine(6.0, 1.0));
+    hsbd_field_term tilt = hsbd_field_tilt(3.0);
+    if (c->field == BENCH_ROCKING)
+        hsbd_field_term_drive(&tilt, HSBD_DRIVE_STRENGTH, HSBD_WAVE_COSINE, 9.0,
+                              2 * 3.141592653589793, 0, 0);
+    if (c->field != BENCH_COSINE) hsbd_field_add(&p.field, tilt);
     hsbd_error err;
     hsbd_rods *r = hsbd_rods_alloc(&p, &err);
     if (!r) return NAN;

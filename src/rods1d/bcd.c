@@ -346,7 +346,7 @@ static void species_step_factors(hsbd_rods *r) {
 }
 
 /* The free end points of rods i0 .. i0 + STEP_CHUNK - 1 (see compute_endpoints). */
-static void endpoints_chunk(const hsbd_rods *r, size_t i0) {
+static void endpoints_chunk(const hsbd_rods *r, const hsbd_field *field, size_t i0) {
     const size_t n = r->par.n, m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
     const double mu_dt = r->mobility * r->par.dt;
     const double noise = sqrt(2.0 * r->par.diffusion * r->par.dt);
@@ -358,7 +358,7 @@ static void endpoints_chunk(const hsbd_rods *r, size_t i0) {
     if (has_field || has_pair) {
         for (size_t j = 0; j < m; ++j)
             x[j] = z[j] + r->offset[i0 + j];
-        hsbd_field_force(&r->par.field, m, x, f);
+        hsbd_field_force(field, m, x, f);
         if (has_pair)
             for (size_t j = 0; j < m; ++j)
                 f[j] += r->fpair[i0 + j];
@@ -390,14 +390,16 @@ static void compute_endpoints(hsbd_rods *r) {
     else if (r->fpair)
         compute_pair_forces(r);
     if (r->species) species_step_factors(r);
+    hsbd_field now; /* a driven field at the step's start, frozen over the step */
+    const hsbd_field *field = hsbd_field_at(&r->par.field, r->time, &now);
     if (threads > 1) {
         const long nchunks = (long)((n + STEP_CHUNK - 1) / STEP_CHUNK);
 #pragma omp parallel for schedule(static) num_threads(threads)
         for (long c = 0; c < nchunks; ++c)
-            endpoints_chunk(r, (size_t)c * STEP_CHUNK);
+            endpoints_chunk(r, field, (size_t)c * STEP_CHUNK);
     } else {
         for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK)
-            endpoints_chunk(r, i0);
+            endpoints_chunk(r, field, i0);
     }
 }
 

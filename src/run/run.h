@@ -14,6 +14,7 @@
 #include "hsbd/error.h"
 #include "hsbd/io.h"
 #include "hsbd/run.h"
+#include "hsbd/sim.h"
 
 typedef struct run run;
 
@@ -35,6 +36,9 @@ typedef struct run_stream {
     int64_t committed; /* bytes on disk at the last checkpoint */
     /* writes the file's header when a run opens it (may be NULL) */
     void (*header)(const struct run *r, FILE *f);
+    /* a GSD file (also written in place: its index layout goes into checkpoints) */
+    int is_gsd;
+    hsbd_gsd gsd;
 } run_stream;
 
 /* What a model provides. Every function gets the run; the model's own state is r->m. */
@@ -60,6 +64,8 @@ typedef struct run_model {
     int (*load)(run *r, hsbd_reader *rd);
     /* final tables and the model's part of summary.json */
     int (*write_tables)(run *r, hsbd_error *err);
+    /* the state and observers, for hsbd_sim */
+    void (*expose)(const run *r, hsbd_sim_parts *parts);
     void (*write_summary)(run *r, FILE *f);
     void (*release)(run *r);
 } run_model;
@@ -107,6 +113,9 @@ int run_add_op(run *r, const char *name, uint64_t every, run_action act, void *c
 run_stream *run_add_stream(run *r, const char *name, hsbd_error *err);
 /* After writing to a stream: HSBD_EIO naming its file when a write failed (disk full). */
 int run_stream_check(const run_stream *s, hsbd_error *err);
+/* output.trajectory: the stream trajectory.xyz or trajectory.gsd and the operation `write`
+ * that adds a frame every output.trajectory_every; *s stays NULL without a trajectory. */
+int run_add_trajectory(run *r, run_action write, void *ctx, run_stream **s, hsbd_error *err);
 /* Steps between calls for a period of simulated time (at least 1); 0 for period 0. */
 uint64_t run_every(const hsbd_config *cfg, double period);
 
@@ -114,6 +123,12 @@ uint64_t run_every(const hsbd_config *cfg, double period);
  * touched: everything that can refuse the input happens here). */
 int run_rods_build(run *r, hsbd_error *err);
 int run_spheres_build(run *r, hsbd_error *err);
+
+/* A built run enters its first equilibration. */
+void run_begin(run *r);
+/* At most `steps` more steps of the run (equilibration, production with its operations,
+ * replicas), fewer when it ends; the lifecycle's own loop, as hsbd_run runs it. */
+int run_advance(run *r, uint64_t steps, hsbd_error *err);
 
 /* The common fields of summary.json (program, version, completion, steps, timings); the
  * model then adds its own. */

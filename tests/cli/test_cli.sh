@@ -169,6 +169,11 @@ expect_fail profile-memory "sample.bin_width = 0.0001" "GiB of profile accumulat
 "$HSBD" theory box --N 30 --L 50 --sigma 1 --force -0.5 --bin 0.5 --out box.tsv \
     && awk '/^# wall_left/{l=$4} /^# wall_right/{r=$4} END{d=l-r-15; exit !(d < 1e-3 && d > -1e-3)}' box.tsv \
     && ok || bad "theory box: walls do not balance the weight"
+# one particle in a tilted cosine: no potential gives <v> = mu F and D_eff = D exactly; at
+# U0 = 2, F = 2 the values of the unit tests (tests/unit/test_washboard.c)
+"$HSBD" theory washboard --amplitude 1e-300 --force 3 --D 2 --kT 0.5 --out wb0.tsv \
+    && awk '!/^#/ && $1 != "force" { exit !($2 > 11.999999 && $2 < 12.000001 && $3 > 1.999999 && $3 < 2.000001) }' wb0.tsv \
+    && ok || bad "theory washboard: free particle"
 "$HSBD" theory box --N 30 --L 20 --sigma 1 --out - >/dev/null 2>"$T/stderr"
 [ $? -eq 2 ] && grep -q "N sigma < L" "$T/stderr" && ok || bad "theory box: no room not refused"
 # mixtures: counts must sum to N, one entry per species, sane values

@@ -1,5 +1,6 @@
 /* Every allocation failure of a whole run surfaces as an error: hsbd_run and hsbd_resume
- * of small rods and spheres runs (every observer on, trajectories, currents, checkpoints)
+ * of small rods and spheres runs (every observer on, trajectories (rods XYZ, spheres GSD),
+ * currents, checkpoints)
  * are made once counting their allocations K, then once for every k from 1 to K with the
  * k-th failing. Checked: the call returns HSBD_ENOMEM exactly when an allocation failed
  * during it (never HSBD_OK after a failure, never a failure without one), and nothing
@@ -57,7 +58,7 @@ static const char *const spheres_keys[] = {"system.model=spheres",
                                            "sample.blocks=4",
                                            "sample.gr_every=5",
                                            "sample.every=5",
-                                           "output.trajectory=xyz",
+                                           "output.trajectory=gsd",
                                            "output.checkpoint_every=0.02"};
 
 static int build_config(hsbd_config *cfg, const char *const *keys, size_t n, const char *dir) {
