@@ -20,6 +20,10 @@
 #include "hsbd/validate.h"
 #include "hsbd_version.h"
 
+#ifdef HSBD_HAVE_MPI
+#include <mpi.h>
+#endif
+
 enum { EXIT_INPUT = 2, EXIT_INTERRUPTED = 130 };
 
 static volatile sig_atomic_t stop_flag = 0;
@@ -85,8 +89,10 @@ static const char *const synopsis_run =
 static const char *const synopsis_resume =
     "hsbd resume DIR [--set run.t_total=T] [--quiet]\n"
     "                                       continue a stopped run from its checkpoint\n";
+static const char *const synopsis_merge =
+    "hsbd merge OUT DIR... [--force]        merge replicas of one configuration\n";
 static const char *const synopsis_bench =
-    "hsbd bench [--seconds S] [--case NAME] [--list]\n"
+    "hsbd bench [--seconds S] [--case NAME] [--list] [--threads]\n"
     "                                       throughput, with the free-particle bound\n";
 static const char *const synopsis_percus =
     "hsbd theory percus --sigma S --rho R --amplitude U0 [--gamma G]\n"
@@ -111,9 +117,10 @@ static const char *const synopsis_validate =
     "                                       simulations against exact theory\n";
 
 static void usage(FILE *out) {
-    fprintf(out, "usage: %s       %s       %s       %s       %s       %s       %s       %s",
-            synopsis_run, synopsis_resume, synopsis_bench, synopsis_percus, synopsis_tonks,
-            synopsis_box, synopsis_washboard, synopsis_validate);
+    fprintf(out,
+            "usage: %s       %s       %s       %s       %s       %s       %s       %s       %s",
+            synopsis_run, synopsis_resume, synopsis_merge, synopsis_bench, synopsis_percus,
+            synopsis_tonks, synopsis_box, synopsis_washboard, synopsis_validate);
     fprintf(out, "       hsbd config-doc                 print the configuration reference "
                  "(Markdown)\n"
                  "       hsbd version\n"
@@ -122,11 +129,17 @@ static void usage(FILE *out) {
 
 static void run_help(void) {
     printf("usage: hsbd run CONFIG.ini [--set section.key=value]... [--out DIR] [--seed S]\n"
-           "                [--force] [--check] [--quiet]\n"
-           "       hsbd run --defaults [options]\n\n"
+           "                [--replica K] [--threads N] [--force] [--check] [--quiet]\n"
+           "       hsbd run --defaults [options]\n"
+           "       mpirun -n P hsbd run CONFIG.ini [options]   run.replicas (default P)\n"
+           "              replicas spread over the ranks, merged into DIR (docs/scaling.md)\n\n"
            "  --set k=v   override any key (repeatable)\n"
            "  --out DIR   run directory (same as --set output.dir=DIR)\n"
            "  --seed S    random seed (same as --set system.seed=S)\n"
+           "  --replica K run replica K of an ensemble alone (same as --set run.replica=K;\n"
+           "              join replicas with hsbd merge)\n"
+           "  --threads N threads of the run (same as --set run.threads=N; default: the\n"
+           "              cores the process may use; rods only, same results for every N)\n"
            "  --defaults  no configuration file: every key at its default (runs/defaults);\n"
            "              a file that sets no key is refused\n"
            "  --force     write into an existing, non-empty run directory\n"
@@ -169,6 +182,124 @@ static void default_out_dir(const char *config_path, char *out, size_t len) {
     snprintf(out, len, "runs/%.*s", n, base);
 }
 
+/* ---- ensembles of replicas over MPI ranks (docs/scaling.md) ----------------------------- */
+
+/* status of a rank that stopped because another rank failed (that one prints why) */
+enum { HSBD_ESILENT = -1 };
+
+#ifdef HSBD_HAVE_MPI
+/* started by mpirun (OpenMPI or a PMI launcher): only then is MPI initialised, so a
+ * plain run never pays for it */
+static int launched_by_mpi(void) {
+    return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMI_SIZE") || getenv("PMIX_RANK");
+}
+#endif
+
+typedef struct ranks {
+    int rank, size, mpi;
+} ranks;
+
+static ranks ranks_begin(void) {
+    ranks r = {0, 1, 0};
+#ifdef HSBD_HAVE_MPI
+    if (launched_by_mpi() && MPI_Init(NULL, NULL) == MPI_SUCCESS) {
+        r.mpi = 1;
+        MPI_Comm_rank(MPI_COMM_WORLD, &r.rank);
+        MPI_Comm_size(MPI_COMM_WORLD, &r.size);
+    }
+#endif
+    return r;
+}
+
+static void ranks_end(const ranks *r) {
+#ifdef HSBD_HAVE_MPI
+    if (r->mpi) MPI_Finalize();
+#else
+    (void)r;
+#endif
+}
+
+/* The worst status over the ranks (every rank calls it at the same point); a rank that
+ * itself succeeded gets HSBD_ESILENT with the status in err. */
+static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
+    int worst = rc;
+#ifdef HSBD_HAVE_MPI
+    if (r->mpi) MPI_Allreduce(&rc, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+#else
+    (void)r;
+#endif
+    if (worst == HSBD_OK || rc != HSBD_OK) return rc;
+    err->status = worst;
+    return HSBD_ESILENT;
+}
+
+/* A single run, or run.replicas replicas spread over the ranks (replica k on rank k mod
+ * P, each in DIR/replica-k) and merged by rank 0 in replica order. */
+static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_error *err) {
+    ranks r = ranks_begin();
+    const size_t replicas = hsbd_ensemble_size(cfg, r.size);
+    if (r.rank > 0) opt->progress = 0;
+    int rc = HSBD_OK;
+    if (replicas == 1) {
+        if (r.rank == 0) rc = hsbd_run(cfg, opt, err);
+    } else {
+        if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, err);
+        rc = ranks_agree(&r, rc, err);
+        if (rc == HSBD_OK) rc = hsbd_ensemble_run(cfg, opt, replicas, r.rank, r.size, err);
+        if (rc != HSBD_ESILENT) rc = ranks_agree(&r, rc, err);
+        if (rc == HSBD_OK && r.rank == 0) rc = hsbd_ensemble_merge(cfg, replicas, err);
+    }
+    ranks_end(&r);
+    return rc;
+}
+
+static void merge_help(void) {
+    printf("usage: hsbd merge OUT DIR... [--force]\n\n"
+           "Merges the run directories of replicas of one configuration (hsbd run CONFIG\n"
+           "--replica K, e.g. the tasks of a job array) into OUT: the means over the replicas\n"
+           "and errors from their scatter, summed in replica order, so the result equals\n"
+           "that of one ensemble run (mpirun) of the same replicas byte for byte.\n"
+           "Refused (exit 2, nothing written): fewer than two directories, a run that did\n"
+           "not complete, runs that are no replicas, the same replica twice, and runs of\n"
+           "different configurations (any parameter but run.replica, run.replicas,\n"
+           "run.threads and output.dir).\n\n"
+           "  --force  write into an existing, non-empty OUT (an earlier run's files)\n");
+}
+
+static int cmd_merge(int argc, char **argv) {
+    const char *out = NULL;
+    const char **dirs = calloc((size_t)argc, sizeof *dirs);
+    size_t ndirs = 0;
+    int force = 0;
+    if (!dirs) return fail(HSBD_ENOMEM, "out of memory");
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i];
+        if (is_help(a)) {
+            free(dirs);
+            merge_help();
+            return 0;
+        }
+        if (!strcmp(a, "--force")) {
+            force = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(stderr, "hsbd merge: unknown option '%.60s' (hsbd merge --help)\n", a);
+            return free(dirs), EXIT_INPUT;
+        } else if (!out) {
+            out = a;
+        } else {
+            dirs[ndirs++] = a;
+        }
+    }
+    if (!out) {
+        fprintf(stderr, "hsbd merge: no output directory given (hsbd merge OUT DIR...)\n");
+        return free(dirs), EXIT_INPUT;
+    }
+    hsbd_error err;
+    const int rc = hsbd_merge(out, dirs, ndirs, force, &err);
+    free(dirs);
+    return rc == HSBD_OK ? 0 : fail(rc, err.message);
+}
+
 /* One override from the command line, applied in order after the file. */
 typedef struct run_override {
     const char *flag, *value;
@@ -187,7 +318,8 @@ static int cmd_run(int argc, char **argv) {
             run_help();
             return 0;
         }
-        if (!strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed")) {
+        if (!strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed") ||
+            !strcmp(a, "--replica") || !strcmp(a, "--threads")) {
             const char *v = flag_value("run", argc, argv, &i);
             if (!v) return free(overrides), EXIT_INPUT;
             overrides[noverrides++] = (run_override){a, v};
@@ -245,7 +377,11 @@ static int cmd_run(int argc, char **argv) {
             snprintf(buf, sizeof buf, "%s", o->value);
         else
             snprintf(buf, sizeof buf, "%s=%s",
-                     !strcmp(o->flag, "--out") ? "output.dir" : "system.seed", o->value);
+                     !strcmp(o->flag, "--out")       ? "output.dir"
+                     : !strcmp(o->flag, "--replica") ? "run.replica"
+                     : !strcmp(o->flag, "--threads") ? "run.threads"
+                                                     : "system.seed",
+                     o->value);
         snprintf(origin, sizeof origin, "command line (%s)", o->flag);
         if (strlen(o->value) >= HSBD_PATH_MAX) {
             fprintf(stderr, "hsbd run: %s: the value is longer than %d characters\n", o->flag,
@@ -265,10 +401,11 @@ static int cmd_run(int argc, char **argv) {
     int rc = hsbd_config_finalize(&cfg, &err);
     if (rc == HSBD_OK) {
         catch_stop_signals();
-        rc = hsbd_run(&cfg, &opt, &err);
+        rc = run_ensemble_or_single(&cfg, &opt, &err);
     }
     if (config_path) free((char *)source.text);
     free(sets), free(set_list);
+    if (rc == HSBD_ESILENT) return exit_code_for(err.status);
     if (rc != HSBD_OK) return fail(rc, err.message);
     if (opt.progress) fprintf(stderr, "hsbd: results in %s/\n", cfg.output.dir);
     return 0;
@@ -336,6 +473,7 @@ static int cmd_resume(int argc, char **argv) {
 
 static int cmd_bench(int argc, char **argv) {
     double seconds = 2.0;
+    int threads = 0;
     const char *only = NULL;
     for (int i = 2; i < argc; ++i) {
         if (is_help(argv[i])) {
@@ -343,13 +481,19 @@ static int cmd_bench(int argc, char **argv) {
                    "  --seconds S   measuring time per case and variant (default 2; 0 < S < "
                    "3600)\n"
                    "  --case NAME   only this case\n"
-                   "  --list        print the names of the cases and exit\n",
+                   "  --list        print the names of the cases and exit\n"
+                   "  --threads     rods: one thread against all the process may use (wall\n"
+                   "                clock) instead of the one-core tables\n",
                    synopsis_bench);
             return 0;
         }
         if (!strcmp(argv[i], "--list")) {
             hsbd_bench_list(stdout);
             return 0;
+        }
+        if (!strcmp(argv[i], "--threads")) {
+            threads = 1;
+            continue;
         }
         if (!strcmp(argv[i], "--seconds")) {
             const char *v = flag_value("bench", argc, argv, &i);
@@ -372,7 +516,10 @@ static int cmd_bench(int argc, char **argv) {
                 "hsbd bench: --case: no case named '%.60s' (hsbd bench --list names them)\n", only);
         return EXIT_INPUT;
     }
-    hsbd_bench_run(only, seconds, stdout);
+    if (threads)
+        hsbd_bench_threads(only, seconds, stdout);
+    else
+        hsbd_bench_run(only, seconds, stdout);
     return 0;
 }
 
@@ -848,6 +995,7 @@ int main(int argc, char **argv) {
     const char *cmd = argv[1];
     if (!strcmp(cmd, "run")) return cmd_run(argc, argv);
     if (!strcmp(cmd, "resume")) return cmd_resume(argc, argv);
+    if (!strcmp(cmd, "merge")) return cmd_merge(argc, argv);
     if (!strcmp(cmd, "bench")) return cmd_bench(argc, argv);
     if (!strcmp(cmd, "theory")) return cmd_theory(argc, argv);
     if (!strcmp(cmd, "validate")) return cmd_validate(argc, argv);

@@ -13,5 +13,7 @@ HSBD_API int hsbd_bench_has_case(const char *name);
 /* Runs every case (or only the named one), `seconds` per case and variant, printing a
  * table to out. */
 HSBD_API void hsbd_bench_run(const char *only, double seconds, FILE *out);
+/* The rods cases of N >= 10^4 on one thread and on all the process may use (wall clock). */
+HSBD_API void hsbd_bench_threads(const char *only, double seconds, FILE *out);
 
 #endif

@@ -97,6 +97,11 @@ typedef struct hsbd_config {
     } species;
     struct {
         double dt, t_equil, t_total, dt_equil;
+        /* ensembles: replicas in all (0: one per MPI rank), and this run's replica index
+         * (-1: not one replica of an ensemble) */
+        int64_t replicas, replica;
+        /* threads of one run (0: the cores the process may use) */
+        int64_t threads;
     } run;
     struct {
         double bin_width, contact_width, period;

@@ -26,4 +26,9 @@ HSBD_API void hsbd_rng_normals(uint64_t seed, uint32_t stream, uint64_t step, si
 HSBD_API void hsbd_rng_uniforms(uint64_t seed, uint32_t stream, uint64_t step, size_t first,
                                 size_t n, double *out);
 
+/* Uniforms of the indices base + offset[k], k < n (any order, repeats allowed), each the
+ * number hsbd_rng_uniforms gives that index. */
+HSBD_API void hsbd_rng_uniforms_at(uint64_t seed, uint32_t stream, uint64_t step, size_t base,
+                                   const unsigned *offset, size_t n, double *out);
+
 #endif

@@ -48,4 +48,29 @@ HSBD_API int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *op
 HSBD_API int hsbd_resume(const char *dir, const char *const *sets, size_t nsets,
                          const hsbd_run_options *opt, hsbd_error *err);
 
+/* ---- Ensembles of replicas (docs/scaling.md) ---------------------------------------------
+ * Replica k of a configuration runs it whole (initial state, equilibration, production)
+ * with the key of its noise made from system.seed and k; an ensemble's run directory DIR
+ * holds each replica's run directory DIR/replica-k and their merged tables: means over the
+ * replicas and errors from their scatter, combined in replica order, so the bytes depend
+ * only on the set of replicas (not on the processes or the order they ran in). */
+
+/* The replicas of an ensemble started on `ranks` processes: run.replicas, or one per rank
+ * when it is 0; 1 means a single run. */
+HSBD_API size_t hsbd_ensemble_size(const hsbd_config *cfg, int ranks);
+/* Checks the ensemble's directory (one process, before any replica runs): an existing one
+ * is refused when it holds anything unless force, then an earlier ensemble's or run's
+ * files are removed; a missing one is made by the replicas once their input is accepted. */
+HSBD_API int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err);
+/* Runs replicas k = rank, rank + ranks, ... below `replicas`, each into DIR/replica-k. */
+HSBD_API int hsbd_ensemble_run(const hsbd_config *cfg, const hsbd_run_options *opt, size_t replicas,
+                               int rank, int ranks, hsbd_error *err);
+/* Merges DIR/replica-0 .. DIR/replica-(replicas-1) into DIR. */
+HSBD_API int hsbd_ensemble_merge(const hsbd_config *cfg, size_t replicas, hsbd_error *err);
+/* Merges the completed run directories of replicas of one configuration (any order of the
+ * arguments; distinct replica indices, at least two) into out. HSBD_EINPUT naming the
+ * directory and the parameter when they are not replicas of the same configuration. */
+HSBD_API int hsbd_merge(const char *out, const char *const *dirs, size_t ndirs, int force,
+                        hsbd_error *err);
+
 #endif

@@ -321,9 +321,29 @@ static int check_step_counts(const hsbd_config *cfg, hsbd_error *err) {
                           (double)blocks * (double)cfg->sample.every * cfg->run.dt);
 }
 
+/* Ensembles (docs/scaling.md): a replica's index lies below their number when that is
+ * given, and an ensemble's replicas are not also the error blocks of one run. */
+static int check_ensemble_keys(const hsbd_config *cfg, hsbd_error *err) {
+    if (cfg->run.replicas > 0 && cfg->run.replica >= cfg->run.replicas)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: run.replica = %lld is not a replica of run.replicas = %lld; "
+                              "allowed: 0 <= replica < replicas",
+                              config_origin_of(cfg, "run", "replica"), (long long)cfg->run.replica,
+                              (long long)cfg->run.replicas);
+    if ((cfg->run.replicas > 1 || cfg->run.replica >= 0) &&
+        cfg->sample.blocking == HSBD_BLOCKS_REPLICAS)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.blocking = replicas with an ensemble (run.replicas or "
+                              "run.replica): the ensemble's replicas already give the errors; "
+                              "allowed: blocking = time or space",
+                              config_origin_of(cfg, "sample", "blocking"));
+    return HSBD_OK;
+}
+
 /* Checks of the run, sampling and output keys shared by every model. */
 static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
     if (check_step_counts(cfg, err) != HSBD_OK) return err->status;
+    if (check_ensemble_keys(cfg, err) != HSBD_OK) return err->status;
     const int replicas = cfg->sample.blocking == HSBD_BLOCKS_REPLICAS;
     const double lag_limit = replicas ? cfg->run.t_total / (double)cfg->sample.blocks
                                       : cfg->run.t_total; /* a replica's production time */

@@ -154,6 +154,18 @@ const key_spec config_schema[] = {
     {"run", "dt_equil", RODS, K_DOUBLE, OFF(run.dt_equil), 0, INF, OPEN_MAX, "0", 0,
      "time step during equilibration (0: run.dt); a coarser step relaxes slow modes (barrier "
      "hopping) cheaply, the Euler distortion of dt then relaxes within a short time"},
+    {"run", "replicas", ALL_MODELS, K_INT, OFF(run.replicas), 0, 1e6, 0, "0", 0,
+     "independent replicas of the run, each with its own noise (the replica index mixed into "
+     "the seed) and its own initial state and equilibration, in DIR/replica-K; DIR gets their "
+     "merged tables with errors from the replica scatter (docs/scaling.md). 0: one per MPI "
+     "rank under mpirun, else a single run"},
+    {"run", "replica", ALL_MODELS, K_INT, OFF(run.replica), -1, 1e6, 0, "-1", 0,
+     "run replica K of an ensemble alone (hsbd run --replica K, e.g. one task of a job array; "
+     "join them with hsbd merge); -1: not a replica"},
+    {"run", "threads", ALL_MODELS, K_INT, OFF(run.threads), 0, 1024, NO_HEADER, "0", 0,
+     "threads of one run (hsbd run --threads N); 0: the cores the process may use. Rods: the "
+     "noise, field and contact pushes in parallel, results identical for every count; "
+     "spheres: one thread for now (docs/scaling.md)"},
     {"sample", "bin_width", RODS, K_DOUBLE, OFF(sample.bin_width), 0, INF, OPEN_MIN | OPEN_MAX,
      "1e-2", 0, "density bin width Delta_x (Eq. 24); must divide sample.period"},
     {"sample", "contact_width", RODS, K_DOUBLE, OFF(sample.contact_width), 0, INF, OPEN_MAX, "0", 0,

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/threads.h"
 #include "core/vmath.h"
 #include "hsbd/io.h"
 #include "hsbd/observe.h"
@@ -98,11 +99,12 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
         .diffusion = cfg->system.diffusion,
         .kT = cfg->system.kT,
         .dt = cfg->run.dt,
-        .seed = cfg->system.seed,
+        .seed = run_noise_seed(cfg),
         .hard_core = cfg->system.hard_core,
         .contact_rule = cfg->system.contact_rule,
         .boundary =
             cfg->system.boundary == HSBD_BOUNDARY_WALLS ? HSBD_RODS_WALLS : HSBD_RODS_PERIODIC,
+        .threads = cfg->run.threads > 0 ? (int)cfg->run.threads : hsbd_threads_available(),
     };
     return p;
 }
@@ -221,7 +223,7 @@ static int arrange_species(const hsbd_config *cfg, rods_model *m, hsbd_rods_para
     for (size_t k = 0; k < cfg->species.n; ++k)
         for (int64_t c = 0; c < cfg->species.count[k]; ++c)
             m->species[i++] = (int)k;
-    hsbd_rng_uniforms(cfg->system.seed, HSBD_STREAM_INIT, 3, 0, n, u);
+    hsbd_rng_uniforms(run_noise_seed(cfg), HSBD_STREAM_INIT, 3, 0, n, u);
     for (size_t k = n; k-- > 1;) {
         size_t j = (size_t)(u[k] * (double)(k + 1));
         if (j > k) j = k;

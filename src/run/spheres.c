@@ -93,7 +93,7 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .diffusion = cfg->system.diffusion,
                              .kT = cfg->system.kT,
                              .dt = cfg->run.dt,
-                             .seed = cfg->system.seed,
+                             .seed = run_noise_seed(cfg),
                              .hard_core = cfg->system.hard_core,
                              .shell = cfg->system.shell,
                              .nspecies = cfg->species.n,
