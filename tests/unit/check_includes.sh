@@ -2,10 +2,11 @@
 # The include graph of src/ (design notes section 1): a file in src/<room>/ includes only
 # the public headers (hsbd/...), the headers of its own room and those of core/, the room
 # every other one stands on; the run lifecycle (src/run/), which sits on top, also the
-# writers of src/io/ and the checkpoint interfaces of the rooms below (<room>/checkpoint.h);
-# and inside each room the files form no cycle. A file and
-# the header of the same name are one node (x.c, x.h -> x), so two files that call each
-# other through their headers are a cycle too. Prints the offending lines or the loop.
+# writers of src/io/ and the checkpoint interfaces of the rooms below (<room>/checkpoint.h).
+# So the configuration room's schema (src/config/schema.h) is its own: every other room
+# reads the configuration through hsbd/config.h. Inside each room the files form no cycle. A
+# file and the header of the same name are one node (x.c, x.h -> x), so two files that call
+# each other through their headers are a cycle too. Prints the offending lines or the loop.
 set -u
 SRC=${1:?usage: check_includes.sh path/to/src}
 fail=0

@@ -1,0 +1,327 @@
+/* The one schema table of the configuration: every key, its models, type, range, default
+ * and doc. Parsing, the checks, --help, docs/config.md and the tables' headers all read it:
+ * adding a key is adding a row (and its check in finalise.c if it depends on other keys). */
+#include "config/schema.h"
+
+#include <string.h>
+
+#define OFF(member) offsetof(hsbd_config, member)
+#define INF         HUGE_VAL
+
+/* Ranges are closed unless flagged open. */
+const key_spec config_schema[] = {
+    {"system", "model", ALL_MODELS, K_ENUM, OFF(system.model), 0, 0, 0, "rods", "rods|spheres",
+     "particle model (rods: hard rods on a line, Brownian cluster dynamics; spheres: hard "
+     "disks or spheres in a periodic box, event-driven Brownian dynamics)"},
+    {"system", "dimension", SPHERES, K_INT, OFF(system.dimension), 2, 3, 0, "3", 0,
+     "spheres: 2 (disks) or 3 (spheres)"},
+    {"system", "box", SPHERES, K_STRING, OFF(system.box_text), 0, 0, 0, "", 0,
+     "spheres: periodic box lengths, one value (square / cube) or one per dimension; or set "
+     "system.packing_fraction instead"},
+    {"system", "packing_fraction", SPHERES, K_DOUBLE, OFF(system.packing_fraction), 0, 1,
+     OPEN_MIN | OPEN_MAX, "", 0,
+     "spheres: packing fraction phi (volume of the particles over the box); gives a square / "
+     "cubic box"},
+    {"system", "drift", SPHERES, K_STRING, OFF(system.drift_text), 0, 0, 0, "", 0,
+     "spheres: common drift velocity (one value per dimension, length/time), the same for "
+     "every particle (Scala Sec. IV); empty: none"},
+    {"system", "shell", SPHERES, K_DOUBLE, OFF(system.shell), 0, INF, OPEN_MAX, "0", 0,
+     "spheres: neighbour shell radius (half the skin); 0: chosen from D and dt (docs/spheres.md)"},
+    {"system", "N", ALL_MODELS, K_INT, OFF(system.n), 1, 2147483647.0, 0, "50", 0,
+     "number of rods"},
+    {"system", "L", RODS, K_DOUBLE, OFF(system.length), 0, INF, OPEN_MIN | OPEN_MAX, "100", 0,
+     "ring length (periodic line); N*sigma must be < L"},
+    {"system", "sigma", ALL_MODELS, K_DOUBLE, OFF(system.sigma), 0, INF, OPEN_MAX, "0.5", 0,
+     "rod length / particle diameter (rods default 0.5; spheres default 1, and > 0)"},
+    {"system", "D", ALL_MODELS, K_DOUBLE, OFF(system.diffusion), 0, INF, OPEN_MIN | OPEN_MAX, "1",
+     0, "diffusion coefficient (length^2/time); mobility mu = D/kT"},
+    {"system", "kT", ALL_MODELS, K_DOUBLE, OFF(system.kT), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
+     "thermal energy, in the units of every energy of the configuration (field.amplitude, "
+     "field.force x length, field.stiffness x length^2, pair.strength, tabulated potentials "
+     "and forces): only energy / kT matters, and mobility mu = D/kT; the authors' dialect uses "
+     "kT = D (their mu = 1)"},
+    {"system", "seed", ALL_MODELS, K_UINT64, OFF(system.seed), 0, 18446744073709551615.0, 0, "1", 0,
+     "random seed (64-bit); same seed and binary give byte-identical tables"},
+    {"system", "hard_core", ALL_MODELS, K_BOOL, OFF(system.hard_core), 0, 1, 0, "on", 0,
+     "on: hard rods; off: free particles (benchmark bound, tests)"},
+    {"system", "contact_rule", RODS, K_ENUM, OFF(system.contact_rule), 0, 0, 0, "reflect",
+     "reflect|sticky",
+     "reflect: each gap's Brownian-bridge minimum is drawn first and a crossing reflects it "
+     "(no O(sqrt(dt)) contact layer; validated, docs/validation.md); sticky: the paper's BCD "
+     "as printed (inelastic mergers), needs ~100x smaller dt in dense systems"},
+    {"system", "boundary", RODS, K_ENUM, OFF(system.boundary), 0, 0, 0, "periodic",
+     "periodic|walls",
+     "periodic: a ring of length L; walls: hard walls at 0 and L (rod centres in [sigma/2, "
+     "L - sigma/2])"},
+    {"contact", "gamma", RODS, K_DOUBLE, OFF(contact.gamma), 0, INF, OPEN_MAX, "0", 0,
+     "Baxter stickiness gamma (Antonov Eqs. 29-30); 0: pure hard core"},
+    {"contact", "order", RODS, K_DOUBLE, OFF(contact.order), 1, INF, OPEN_MIN | OPEN_MAX, "3", 0,
+     "exponent p of the power-law delta_eps (Eq. 31); p > 1 keeps the force continuous"},
+    {"contact", "epsilon", RODS, K_DOUBLE, OFF(contact.epsilon), 0, INF, OPEN_MIN | OPEN_MAX,
+     "0.05", 0,
+     "width of delta_eps (Eq. 31): the sticky force acts for gaps in [0, epsilon); the run "
+     "checks mu max|f| dt / epsilon (Eq. 33): warns above 0.1, refuses above 1 (--force)"},
+    {"pair", "type", RODS, K_ENUM, OFF(pair.type), 0, 0, 0, "none", "none|yukawa|lj|table",
+     "continuous pair force between rods (Eq. 28): yukawa: V = strength sigma "
+     "exp(-kappa (r - sigma))/r; lj: V = strength ((sigma/r)^12 - 2 (sigma/r)^6), a well of "
+     "depth strength at contact; table: force f(r) from pair.table. Analytic forms are "
+     "force-shifted to vanish continuously at pair.cutoff"},
+    {"pair", "strength", RODS, K_DOUBLE, OFF(pair.strength), -INF, INF, OPEN_MIN | OPEN_MAX, "1", 0,
+     "yukawa: V at contact (energy, units of system.kT; > 0 repulsive); lj: well depth (energy)"},
+    {"pair", "kappa", RODS, K_DOUBLE, OFF(pair.kappa), 0, INF, OPEN_MIN | OPEN_MAX, "1", 0,
+     "yukawa inverse screening length (1/length)"},
+    {"pair", "cutoff", RODS, K_DOUBLE, OFF(pair.cutoff), 0, INF, OPEN_MAX, "0", 0,
+     "centre distance where yukawa/lj end, > sigma and <= L/2 (0: yukawa sigma + 5/kappa, "
+     "lj 2.5 sigma); a table ends at its last r"},
+    {"pair", "table", RODS, K_STRING, OFF(pair.table), 0, 0, 0, "", 0,
+     "pair.type = table: file with lines 'r f(r)' (force on the right rod, energy/length), r "
+     "strictly increasing from <= sigma, f = 0 at the last r; natural cubic spline"},
+    {"field", "type", RODS, K_TERMS, OFF(field.type), 0, 0, 0, "cosine",
+     "none|cosine|tilt|harmonic|table",
+     "external field, a sum of terms joined by '+' (e.g. cosine+tilt): cosine U = (amplitude/2) "
+     "cos(2 pi x/wavelength); tilt: constant force (linear potential U = -force x, gravity); "
+     "harmonic: U = (stiffness/2)(x - center)^2 (nearest image on a ring); table: U(x) or f(x) "
+     "from field.table"},
+    {"field", "amplitude", RODS, K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX,
+     "6", 0, "cosine amplitude U0 (energy, units of system.kT), Antonov Eq. 21"},
+    {"field", "wavelength", RODS, K_DOUBLE, OFF(field.wavelength), 0, INF, OPEN_MIN | OPEN_MAX, "1",
+     0, "cosine wavelength lambda; must divide L"},
+    {"field", "force", RODS, K_DOUBLE, OFF(field.force), -INF, INF, OPEN_MIN | OPEN_MAX, "0", 0,
+     "constant force f (energy/length) of the tilt term; f < 0 pushes rods towards x = 0"},
+    {"field", "stiffness", RODS, K_DOUBLE, OFF(field.stiffness), 0, INF, OPEN_MAX, "1", 0,
+     "harmonic trap stiffness k (energy/length^2)"},
+    {"field", "center", RODS, K_DOUBLE, OFF(field.center), -INF, INF, OPEN_MIN | OPEN_MAX, "", 0,
+     "harmonic trap centre (default: L/2)"},
+    {"field", "table", RODS, K_STRING, OFF(field.table), 0, 0, 0, "", 0,
+     "field.type with table: file with lines 'x value', x strictly increasing; on a ring x runs "
+     "from 0 to L exactly, the values at 0 and L agree and the spline is periodic (the force is "
+     "continuous across x = 0 = L); between walls x covers [0, L] and the spline is natural"},
+    {"field", "table_kind", RODS, K_ENUM, OFF(field.table_kind), 0, 0, 0, "potential",
+     "potential|force",
+     "what field.table holds: potential U(x) (energy; force -U') or force f(x) (energy/length)"},
+    {"species", "names", ALL_MODELS, K_STRING, OFF(species.names_text), 0, 0, 0, "", 0,
+     "a mixture: species names (letters, digits, '_'), separated by spaces or commas; empty: "
+     "one species with system.sigma and system.D"},
+    {"species", "count", ALL_MODELS, K_STRING, OFF(species.count_text), 0, 0, 0, "", 0,
+     "particles of each species (whole numbers >= 1), summing to system.N; rods: the order "
+     "along the line is a uniformly random arrangement unless init.positions gives it"},
+    {"species", "fraction", SPHERES, K_STRING, OFF(species.fraction_text), 0, 0, 0, "", 0,
+     "spheres: number fraction of each species (> 0, summing to 1), instead of species.count; "
+     "counts are rounded to sum to system.N"},
+    {"species", "sigma", ALL_MODELS, K_STRING, OFF(species.sigma_text), 0, 0, 0, "", 0,
+     "rod length of each species (>= 0); contact distance (sigma_a + sigma_b)/2"},
+    {"species", "D", ALL_MODELS, K_STRING, OFF(species.d_text), 0, 0, 0, "", 0,
+     "diffusion coefficient of each species (> 0; spheres also 0: immobile obstacles); "
+     "mobility D/kT"},
+    {"species", "polydispersity", SPHERES, K_DOUBLE, OFF(species.polydispersity), 0, 0.3, 0, "0", 0,
+     "spheres: continuous polydispersity, the relative standard deviation of the diameters "
+     "about each species' sigma (or system.sigma); 0: monodisperse species"},
+    {"species", "distribution", SPHERES, K_ENUM, OFF(species.distribution), 0, 0, 0, "gaussian",
+     "gaussian|uniform",
+     "spheres: distribution of the diameters with species.polydispersity (gaussian: truncated "
+     "beyond 3.04 widths, variance kept; uniform: a flat band of that standard deviation)"},
+    {"species", "D_law", SPHERES, K_ENUM, OFF(species.d_law), 0, 0, 0, "given",
+     "given|stokes-einstein",
+     "spheres: given: D of the species (or system.D) for every particle; stokes-einstein: "
+     "D_i = D_0 sigma_0 / sigma_i with D_0 = system.D at sigma_0 = system.sigma (then no "
+     "species.D)"},
+    {"run", "dt", ALL_MODELS, K_DOUBLE, OFF(run.dt), 0, INF, OPEN_MIN | OPEN_MAX, "1e-4", 0,
+     "time step"},
+    {"run", "t_equil", ALL_MODELS, K_DOUBLE, OFF(run.t_equil), 0, INF, OPEN_MAX, "10", 0,
+     "unsampled dynamics after the initial state"},
+    {"run", "t_total", ALL_MODELS, K_DOUBLE, OFF(run.t_total), 0, INF, OPEN_MIN | OPEN_MAX, "100",
+     0, "sampled (production) time"},
+    {"run", "dt_equil", RODS, K_DOUBLE, OFF(run.dt_equil), 0, INF, OPEN_MAX, "0", 0,
+     "time step during equilibration (0: run.dt); a coarser step relaxes slow modes (barrier "
+     "hopping) cheaply, the Euler distortion of dt then relaxes within a short time"},
+    {"sample", "bin_width", RODS, K_DOUBLE, OFF(sample.bin_width), 0, INF, OPEN_MIN | OPEN_MAX,
+     "1e-2", 0, "density bin width Delta_x (Eq. 24); must divide sample.period"},
+    {"sample", "contact_width", RODS, K_DOUBLE, OFF(sample.contact_width), 0, INF, OPEN_MAX, "0", 0,
+     "contact window Delta' (Eq. 26): gaps in [0, Delta'] count as contact (0: max(0.01, three "
+     "rms relative steps 3 sqrt(4 D dt)), largest D; narrower windows bias rho2_extrap low, "
+     "docs/observables.md)"},
+    {"sample", "period", RODS, K_DOUBLE, OFF(sample.period), 0, INF, OPEN_MIN | OPEN_MAX, "", 0,
+     "profiles are folded into one period (default: field.wavelength); must divide L"},
+    {"sample", "blocking", RODS, K_ENUM, OFF(sample.blocking), 0, 0, 0, "time",
+     "time|space|replicas",
+     "error bars of profiles and the MSD from blocks of time, or of space (segments of the "
+     "ring, for long rings whose slow modes outlast time blocks; blocks must divide L/period), "
+     "or from independent replicas (rods: each block restarts from its own initial state, "
+     "the exact field-free sample or init.positions, and equilibrates run.t_equil; errors "
+     "then include modes slower than any run)"},
+    {"sample", "every", ALL_MODELS, K_INT, OFF(sample.every), 1, 1e15, 0, "1", 0,
+     "sample every this many steps (spheres: the MSD and F_s; default 10 there)"},
+    {"sample", "blocks", ALL_MODELS, K_INT, OFF(sample.blocks), 2, 10000, 0, "20", 0,
+     "number of blocks for block-average error bars"},
+    {"sample", "msd_max_lag", ALL_MODELS, K_DOUBLE, OFF(sample.msd_max_lag), 0, INF, OPEN_MAX, "0",
+     0, "largest MSD lag time (0: t_total/10)"},
+    {"sample", "msd_points_per_decade", ALL_MODELS, K_INT, OFF(sample.msd_points_per_decade), 1,
+     1000, 0, "10", 0, "log-spaced MSD lags per decade"},
+    {"sample", "current_every", RODS, K_DOUBLE, OFF(sample.current_every), 0, INF, OPEN_MAX, "0", 0,
+     "write the particle current every this much time to current.tsv (0: off)"},
+    {"sample", "gr_every", SPHERES, K_INT, OFF(sample.gr_every), 0, 1e15, 0, "0", 0,
+     "spheres: sample g(r) every this many steps (a pair search up to sample.gr_max, costly); "
+     "0: every 0.05 time units (sigma^2/D), samples closer in time are strongly correlated"},
+    {"sample", "gr_max", SPHERES, K_DOUBLE, OFF(sample.gr_max), 0, INF, OPEN_MAX, "0", 0,
+     "spheres: largest distance of g(r) (0: 3 sigma_max, at most half the box)"},
+    {"sample", "gr_bin", SPHERES, K_DOUBLE, OFF(sample.gr_bin), 0, INF, OPEN_MIN | OPEN_MAX, "0.02",
+     0, "spheres: g(r) bin width"},
+    {"sample", "contact_fit", SPHERES, K_DOUBLE, OFF(sample.contact_fit), 0, INF,
+     OPEN_MIN | OPEN_MAX, "0.1", 0,
+     "spheres: contact values g_ab(sigma_ab+) by a quadratic fit of g over gaps in [0, "
+     "contact_fit)"},
+    {"sample", "fs_k", SPHERES, K_DOUBLE, OFF(sample.fs_k), 0, INF, OPEN_MAX, "0", 0,
+     "spheres: wavenumber of F_s(k, t) (0: 2 pi / sigma of species 0)"},
+    {"output", "dir", ALL_MODELS, K_STRING, OFF(output.dir), 0, 0, NO_HEADER, "", 0,
+     "run directory (default: runs/<config name>); --out overrides"},
+    {"output", "trajectory", ALL_MODELS, K_ENUM, OFF(output.trajectory), 0, 0, 0, "none",
+     "none|xyz", "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD)"},
+    {"output", "trajectory_every", ALL_MODELS, K_DOUBLE, OFF(output.trajectory_every), 0, INF,
+     OPEN_MAX, "0", 0, "time between trajectory frames (0: t_total/100, at least run.dt)"},
+    {"output", "checkpoints", ALL_MODELS, K_BOOL, OFF(output.checkpoints), 0, 1, NO_HEADER, "on", 0,
+     "write checkpoints into the run directory (checkpoint.hsbd, the one before it kept as "
+     "checkpoint.prev.hsbd), so that 'hsbd resume DIR' continues an interrupted run bit for "
+     "bit; taking one never changes the results"},
+    {"output", "checkpoint_every", ALL_MODELS, K_DOUBLE, OFF(output.checkpoint_every), 0, INF,
+     OPEN_MAX | NO_HEADER, "0", 0,
+     "simulated time between checkpoints (0: one every 10 minutes of wall time, so that an "
+     "interruption loses at most that much); a stopped or finished run always writes one"},
+    {"init", "positions", ALL_MODELS, K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
+     "file with initial positions; rods: one per line ('#' comments), default an exact "
+     "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "
+     "[z] per particle, as hsbd writes it)"},
+    {"init", "method", SPHERES, K_ENUM, OFF(init.method), 0, 0, 0, "auto",
+     "auto|random|lattice|compress",
+     "spheres without init.positions: random sequential insertion (up to phi 0.30 in 3D, 0.45 "
+     "in 2D); compress: insertion at smaller diameters, then Brownian steps with growth into "
+     "the gaps (a fluid up to phi 0.58 in 3D, 0.72 in 2D); or a lattice (fcc / centred "
+     "rectangular, up to close packing of the largest diameter) melted during run.t_equil; "
+     "auto: random, else compress, else lattice"},
+};
+enum { NKEYS = sizeof config_schema / sizeof config_schema[0] };
+_Static_assert((int)NKEYS <= (int)HSBD_CONFIG_MAX_KEYS, "raise HSBD_CONFIG_MAX_KEYS");
+const size_t config_nkeys = NKEYS;
+
+void *config_slot(hsbd_config *cfg, const key_spec *k) {
+    return (char *)cfg + k->offset;
+}
+const void *config_cslot(const hsbd_config *cfg, const key_spec *k) {
+    return (const char *)cfg + k->offset;
+}
+
+const key_spec *config_find_key(const char *section, const char *key) {
+    for (size_t i = 0; i < NKEYS; ++i)
+        if (!strcmp(config_schema[i].section, section) && !strcmp(config_schema[i].key, key))
+            return &config_schema[i];
+    return NULL;
+}
+
+size_t config_key_index(const key_spec *k) {
+    return (size_t)(k - config_schema);
+}
+
+int config_section_known(const char *name) {
+    for (size_t i = 0; i < NKEYS; ++i)
+        if (!strcmp(config_schema[i].section, name)) return 1;
+    return 0;
+}
+
+int config_key_read(const hsbd_config *cfg, const key_spec *k) {
+    return (k->models & (1u << cfg->system.model)) != 0;
+}
+
+int config_is_default(const hsbd_config *cfg, const char *section, const char *key) {
+    return !strncmp(cfg->origin[config_key_index(config_find_key(section, key))], "default", 7);
+}
+
+const char *config_origin_of(const hsbd_config *cfg, const char *section, const char *key) {
+    const char *o = cfg->origin[config_key_index(config_find_key(section, key))];
+    return !strncmp(o, "default", 7) && cfg->file[0] ? cfg->file : o;
+}
+
+void config_set_origin(hsbd_config *cfg, const char *section, const char *key, const char *origin) {
+    snprintf(cfg->origin[config_key_index(config_find_key(section, key))], HSBD_ORIGIN_MAX, "%s",
+             origin);
+}
+
+const char *hsbd_config_origin(const hsbd_config *cfg, const char *section, const char *key) {
+    const key_spec *k = config_find_key(section, key);
+    return k ? cfg->origin[config_key_index(k)] : "";
+}
+
+/* ---- names near a misspelt one ------------------------------------------------------ */
+
+static size_t edit_distance(const char *a, const char *b) {
+    size_t la = strlen(a), lb = strlen(b), prev[128], cur[128];
+    if (la > 120 || lb > 120) return 1000;
+    for (size_t j = 0; j <= lb; ++j)
+        prev[j] = j;
+    for (size_t i = 1; i <= la; ++i) {
+        cur[0] = i;
+        for (size_t j = 1; j <= lb; ++j) {
+            size_t best = prev[j - 1] + ((a[i - 1] | 32) != (b[j - 1] | 32));
+            if (prev[j] + 1 < best) best = prev[j] + 1;
+            if (cur[j - 1] + 1 < best) best = cur[j - 1] + 1;
+            cur[j] = best;
+        }
+        memcpy(prev, cur, (lb + 1) * sizeof *prev);
+    }
+    return prev[lb];
+}
+
+const char *config_nearest_section(const char *name, size_t *distance) {
+    size_t best = 1000;
+    const char *near = NULL;
+    for (size_t i = 0; i < NKEYS; ++i) {
+        const size_t d = edit_distance(name, config_schema[i].section);
+        if (d < best) best = d, near = config_schema[i].section;
+    }
+    *distance = best;
+    return near;
+}
+
+const char *config_suggest(const char *section, const char *key, char *buf, size_t len) {
+    char want[256], cand[256];
+    snprintf(want, sizeof want, "%s.%s", section, key);
+    size_t best = 1000;
+    buf[0] = '\0';
+    for (size_t i = 0; i < NKEYS; ++i) {
+        snprintf(cand, sizeof cand, "%s.%s", config_schema[i].section, config_schema[i].key);
+        size_t d = edit_distance(want, cand);
+        const size_t dk =
+            edit_distance(key, config_schema[i].key) + 1; /* right key, wrong section */
+        if (dk < d) d = dk;
+        if (d < best) best = d, snprintf(buf, len, "%s", cand);
+    }
+    return best <= 3 || best * 3 <= strlen(want) ? buf : NULL;
+}
+
+void config_format_range(const key_spec *k, char *buf, size_t len) {
+    char lo[64], hi[64];
+    switch (k->type) {
+    case K_ENUM:
+        snprintf(buf, len, "one of %s", k->choices);
+        return;
+    case K_TERMS:
+        snprintf(buf, len, "none, or terms from %s joined by '+'", strchr(k->choices, '|') + 1);
+        return;
+    case K_BOOL:
+        snprintf(buf, len, "on/off (also true/false, yes/no, 1/0)");
+        return;
+    case K_STRING:
+        snprintf(buf, len, "a text of at most %d characters", HSBD_PATH_MAX - 1);
+        return;
+    default:
+        break;
+    }
+    if (k->type == K_UINT64) {
+        snprintf(buf, len, "0 <= %s <= 18446744073709551615 (integer)", k->key);
+        return;
+    }
+    snprintf(lo, sizeof lo, "%.15g", k->min);
+    snprintf(hi, sizeof hi, "%.15g", k->max);
+    snprintf(buf, len, "%s %s %s %s %s%s", isinf(k->min) ? "-inf" : lo,
+             (k->flags & OPEN_MIN) ? "<" : "<=", k->key,
+             (k->flags & OPEN_MAX) ? "<" : "<=", isinf(k->max) ? "inf" : hi,
+             k->type == K_INT ? " (integer)" : "");
+}

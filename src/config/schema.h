@@ -1,0 +1,123 @@
+/* The configuration room's private interface: the schema table (one row per key: section,
+ * name, the models that read it, type, range, default, doc) and the helpers its files
+ * share. schema.c holds the table, parse.c reads values, INI lines and --set, dialect.c
+ * the authors' section-less files, finalise.c the checks across keys per model, memory.c
+ * the run's memory estimate, emit.c --help, docs/config.md and the tables' headers. */
+#ifndef HSBD_CONFIG_SCHEMA_H
+#define HSBD_CONFIG_SCHEMA_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include "hsbd/config.h"
+
+typedef enum { K_INT, K_UINT64, K_DOUBLE, K_STRING, K_ENUM, K_BOOL, K_TERMS } key_type;
+
+/* flags of a key: open ends of its range; NO_HEADER: not a parameter of the results (where
+ * and how often a run is saved), left out of the tables' headers so they stay identical */
+enum { OPEN_MIN = 1, OPEN_MAX = 2, NO_HEADER = 4 };
+
+/* the models that read a key (bit 1 << enum hsbd_model); setting a key that the chosen
+ * model does not read is an error, and the tables' headers leave it out */
+enum {
+    RODS = 1 << HSBD_MODEL_RODS,
+    SPHERES = 1 << HSBD_MODEL_SPHERES,
+    ALL_MODELS = RODS | SPHERES
+};
+
+typedef struct key_spec {
+    const char *section, *key;
+    unsigned models; /* RODS, SPHERES or ALL_MODELS */
+    key_type type;
+    size_t offset;
+    double min, max;
+    unsigned flags;
+    const char *def;     /* default, parsed like user input */
+    const char *choices; /* K_ENUM: "a|b|c" (value = position); K_TERMS: "none|a|b|c", the
+                            value a '+'-joined set of them (bit k-1 for choice k) */
+    const char *doc;
+} key_spec;
+
+/* ---- schema.c: the table and look-ups ------------------------------------------------ */
+
+extern const key_spec config_schema[];
+extern const size_t config_nkeys;
+
+const key_spec *config_find_key(const char *section, const char *key);
+size_t config_key_index(const key_spec *k);
+void *config_slot(hsbd_config *cfg, const key_spec *k);
+const void *config_cslot(const hsbd_config *cfg, const key_spec *k);
+/* is `name` a section of the table? */
+int config_section_known(const char *name);
+/* the section of the table nearest to a misspelt one, and its edit distance */
+const char *config_nearest_section(const char *name, size_t *distance);
+/* Nearest known "section.key" to a misspelt one, in buf; NULL when none is near. */
+const char *config_suggest(const char *section, const char *key, char *buf, size_t len);
+/* The allowed values of a key as text ("0 < dt < inf", "one of a|b"). */
+void config_format_range(const key_spec *k, char *buf, size_t len);
+/* Does the configuration's model read this key? */
+int config_key_read(const hsbd_config *cfg, const key_spec *k);
+/* Is a key at its default (set by no file or --set)? */
+int config_is_default(const hsbd_config *cfg, const char *section, const char *key);
+/* Where a key got its value, for messages: for a key at its default, the configuration
+ * file (when there is one), so that every message names the file. */
+const char *config_origin_of(const hsbd_config *cfg, const char *section, const char *key);
+/* Records where a derived value came from ("default (L/2)"). */
+void config_set_origin(hsbd_config *cfg, const char *section, const char *key, const char *origin);
+
+/* ---- parse.c: values ---------------------------------------------------------------- */
+
+/* Strips blanks (and line ends) at both ends, in place. */
+char *config_trim(char *s);
+/* A decimal number that fills the whole text (no hexadecimal, octal-looking leading zeros,
+ * inf or nan): 0, or -1 with what is wrong in *why (NULL: not a number at all). */
+int config_parse_number(const char *v, double *d, const char **why);
+/* Parse `text` into the key's slot; on failure a message naming the key and range. */
+int config_parse_value(hsbd_config *cfg, const key_spec *k, const char *text, const char *where,
+                       hsbd_error *err);
+/* The key's value as text that reads back the same. */
+void config_format_value(const hsbd_config *cfg, const key_spec *k, char *buf, size_t len);
+
+/* The file being read: where we are, what it has set, whether it uses the authors'
+ * section-less keys or hsbd's sections (never both). */
+typedef struct {
+    hsbd_config *cfg;
+    const char *path;
+    long line;
+    const char *section;               /* the open [section] (a schema section name), or NULL */
+    long first_section, first_authors; /* lines of the first [section] / section-less key */
+    size_t keys;                       /* keys the file set */
+    hsbd_error *err;
+    char set_at[HSBD_CONFIG_MAX_KEYS]; /* key already set in this file */
+} ini_state;
+
+/* Sets a key from the current line of the file (`as`: the name the file gave it). */
+int config_assign(ini_state *st, const key_spec *k, const char *value, const char *as);
+
+/* ---- dialect.c: the authors' section-less keys ---------------------------------------- */
+
+typedef struct {
+    const char *name, *section, *key;
+} authors_key;
+
+extern const authors_key config_authors_keys[];
+extern const size_t config_nauthors;
+
+const authors_key *config_find_authors_key(const char *name);
+/* A section-less "name = value" line of the authors' files. */
+int config_authors_assign(ini_state *st, const char *name, const char *value);
+/* What the authors' program fixes that their files do not say (field, kT). */
+void config_authors_finish(hsbd_config *cfg);
+
+/* ---- finalise.c, memory.c -------------------------------------------------------------- */
+
+/* Split a list on spaces and commas into at most `max` words; returns the count, or
+ * max + 1 when there are more. */
+size_t config_split_list(char *text, char **words, size_t max);
+/* Refuses a run whose estimated memory exceeds a share of the machine's, naming the key
+ * behind its largest part. `particles_only`: only the particles' part (before anything of
+ * size N is allocated while finalising). */
+int config_check_memory(const hsbd_config *cfg, int particles_only, hsbd_error *err);
+
+#endif
