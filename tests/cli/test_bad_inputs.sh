@@ -373,7 +373,7 @@ bad_case memory-spheres "system.N = 2147483647: the run needs an estimated" "GiB
 bad_case memory-gr "sample.gr_bin = 1e-09" "g(r)'s bins" -- run box3.ini --set sample.gr_bin=1e-9
 bad_case spheres-fraction-sum "species.fraction sums to 0.9" -- run box3.ini --set "species.names=A B" --set "species.fraction=0.5 0.4" --set "species.sigma=1 1" --set "species.D=1 1"
 bad_case spheres-fraction-and-count "species.count and species.fraction" -- run box3.ini --set "species.names=A B" --set "species.fraction=0.5 0.5" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 1"
-bad_case spheres-rods-key "field.type applies to system.model = rods only" -- run box3.ini --set field.type=tilt
+bad_case spheres-rods-key "contact.gamma applies to system.model = rods only" -- run box3.ini --set contact.gamma=0.5
 
 # ---- the command line ----
 bad_case out-without-value "--out needs a value" -- run good.ini --out
