@@ -363,18 +363,20 @@ static double bridge_push(const hsbd_spheres *s, double g0, double g1, double d_
  * pushes' impulses go to this step's wall sums. */
 static void add_wall_pushes(hsbd_spheres *s) {
     const double dt = s->dt;
-    for (size_t i = 0; i < s->n; ++i) {
-        const double d = s->diffusion[i], half = 0.5 * s->sigma[i];
-        if (!(d > 0)) continue;
-        double *x = s->x + 3 * i, *v = s->v + 3 * i;
-        for (int a = 0; a < s->dim; ++a) {
-            if (!s->walls[a]) continue;
-            const double dx = v[a] * dt, low = x[a] - half, high = s->length[a] - half - x[a];
+    for (int a = 0; a < s->dim; ++a) {
+        if (!s->walls[a]) continue;
+        for (size_t i = 0; i < s->n; ++i) {
+            const double d = s->diffusion[i], half = 0.5 * s->sigma[i];
+            double *x = s->x + 3 * i + a, *v = s->v + 3 * i + a;
+            const double dx = *v * dt, low = *x - half, high = s->length[a] - half - *x;
+            if (!(d > 0) || (low * (low + dx) >= BRIDGE_REACH * d * dt &&
+                             high * (high - dx) >= BRIDGE_REACH * d * dt))
+                continue; /* the common case: neither bridge can reach its wall */
             const uint64_t index = 2 * (3 * (uint64_t)s->label[i] + (uint64_t)a);
             const double up = bridge_push(s, low, low + dx, d * dt, index);
             const double down = bridge_push(s, high, high - dx, d * dt, index + 1);
             if (up == 0 && down == 0) continue;
-            v[a] += (up - down) / dt;
+            *v += (up - down) / dt;
             double *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
             sum[0] += up / d; /* impulse / kT: the displacement the wall caused over D */
             sum[1] += down / d;
@@ -404,6 +406,18 @@ static int start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_
     return grouped ? sph_groups_add_hit(s, t, i, j) : sph_push_event(s, t, i, j);
 }
 
+/* Whether i's straight path from its start leaves the room between the walls: only if
+ * its end point does (the room is convex); after the bridge pushes, rarely. */
+static int leaves_walls(const hsbd_spheres *s, size_t i) {
+    const double *x = s->x + 3 * i, *v = s->v + 3 * i, half = 0.5 * s->sigma[i];
+    int out = 0;
+    for (int a = 0; a < s->dim; ++a) {
+        const double end = x[a] + v[a] * s->dt;
+        out |= s->walls[a] & (end < half || end > s->length[a] - half);
+    }
+    return out;
+}
+
 /* Re-centre the shells of particles whose straight end point would leave them, then
  * predict every neighbour pair once (half scan) and the rare shell exits. Returns 0, or
  * -1 when out of memory. */
@@ -421,10 +435,12 @@ static int start_step_events(hsbd_spheres *s, int grouped) {
             const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
             if (exit >= 0 && start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
         }
-        int wall = 0;
-        const double contact = s->any_walls ? sph_wall_time(s, (int32_t)i, 0.0, &wall) : -1;
-        if (contact >= 0 && start_event(s, grouped, contact, (int32_t)i, sph_wall_event(wall)))
-            return -1;
+        if (s->any_walls && leaves_walls(s, i)) {
+            int wall = 0;
+            const double contact = sph_wall_time(s, (int32_t)i, 0.0, &wall);
+            if (contact >= 0 && start_event(s, grouped, contact, (int32_t)i, sph_wall_event(wall)))
+                return -1;
+        }
     }
     const sph_scan_query q = {.x = s->x,
                               .v = s->v,
@@ -495,9 +511,9 @@ static void fold_between_walls(hsbd_spheres *s, size_t i, int a) {
 /* Along the walls axes: free particles fold, hard ones (whose wall events kept them
  * inside) lose the round-off of their last move. */
 static void keep_between_walls(hsbd_spheres *s) {
-    for (size_t i = 0; i < s->n; ++i)
-        for (int a = 0; a < s->dim; ++a) {
-            if (!s->walls[a]) continue;
+    for (int a = 0; a < s->dim; ++a) {
+        if (!s->walls[a]) continue;
+        for (size_t i = 0; i < s->n; ++i) {
             if (!s->par.hard_core) {
                 fold_between_walls(s, i, a);
                 continue;
@@ -506,6 +522,7 @@ static void keep_between_walls(hsbd_spheres *s) {
             const double lo = 0.5 * s->sigma[i], hi = s->length[a] - lo;
             *x = *x < lo ? lo : *x > hi ? hi : *x;
         }
+    }
 }
 
 /* After an allocation failed inside a step: back to the state at its start (positions,
