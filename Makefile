@@ -2,9 +2,13 @@
 JOBS      ?= 2
 BUILD     ?= build
 ASAN      ?= build-asan
+FUZZ      ?= build-fuzz
+# seconds each fuzz target runs in `make fuzz`
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS ?= config set positions xyz table checkpoint
 CMAKE_ARGS ?=
 
-.PHONY: all deps build asan demo check bench validate format clean
+.PHONY: all deps build asan demo check bench validate fuzz format clean
 
 all: build
 
@@ -41,8 +45,16 @@ validate: build
 	@$(BUILD)/hsbd validate --out runs/validate --jobs $(JOBS); rc=$$?; \
 	 /usr/bin/python3 tools/plot_validation.py runs/validate; exit $$rc
 
+# libFuzzer on each harness of tests/fuzz/ in turn for FUZZ_SECONDS (clang, installed on
+# demand); new inputs go to $(FUZZ)/corpus/, findings to $(FUZZ)/findings/ (README, fuzzing).
+fuzz:
+	@HSBD_FUZZ=1 scripts/install-deps
+	@cmake -S . -B $(FUZZ) -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug -DHSBD_WERROR=ON -DHSBD_FUZZ=ON $(CMAKE_ARGS) >/dev/null
+	@cmake --build $(FUZZ) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	@scripts/fuzz $(FUZZ) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
 format:
 	@clang-format -i $$(git ls-files '*.c' '*.h')
 
 clean:
-	@rm -rf $(BUILD) $(ASAN)
+	@rm -rf $(BUILD) $(ASAN) $(FUZZ)

@@ -739,7 +739,14 @@ static int cmd_theory(int argc, char **argv) {
         printf("usage: %s       %s       %s", synopsis_percus, synopsis_tonks, synopsis_box);
         return 0;
     }
-    fprintf(stderr, "hsbd theory: expected 'percus', 'tonks' or 'box' (hsbd theory --help)\n");
+    if (argc >= 3)
+        fprintf(stderr,
+                "hsbd theory: unknown theory '%.60s'; allowed: percus, tonks, box (hsbd theory "
+                "--help)\n",
+                argv[2]);
+    else
+        fprintf(stderr, "hsbd theory: which theory? allowed: percus, tonks, box (hsbd theory "
+                        "--help)\n");
     return EXIT_INPUT;
 }
 
@@ -751,10 +758,12 @@ int main(int argc, char **argv) {
     for (int i = 1; i < argc; ++i) /* messages quote arguments: keep them one line each */
         for (const char *p = argv[i]; *p; ++p)
             if (((unsigned char)*p < 0x20 && *p != '\t') || *p == 0x7f) {
+                const int after_flag = i > 1 && !strncmp(argv[i - 1], "--", 2);
                 fprintf(stderr,
-                        "hsbd: argument %d has a control character (0x%02x at position %d); "
-                        "allowed: text\n",
-                        i, (unsigned)(unsigned char)*p, (int)(p - argv[i]) + 1);
+                        "hsbd: argument %d%s%s%s has a control character (0x%02x at position "
+                        "%d); allowed: text\n",
+                        i, after_flag ? " (the value of " : "", after_flag ? argv[i - 1] : "",
+                        after_flag ? ")" : "", (unsigned)(unsigned char)*p, (int)(p - argv[i]) + 1);
                 return EXIT_INPUT;
             }
     const char *cmd = argv[1];

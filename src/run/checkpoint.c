@@ -68,9 +68,7 @@ static int sync_streams(run *r, hsbd_error *err) {
     return HSBD_OK;
 }
 
-/* The file: magic, format, the payload's length, the payload, its CRC-64 (no copy of the
- * payload is made: it can be most of the run's memory). */
-static int write_file(const char *path, const hsbd_writer *payload, hsbd_error *err) {
+int run_checkpoint_write_file(const char *path, const hsbd_writer *payload, hsbd_error *err) {
     FILE *f = fopen(path, "wb");
     if (!f) return hsbd_error_set(err, HSBD_EIO, "cannot write '%s': %s", path, strerror(errno));
     hsbd_writer head, tail;
@@ -127,7 +125,7 @@ int run_checkpoint_write(run *r, hsbd_error *err) {
     snprintf(part, sizeof part, "%s.part", path);
     snprintf(prev, sizeof prev, "%s/%s", dir, HSBD_CHECKPOINT_PREV);
     if (w.oom) rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory for the checkpoint '%s'", path);
-    if (rc == HSBD_OK) rc = write_file(part, &w, err);
+    if (rc == HSBD_OK) rc = run_checkpoint_write_file(part, &w, err);
     hsbd_writer_free(&w);
     if (rc != HSBD_OK) return rc;
     /* the previous checkpoint stays until the new one is complete */
@@ -297,6 +295,8 @@ int run_checkpoint_load_run(run *r, hsbd_reader *rd) {
 int run_file_crc(const char *path, uint64_t *crc) {
     FILE *f = fopen(path, "rb");
     if (!f) return -1;
+    struct stat st; /* a device or pipe (a checkpoint naming /dev/zero) would never end */
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) return fclose(f), -1;
     unsigned char buf[65536];
     uint64_t c = 0;
     for (size_t n; (n = fread(buf, 1, sizeof buf, f)) > 0;)

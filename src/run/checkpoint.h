@@ -14,6 +14,9 @@
 #define HSBD_CHECKPOINT_PREV "checkpoint.prev.hsbd"
 
 int run_checkpoint_write(run *r, hsbd_error *err);
+/* The file: magic, format, the payload's length, the payload, its CRC-64 (no copy of the
+ * payload is made: it can be most of the run's memory). */
+int run_checkpoint_write_file(const char *path, const hsbd_writer *payload, hsbd_error *err);
 
 /* The payload of the newest valid checkpoint in dir (the previous one, with a warning on
  * stderr, when the newest is missing or damaged): size, magic, format and CRC checked.
@@ -44,7 +47,12 @@ int run_checkpoint_read_source(hsbd_reader *rd, run_source_copy *src);
 void run_source_copy_free(run_source_copy *src);
 /* The lifecycle's counters and the streams' lengths (the model follows). */
 int run_checkpoint_load_run(run *r, hsbd_reader *rd);
-/* CRC-64 of a file's contents; -1 when it cannot be read. */
+/* Loads the run of the checkpoint in dir as hsbd resume does (the configuration from its
+ * source, the model, its state and accumulators, the counters) and releases it, without
+ * running or touching the run's files: the status resume would start with (HSBD_EINPUT
+ * for a checkpoint it refuses). Checks of hostile checkpoints use it. */
+int run_checkpoint_try_load(const char *dir, hsbd_error *err);
+/* CRC-64 of a regular file's contents; -1 when it cannot be read or is no regular file. */
 int run_file_crc(const char *path, uint64_t *crc);
 
 #endif

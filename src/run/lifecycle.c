@@ -314,8 +314,16 @@ static int config_from_source(const run_source_copy *src, const char *const *set
             return hsbd_error_set(err, HSBD_EIO, "resume: cannot make a temporary directory: %s",
                                   strerror(errno));
         const char *base = strrchr(src->name, '/');
+        base = base ? base + 1 : src->name;
+        if (!*base || !strcmp(base, ".") || !strcmp(base, "..")) {
+            rmdir(tmp);
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "resume: the checkpoint names its configuration file '%.200s', "
+                                  "which is no file name",
+                                  src->name);
+        }
         char path[sizeof tmp + HSBD_PATH_MAX];
-        snprintf(path, sizeof path, "%s/%s", tmp, base ? base + 1 : src->name);
+        snprintf(path, sizeof path, "%s/%s", tmp, base);
         FILE *f = fopen(path, "wb");
         rc = f && fwrite(src->text, 1, src->text_len, f) == src->text_len ? HSBD_OK : HSBD_EIO;
         if (f) fclose(f);
@@ -486,6 +494,26 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     return rc;
 }
 
+/* What load_checkpoint built, released. */
+static void unload(run *r, hsbd_config *cfg, resumed_source *rs) {
+    if (r->cfg) release(r);
+    run_source_copy_free(&rs->copy);
+    free(rs->sets);
+    free(cfg);
+}
+
+int run_checkpoint_try_load(const char *dir, hsbd_error *err) {
+    hsbd_error_clear(err);
+    hsbd_config *cfg = malloc(sizeof *cfg);
+    if (!cfg) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    const hsbd_run_options opt = {0};
+    run r = {.opt = &opt};
+    resumed_source rs = {0};
+    const int rc = load_checkpoint(&r, cfg, &rs, dir, NULL, 0, err);
+    unload(&r, cfg, &rs);
+    return rc;
+}
+
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
                 hsbd_error *err) {
     hsbd_error_clear(err);
@@ -507,10 +535,7 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
         r.started = 1;
         rc = finish(&r, run_loop(&r, err), err);
     }
-    if (r.cfg) release(&r);
-    run_source_copy_free(&rs.copy);
-    free(rs.sets);
-    free(cfg);
+    unload(&r, cfg, &rs);
     return rc;
 }
 

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # A corpus of bad inputs. Every case must exit with status 2, print exactly one message line
-# that contains the given texts (the file and line, or the flag, and what is wrong), and
-# leave nothing behind: no run directory, no result file, no new file anywhere in the
-# working directory. The inputs are generated here (deterministic bytes, no randomness).
+# that contains the given texts (what is wrong) and names where: a file and line
+# ("name.ini:12:"), a file as a whole ("name.ini: ...", "file 'name'"), or the flag or
+# argument ("--set", "command line", "argument 3"); and leave nothing behind: no run
+# directory, no result file, no new file anywhere in the working directory. The inputs are
+# generated here (deterministic bytes, no randomness).
 set -u
 HSBD=${1:?usage: test_bad_inputs.sh path/to/hsbd}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -14,8 +16,11 @@ pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
 
+# what a message names: a file (and line), or the flag or argument
+WHERE="[A-Za-z0-9_-]+\.(ini|xyz|txt|tab)(:[0-9]+)?[: ']|(file|table|path|directory) '[^']+'|--[a-z]|command line|argument ([0-9]+|'[^']+')|unknown theory '"
 # bad_case NAME 'text' ['text'...] -- hsbd-arguments...
-# `run` cases get --out DIR --quiet appended; DIR must not exist afterwards.
+# `run` cases without their own --out get --out DIR --quiet appended; DIR must not exist
+# afterwards.
 bad_case() {
     local name=$1; shift
     local texts=()
@@ -23,6 +28,7 @@ bad_case() {
     shift
     local out="$T/out-$name" extra=()
     [ "$1" = run ] && extra=(--out "$out" --quiet)
+    case " $* " in *" --out "*) extra=() ;; esac # the case's own --out
     local before after
     before=$(ls -A)
     "$HSBD" "$@" "${extra[@]}" >"$T/log/stdout" 2>"$T/log/stderr" </dev/null
@@ -32,6 +38,7 @@ bad_case() {
     msg=$(head -c 600 "$T/log/stderr")
     if [ $rc -ne 2 ]; then bad "$name: exit $rc, expected 2 ($msg)"; return; fi
     if [ "$(wc -l <"$T/log/stderr")" -ne 1 ]; then bad "$name: expected one message line, got: $msg"; return; fi
+    if ! grep -qE -- "$WHERE" "$T/log/stderr"; then bad "$name: the message names no file, line or flag: $msg"; return; fi
     for s in "${texts[@]}"; do
         if ! grep -qF -- "$s" "$T/log/stderr"; then bad "$name: message lacks '$s': $msg"; return; fi
     done
@@ -390,13 +397,17 @@ printf '2\nLattice="12 0 0 0 12 0 0 0 12" Properties=species:S:1:pos:R:3\nS 1 1 
 bad_case xyz-outside-walls "wallpos.xyz:4: particle 2 at z = 0.2 is outside the walls" "allowed: sigma/2 = 0.5 <= z" -- run box3.ini --set system.N=2 --set system.boundary=walls --set init.positions=wallpos.xyz
 
 # ---- the command line ----
+: >plainfile
+bad_case run-out-proc "cannot create output directory '/proc/x'" -- run good.ini --quiet --out /proc/x
+bad_case run-out-file "output path 'plainfile' exists and is not a directory" -- run good.ini --quiet --out plainfile
+bad_case run-out-under-file "cannot create output directory 'plainfile/run'" -- run good.ini --quiet --out plainfile/run
 bad_case out-without-value "--out needs a value" -- run good.ini --out
 bad_case out-then-flag "--out needs a value, but the next argument '--quiet' is a flag" -- run good.ini --out --quiet
 bad_case set-then-flag "--set needs a value, but the next argument '--out' is a flag" -- run good.ini --set --out x
 bad_case set-without-equals "command line (--set) 'run.dt': expected section.key=value" -- run good.ini --set run.dt
 bad_case set-without-section "command line (--set) 'dt=1': expected section.key=value" -- run good.ini --set dt=1
 bad_case set-unknown-section "unknown key 'sytem.N'; did you mean 'system.N'?" -- run good.ini --set sytem.N=5
-bad_case set-control "argument 4 has a control character (0x0a at position 13)" -- run good.ini --set "$(printf 'output.dir=a\nb')"
+bad_case set-control "argument 4 (the value of --set) has a control character (0x0a at position 13)" -- run good.ini --set "$(printf 'output.dir=a\nb')"
 bad_case set-long "is longer than" -- run good.ini --set "output.dir=$(head -c 3000 /dev/zero | tr '\0' d)"
 bad_case seed-flag "command line (--seed)" "system.seed = 'x'" -- run good.ini --seed x
 bad_case seed-without-value "--seed needs a value" -- run good.ini --seed
@@ -411,7 +422,7 @@ bad_case theory-no-out "--out FILE (or - for standard output) is required" -- th
 bad_case theory-flag-value "--sigma needs a value, but the next argument '--rho' is a flag" -- theory tonks --sigma --rho 0.5
 bad_case theory-range "--rho = '-1'; allowed: 0 < rho < inf" -- theory tonks --sigma 0.5 --rho -1
 bad_case theory-unknown "unknown option '--frobnicate'" -- theory tonks --sigma 0.5 --rho 0.5 --frobnicate 1
-bad_case theory-which "hsbd theory: expected 'percus', 'tonks' or 'box'" -- theory maxwell
+bad_case theory-which "hsbd theory: unknown theory 'maxwell'; allowed: percus, tonks, box" -- theory maxwell
 bad_case theory-box-whole "need whole --N" -- theory box --N 2.5 --L 10 --sigma 1 --out -
 bad_case bench-case "--case: no case named 'nope' (hsbd bench --list names them)" -- bench --case nope
 bad_case bench-seconds "--seconds needs a value" -- bench --seconds

@@ -7,6 +7,7 @@
 
 #include "../test_util.h"
 #include "bcd_oracle.h"
+#include "hsbd/config.h"
 #include "hsbd/isotonic.h"
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
@@ -293,7 +294,22 @@ static void test_step_stats(int contact_rule) {
     hsbd_rods_free(rods);
 }
 
+/* The library's default contact rule (a zero-initialised parameter struct) is the one the
+ * CLI's configuration defaults to: a benchmark or a library user then times and runs what
+ * `hsbd run` runs (the library once defaulted to the paper's sticky rule). */
+static void test_default_contact_rule(void) {
+    const hsbd_rods_params p = {0};
+    hsbd_config cfg;
+    hsbd_config_defaults(&cfg);
+    CHECK(p.contact_rule == cfg.system.contact_rule,
+          "library default contact rule %d, configuration default %d", p.contact_rule,
+          cfg.system.contact_rule);
+    CHECK(cfg.system.contact_rule == HSBD_CONTACT_REFLECT, "default rule %d is not reflect",
+          cfg.system.contact_rule);
+}
+
 int main(void) {
+    test_default_contact_rule();
     test_fragmentation_brute_force();
     test_ring_step_vs_oracle();
     test_library_step_vs_oracle();
