@@ -20,7 +20,8 @@
  *     error bars of rho_mid.
  *   - A common drift v of a hard-sphere mixture (D 1 and 0.5) in a periodic box: against
  *     the same run without drift, sum_i dr_i / D_i differs by exactly t v sum_i 1 / D_i
- *     (relative 1e-9: round-off), each row of Scala's C_Brown summing to 1. */
+ *     (relative 1e-9: round-off), each row of Scala's C_Brown summing to 1.
+ * HSBD_VALIDATE=long (make validate): the sampled times 10 times longer. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,6 +35,12 @@
 
 static const double PI = 3.14159265358979323846;
 enum { BLOCKS = 20, EVERY = 10 };
+
+/* the sampled time of a case: 10 times longer under HSBD_VALIDATE=long */
+static double sampled_time(double t) {
+    const char *v = getenv("HSBD_VALIDATE");
+    return v && !strcmp(v, "long") ? 10 * t : t;
+}
 
 typedef struct sampled {
     hsbd_slab *slab;
@@ -141,7 +148,7 @@ static void test_barometric(void) {
     CHECK(s && hsbd_spheres_set_positions(s, pos, &err) == HSBD_OK, "init: %s", err.message);
     free(pos);
     if (!s) return;
-    sampled o = run_sampled(s, 2, 20, 1000, 0.1);
+    sampled o = run_sampled(s, 2, 20, sampled_time(1000), 0.1);
     const double area = box[0] * box[1];
     const size_t nb = hsbd_slab_bins(o.slab);
     double x[128], rho[128], e[128];
@@ -186,7 +193,7 @@ static void wall_theorem_case(const char *name, hsbd_spheres_params p, double fo
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
     CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "%s: init: %s", name, err.message);
     if (!s) return;
-    sampled o = run_sampled(s, axis, t_equil, t_total, 0.1);
+    sampled o = run_sampled(s, axis, t_equil, sampled_time(t_total), 0.1);
     double area = 1, weight = 0;
     for (int a = 0; a < axis; ++a)
         area *= p.box[a];
@@ -253,7 +260,7 @@ static void test_slit_klm(void) {
     CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "init: %s", err.message);
     if (!s) return;
     const double t_total = 60;
-    sampled o = run_sampled(s, 2, 5, t_total, 0.5);
+    sampled o = run_sampled(s, 2, 5, sampled_time(t_total), 0.5);
     double x[64], rho[64], e[64], mid = 0, mid_var = 0;
     hsbd_slab_density(o.slab, -1, x, rho, e);
     int in = 0;
