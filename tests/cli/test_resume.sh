@@ -77,6 +77,7 @@ cases=(
   "rods-replicas|rods.ini|--set sample.blocking=replicas --set run.t_equil=0.5 --set run.dt_equil=2e-4"
   "spheres|spheres.ini|"
   "spheres-2d-drift|spheres.ini|--set system.dimension=2 --set system.drift=0.3,-0.2 --set system.packing_fraction=0.4"
+  "spheres-walls-gravity|spheres.ini|--set system.boundary=walls,periodic,walls --set field.type=tilt --set field.force=-0.5 --set species.coupling=1,2"
 )
 
 run_killed() { # run_killed NAME CONFIG SETTINGS... : stopped at random moments, resumed to the end
