@@ -577,9 +577,9 @@ int hsbd_spheres_step(hsbd_spheres *s) {
         if (s->nb_stale && sph_rebuild_neighbours(s) != HSBD_OK) return HSBD_ENOMEM;
         if (keep_spatial_order(s)) return HSBD_ENOMEM;
     }
+    const hsbd_spheres_stats stats_at_start = s->stats; /* before the walls' pushes count */
     draw_velocities(s);
     if (s->par.hard_core) {
-        const hsbd_spheres_stats stats_at_start = s->stats;
         memcpy(s->x_start, s->x, 3 * s->n * sizeof *s->x);
         if (run_events(s)) return fail_step(s, &stats_at_start);
     }

@@ -9,7 +9,8 @@
  * - Hard spheres between walls in gravity, 3D (walls on z), 2D (walls on both axes) and a
  *   mixture with immobile obstacles and per-species couplings: the global calendar and
  *   the groups give bit-identical positions, the same collisions and wall collisions,
- *   the same wall impulses (to round-off: they sum in another order), groups re-ran, and
+ *   the same wall impulses (to round-off: they sum in another order), groups re-ran (AUTO
+ *   too, whose steps given up part-way are handed to the global calendar), and
  *   no overlap with a wall or another particle after any step (brute force). */
 #include <math.h>
 #include <stdlib.h>
@@ -145,11 +146,11 @@ static double brute_min_gap_walls(const hsbd_spheres_view *v) {
 }
 
 static void compare_with_walls(const char *name, hsbd_spheres_params p, int steps,
-                               uint64_t min_reruns) {
+                               uint64_t min_reruns, hsbd_spheres_event_order order) {
     hsbd_error err;
     p.event_order = HSBD_EVENTS_GLOBAL;
     hsbd_spheres *a = hsbd_spheres_alloc(&p, &err);
-    p.event_order = HSBD_EVENTS_GROUPS;
+    p.event_order = order;
     hsbd_spheres *b = hsbd_spheres_alloc(&p, &err);
     CHECK(a && b, "%s: alloc: %s", name, err.message);
     if (!a || !b) return;
@@ -212,11 +213,15 @@ static void test_event_orders_with_walls(void) {
                              .walls = {0, 0, 1},
                              .field = &gravity,
                              .field_axis = 2};
-    compare_with_walls("3D phi 0.45, walls on z, gravity", p, 200, 5);
+    compare_with_walls("3D phi 0.45, walls on z, gravity", p, 200, 5, HSBD_EVENTS_GROUPS);
+    p.groups_min_n = 1; /* AUTO: steps given up part-way go to the global calendar */
+    compare_with_walls("3D phi 0.45, walls on z, gravity (auto)", p, 200, 1, HSBD_EVENTS_AUTO);
+    p.groups_min_n = 0;
     hsbd_spheres_params d = p;
     d.n = 500, d.dimension = 2, d.walls[0] = d.walls[1] = 1, d.walls[2] = 0;
     d.box[0] = d.box[1] = sqrt(500 * PI / 4 / 0.6), d.field_axis = 1, d.seed = 12;
-    compare_with_walls("2D phi 0.6, walls on x and y, gravity along y", d, 200, 5);
+    compare_with_walls("2D phi 0.6, walls on x and y, gravity along y", d, 200, 5,
+                       HSBD_EVENTS_GROUPS);
     static int species[600];
     for (int i = 0; i < 600; ++i)
         species[i] = i % 3 == 0 ? 1 : i % 50 == 7 ? 2 : 0;
@@ -226,7 +231,8 @@ static void test_event_orders_with_walls(void) {
     m.nspecies = 3, m.species = species, m.species_sigma = sig, m.species_diffusion = dif;
     m.species_coupling = coupling, m.sigma = 0, m.seed = 13;
     m.box[2] = 600 * PI / 6 * (2.0 + 1.4 * 1.4 * 1.4) / 3 / 0.35 / (side * side);
-    compare_with_walls("3D mixture phi 0.35 with obstacles, walls on z", m, 200, 1);
+    compare_with_walls("3D mixture phi 0.35 with obstacles, walls on z", m, 200, 1,
+                       HSBD_EVENTS_GROUPS);
 }
 
 int main(void) {
