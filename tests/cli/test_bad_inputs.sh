@@ -394,6 +394,7 @@ bad_case coupling-no-species "species.coupling is set but species.names is empty
 bad_case force-immobile "a field acts on species B, whose D = 0 cannot move" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set field.type=tilt
 bad_case drift-immobile "system.drift with species B, whose D = 0 cannot move" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set "system.drift=1 0 0"
 printf '2\nLattice="12 0 0 0 12 0 0 0 12" Properties=species:S:1:pos:R:3\nS 1 1 1\nS 5 5 0.2\n' >wallpos.xyz
+bad_case memory-profiles "sample.bin_width = 1e-09" "the density profiles' bins" -- run box3.ini --set system.boundary=walls --set sample.bin_width=1e-9
 bad_case xyz-outside-walls "wallpos.xyz:4: particle 2 at z = 0.2 is outside the walls" "allowed: sigma/2 = 0.5 <= z" -- run box3.ini --set system.N=2 --set system.boundary=walls --set init.positions=wallpos.xyz
 
 # ---- the command line ----

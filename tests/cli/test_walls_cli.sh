@@ -7,6 +7,8 @@
 #   1.299204, the quadrature of hsbd_reflected_drift_density (its moments are checked in
 #   test_spheres_walls). The naive mirror rule would give a mean of 1.13 (about 100 error
 #   bars off).
+# - species.coupling_law = volume with polydisperse diameters: the wall theorem with the
+#   drawn sizes (4 error bars).
 # - The sedimentation and slit examples run (shortened) and report density.tsv per species
 #   and the walls in summary.json; the trajectory marks the walls axes non-periodic.
 set -u
@@ -67,6 +69,43 @@ grep -q 'rho_A_err' sed/density.tsv && ok || bad "sedimentation: density.tsv per
 "$HSBD" run "$SRC/examples/spheres-slit.ini" --set run.t_equil=0.2 --set run.t_total=0.4 \
     --out slit --quiet 2>/dev/null || bad "slit example"
 grep -q '"contact_density"' slit/summary.json && ok || bad "slit: contact densities"
+
+# species.coupling_law = volume with polydisperse sizes: the wall theorem with the drawn
+# diameters, kT (rho_low - rho_high) = sum_i (sigma_i / sigma)^3 |F| / A (the radii from
+# the trajectory), within 4 error bars of the difference (the two walls' errors added)
+cat >vol.ini <<'INI'
+[system]
+model = spheres
+N = 150
+box = 5 5 12
+boundary = periodic periodic walls
+seed = 3
+[species]
+polydispersity = 0.15
+coupling_law = volume
+[field]
+type = tilt
+force = -0.4
+[run]
+dt = 2e-3
+t_equil = 20
+t_total = 60
+[output]
+trajectory = xyz
+trajectory_every = 60
+INI
+if "$HSBD" run vol.ini --out vol --quiet 2>/dev/null; then
+    weight=$(tail -n 150 vol/trajectory.xyz | awk '{ w += (2 * $5)^3 } END { printf "%.6f", w * 0.4 / 25 }')
+    line=$(grep -o '"contact_density": [-0-9.e+]*, "contact_density_err": [0-9.e+-]*' vol/summary.json |
+        awk -v w="$weight" 'NR == 1 { lo = $2; le = $4 } NR == 3 { hi = $2; he = $4 }
+            END { gsub(",", "", lo); gsub(",", "", hi); d = lo - hi; e = sqrt(le * le + he * he);
+                  printf "%.4f %.4f %.4f %.2f\n", d, e, w, (d - w) / e }')
+    read -r diff diff_err wt dev <<<"$line"
+    echo "coupling_law = volume: rho_low - rho_high $diff +- $diff_err, weight per area $wt ($dev error bars)"
+    awk -v d="$dev" 'BEGIN { exit !(d * d < 16) }' && ok || bad "coupling_law volume: wall theorem $line"
+else
+    bad "coupling_law volume run"
+fi
 
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
