@@ -125,7 +125,8 @@ void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double
 /* ---- disks / spheres: radial distribution per species pair, contact values ---- */
 typedef struct hsbd_gr hsbd_gr;
 /* Bins of width `width` up to r_max (<= half the shortest box length); contact values by
- * a quadratic fit of g over gaps in [0, fit_width). */
+ * a quadratic fit of g over gaps in [0, fit_width). A periodic box only (HSBD_EINPUT when
+ * an axis has walls: the ideal-gas reference would be wrong). */
 hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, double fit_width,
                        size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
 void hsbd_gr_free(hsbd_gr *g);

@@ -11,13 +11,15 @@
  *   the groups give bit-identical positions, the same collisions and wall collisions,
  *   the same wall impulses (to round-off: they sum in another order), groups re-ran (AUTO
  *   too, whose steps given up part-way are handed to the global calendar), and
- *   no overlap with a wall or another particle after any step (brute force). */
+ *   no overlap with a wall or another particle after any step (brute force).
+ * - g(r) refuses a box with walls. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../test_util.h"
 #include "hsbd/field.h"
+#include "hsbd/observe.h"
 #include "hsbd/spheres.h"
 #include "hsbd/theory.h"
 
@@ -235,7 +237,23 @@ static void test_event_orders_with_walls(void) {
                        HSBD_EVENTS_GROUPS);
 }
 
+/* g(r) refuses a box with walls (its ideal-gas reference is that of a periodic box) */
+static void test_gr_refuses_walls(void) {
+    hsbd_spheres_params p = {.n = 10, .dimension = 3, .box = {8, 8, 8}, .sigma = 1,
+                             .diffusion = 1, .kT = 1, .dt = 1e-3, .seed = 1, .hard_core = 1,
+                             .walls = {0, 1, 0}};
+    hsbd_error err;
+    hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+    CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "init: %s", err.message);
+    if (!s) return;
+    const hsbd_spheres_view v = hsbd_spheres_get_view(s);
+    CHECK(hsbd_gr_alloc(&v, 2, 0.1, 0.1, 4, 100, &err) == NULL && err.status == HSBD_EINPUT,
+          "g(r) between walls");
+    hsbd_spheres_free(s);
+}
+
 int main(void) {
+    test_gr_refuses_walls();
     test_exact_wall_step();
     test_event_orders_with_walls();
     return test_finish("test_spheres_walls");
