@@ -548,7 +548,9 @@ static void finish_step(hsbd_spheres *s) {
         s->t_local[i] = 0;
         for (int a = 0; a < s->dim; ++a) {
             x[a] += v[a] * h;
-            if (x[a] >= 0 && x[a] < s->box[a]) continue; /* the common case: no floor() */
+            /* the common case: no floor(); between walls free particles may end outside
+             * (folded back afterwards, never wrapped) */
+            if ((x[a] >= 0 && x[a] < s->box[a]) || s->walls[a]) continue;
             const double w = floor(x[a] * s->inv_box[a]);
             if (w != 0) {
                 x[a] -= w * s->box[a];

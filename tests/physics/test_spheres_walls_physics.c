@@ -7,6 +7,8 @@
  *     Skorokhod step): chi^2 of the profile bins below 5 sigma from the floor within
  *     bins + 4 sqrt(2 bins), and the contact densities from the walls' impulses at both
  *     walls.
+ *   - Free particles in a slit whose room (0.3) is shorter than a step (dt 0.05): the wall
+ *     theorem below, exact at any dt (end points beyond both walls fold back).
  *   - Hard spheres (3D), disks (2D) and a binary mixture (3D, couplings 1 and 2.744) in
  *     gravity between walls: the wall theorem, kT (rho_low - rho_high) = the total weight
  *     per wall area, sum_i coupling_i |F| / A, with the contact densities from the
@@ -181,6 +183,32 @@ static void test_barometric(void) {
     hsbd_spheres_free(s);
 }
 
+/* ---- ideal particles in a slit narrower than a step: the wall theorem ---- */
+
+/* Free particles (sigma 0.1) whose centres have 0.3 of room, gravity -1, dt 0.05 (a step of
+ * 0.32 rms, longer than the room, so free end points land beyond both walls and fold): the
+ * wall theorem, exact at any dt whatever the two independent bridges make of the profile. */
+static void test_narrow_slit(void) {
+    hsbd_field gravity = {0};
+    hsbd_field_add(&gravity, hsbd_field_tilt(-1.0));
+    hsbd_spheres_params p = {.n = 200, .dimension = 3, .box = {4, 4, 0.4}, .sigma = 0.1,
+                             .diffusion = 1, .kT = 1, .dt = 0.05, .seed = 61, .hard_core = 0,
+                             .walls = {0, 0, 1}, .field = &gravity, .field_axis = 2};
+    hsbd_error err;
+    hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+    CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "init: %s", err.message);
+    if (!s) return;
+    sampled o = run_sampled(s, 2, 2, sampled_time(200), 0.01);
+    double diff, diff_err;
+    contact_from_impulses(&o, -1, 2, 0, 1, p.dt * EVERY * 16, &diff, &diff_err);
+    printf("narrow slit (room 0.3, dt 0.05), free particles: rho_low - rho_high %.4f +- %.4f, "
+           "weight per area %.4f (%+.2f error bars)\n",
+           diff, diff_err, 12.5, (diff - 12.5) / diff_err);
+    CHECK(fabs(diff - 12.5) <= 4 * diff_err, "narrow slit: wall theorem");
+    sampled_free(&o);
+    hsbd_spheres_free(s);
+}
+
 /* ---- hard spheres: the wall theorem ---- */
 
 static void wall_theorem_case(const char *name, hsbd_spheres_params p, double force,
@@ -343,6 +371,7 @@ static void test_common_drift(void) {
 
 int main(void) {
     test_barometric();
+    test_narrow_slit();
     test_wall_theorem();
     test_slit_klm();
     test_common_drift();
