@@ -23,12 +23,17 @@ asan: deps
 	@cmake -S . -B $(ASAN) -DCMAKE_BUILD_TYPE=Debug -DHSBD_WERROR=ON -DHSBD_SANITIZE=ON $(CMAKE_ARGS) >/dev/null
 	@cmake --build $(ASAN) -j $(JOBS)
 
-# The flagship example: hard rods in a cosine potential, density profile plotted.
+# The flagship examples: hard rods in a cosine potential against Percus' exact profile,
+# and a hard-sphere fluid (g(r) against Carnahan-Starling, MSD, F_s); both plotted.
 demo: build
 	@rm -rf runs/demo
-	@$(BUILD)/hsbd run examples/rods-cosine.ini --out runs/demo
-	@$(BUILD)/hsbd theory percus --sigma 0.5 --rho 0.5 --amplitude 6 --out runs/demo/percus.tsv
-	@/usr/bin/python3 tools/plot_rods.py runs/demo --theory runs/demo/percus.tsv
+	@$(BUILD)/hsbd run examples/rods-cosine.ini --quiet --out runs/demo/rods
+	@$(BUILD)/hsbd theory percus --sigma 0.5 --rho 0.5 --amplitude 6 --out runs/demo/rods/percus.tsv
+	@/usr/bin/python3 tools/plot_rods.py runs/demo/rods --theory runs/demo/rods/percus.tsv >/dev/null
+	@$(BUILD)/hsbd run examples/spheres-fluid.ini --quiet --out runs/demo/spheres
+	@/usr/bin/python3 tools/plot_spheres.py runs/demo/spheres >/dev/null
+	@echo "rods (density, contact density, MSD): runs/demo/rods/plot.png"
+	@echo "spheres (g(r), MSD, F_s):              runs/demo/spheres/plot.png"
 
 # Whole test suite: optimised build (all tests) and AddressSanitizer+UBSan build (all tests).
 check: build asan
@@ -44,6 +49,7 @@ validate: build
 	@HSBD_VALIDATE=long ctest --test-dir $(BUILD) -L physics --output-on-failure -j $(JOBS)
 	@$(BUILD)/hsbd validate --out runs/validate --jobs $(JOBS); rc=$$?; \
 	 /usr/bin/python3 tools/plot_validation.py runs/validate; \
+	 /usr/bin/python3 tools/plot_driven.py $(BUILD)/hsbd runs/validate/driven || rc=1; \
 	 tools/walls_dt_scan.sh $(BUILD)/hsbd || rc=1; exit $$rc
 
 # libFuzzer on each harness of tests/fuzz/ in turn for FUZZ_SECONDS (clang, installed on

@@ -20,6 +20,10 @@
 #include "hsbd/validate.h"
 #include "hsbd_version.h"
 
+#ifdef HSBD_HAVE_MPI
+#include <mpi.h>
+#endif
+
 enum { EXIT_INPUT = 2, EXIT_INTERRUPTED = 130 };
 
 static volatile sig_atomic_t stop_flag = 0;
@@ -85,8 +89,10 @@ static const char *const synopsis_run =
 static const char *const synopsis_resume =
     "hsbd resume DIR [--set run.t_total=T] [--quiet]\n"
     "                                       continue a stopped run from its checkpoint\n";
+static const char *const synopsis_merge =
+    "hsbd merge OUT DIR... [--force]        merge replicas of one configuration\n";
 static const char *const synopsis_bench =
-    "hsbd bench [--seconds S] [--case NAME] [--list]\n"
+    "hsbd bench [--seconds S] [--case NAME] [--list] [--threads]\n"
     "                                       throughput, with the free-particle bound\n";
 static const char *const synopsis_percus =
     "hsbd theory percus --sigma S --rho R --amplitude U0 [--gamma G]\n"
@@ -100,15 +106,21 @@ static const char *const synopsis_box =
     "                      [--center C] [--amplitude U0] [--wavelength W] [--bin W]\n"
     "                      [--points M] --out FILE|-\n"
     "                                       exact profile between hard walls\n";
+static const char *const synopsis_washboard =
+    "hsbd theory washboard --amplitude U0 [--wavelength W] [--D D] [--kT kT]\n"
+    "                      [--force F | --force-min A --force-max B --forces K]\n"
+    "                      [--rocking F1] [--tol T] --out FILE|-\n"
+    "                                       one particle in a tilted cosine: <v>, D_eff\n";
 static const char *const synopsis_validate =
     "hsbd validate [--quick] [--dt-scan] [--sticky] [--out DIR] [--case TEXT]\n"
     "                     [--jobs N] [--seed-offset K]\n"
     "                                       simulations against exact theory\n";
 
 static void usage(FILE *out) {
-    fprintf(out, "usage: %s       %s       %s       %s       %s       %s       %s", synopsis_run,
-            synopsis_resume, synopsis_bench, synopsis_percus, synopsis_tonks, synopsis_box,
-            synopsis_validate);
+    fprintf(out,
+            "usage: %s       %s       %s       %s       %s       %s       %s       %s       %s",
+            synopsis_run, synopsis_resume, synopsis_merge, synopsis_bench, synopsis_percus,
+            synopsis_tonks, synopsis_box, synopsis_washboard, synopsis_validate);
     fprintf(out, "       hsbd config-doc                 print the configuration reference "
                  "(Markdown)\n"
                  "       hsbd version\n"
@@ -117,11 +129,17 @@ static void usage(FILE *out) {
 
 static void run_help(void) {
     printf("usage: hsbd run CONFIG.ini [--set section.key=value]... [--out DIR] [--seed S]\n"
-           "                [--force] [--check] [--quiet]\n"
-           "       hsbd run --defaults [options]\n\n"
+           "                [--replica K] [--threads N] [--force] [--check] [--quiet]\n"
+           "       hsbd run --defaults [options]\n"
+           "       mpirun -n P hsbd run CONFIG.ini [options]   run.replicas (default P)\n"
+           "              replicas spread over the ranks, merged into DIR (docs/scaling.md)\n\n"
            "  --set k=v   override any key (repeatable)\n"
            "  --out DIR   run directory (same as --set output.dir=DIR)\n"
            "  --seed S    random seed (same as --set system.seed=S)\n"
+           "  --replica K run replica K of an ensemble alone (same as --set run.replica=K;\n"
+           "              join replicas with hsbd merge)\n"
+           "  --threads N threads of the run (same as --set run.threads=N; default: the\n"
+           "              cores the process may use; rods only, same results for every N)\n"
            "  --defaults  no configuration file: every key at its default (runs/defaults);\n"
            "              a file that sets no key is refused\n"
            "  --force     write into an existing, non-empty run directory\n"
@@ -164,6 +182,124 @@ static void default_out_dir(const char *config_path, char *out, size_t len) {
     snprintf(out, len, "runs/%.*s", n, base);
 }
 
+/* ---- ensembles of replicas over MPI ranks (docs/scaling.md) ----------------------------- */
+
+/* status of a rank that stopped because another rank failed (that one prints why) */
+enum { HSBD_ESILENT = -1 };
+
+#ifdef HSBD_HAVE_MPI
+/* started by mpirun (OpenMPI or a PMI launcher): only then is MPI initialised, so a
+ * plain run never pays for it */
+static int launched_by_mpi(void) {
+    return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMI_SIZE") || getenv("PMIX_RANK");
+}
+#endif
+
+typedef struct ranks {
+    int rank, size, mpi;
+} ranks;
+
+static ranks ranks_begin(void) {
+    ranks r = {0, 1, 0};
+#ifdef HSBD_HAVE_MPI
+    if (launched_by_mpi() && MPI_Init(NULL, NULL) == MPI_SUCCESS) {
+        r.mpi = 1;
+        MPI_Comm_rank(MPI_COMM_WORLD, &r.rank);
+        MPI_Comm_size(MPI_COMM_WORLD, &r.size);
+    }
+#endif
+    return r;
+}
+
+static void ranks_end(const ranks *r) {
+#ifdef HSBD_HAVE_MPI
+    if (r->mpi) MPI_Finalize();
+#else
+    (void)r;
+#endif
+}
+
+/* The worst status over the ranks (every rank calls it at the same point); a rank that
+ * itself succeeded gets HSBD_ESILENT with the status in err. */
+static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
+    int worst = rc;
+#ifdef HSBD_HAVE_MPI
+    if (r->mpi) MPI_Allreduce(&rc, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+#else
+    (void)r;
+#endif
+    if (worst == HSBD_OK || rc != HSBD_OK) return rc;
+    err->status = worst;
+    return HSBD_ESILENT;
+}
+
+/* A single run, or run.replicas replicas spread over the ranks (replica k on rank k mod
+ * P, each in DIR/replica-k) and merged by rank 0 in replica order. */
+static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_error *err) {
+    ranks r = ranks_begin();
+    const size_t replicas = hsbd_ensemble_size(cfg, r.size);
+    if (r.rank > 0) opt->progress = 0;
+    int rc = HSBD_OK;
+    if (replicas == 1) {
+        if (r.rank == 0) rc = hsbd_run(cfg, opt, err);
+    } else {
+        if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, err);
+        rc = ranks_agree(&r, rc, err);
+        if (rc == HSBD_OK) rc = hsbd_ensemble_run(cfg, opt, replicas, r.rank, r.size, err);
+        if (rc != HSBD_ESILENT) rc = ranks_agree(&r, rc, err);
+        if (rc == HSBD_OK && r.rank == 0) rc = hsbd_ensemble_merge(cfg, replicas, err);
+    }
+    ranks_end(&r);
+    return rc;
+}
+
+static void merge_help(void) {
+    printf("usage: hsbd merge OUT DIR... [--force]\n\n"
+           "Merges the run directories of replicas of one configuration (hsbd run CONFIG\n"
+           "--replica K, e.g. the tasks of a job array) into OUT: the means over the replicas\n"
+           "and errors from their scatter, summed in replica order, so the result equals\n"
+           "that of one ensemble run (mpirun) of the same replicas byte for byte.\n"
+           "Refused (exit 2, nothing written): fewer than two directories, a run that did\n"
+           "not complete, runs that are no replicas, the same replica twice, and runs of\n"
+           "different configurations (any parameter but run.replica, run.replicas,\n"
+           "run.threads and output.dir).\n\n"
+           "  --force  write into an existing, non-empty OUT (an earlier run's files)\n");
+}
+
+static int cmd_merge(int argc, char **argv) {
+    const char *out = NULL;
+    const char **dirs = calloc((size_t)argc, sizeof *dirs);
+    size_t ndirs = 0;
+    int force = 0;
+    if (!dirs) return fail(HSBD_ENOMEM, "out of memory");
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i];
+        if (is_help(a)) {
+            free(dirs);
+            merge_help();
+            return 0;
+        }
+        if (!strcmp(a, "--force")) {
+            force = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(stderr, "hsbd merge: unknown option '%.60s' (hsbd merge --help)\n", a);
+            return free(dirs), EXIT_INPUT;
+        } else if (!out) {
+            out = a;
+        } else {
+            dirs[ndirs++] = a;
+        }
+    }
+    if (!out) {
+        fprintf(stderr, "hsbd merge: no output directory given (hsbd merge OUT DIR...)\n");
+        return free(dirs), EXIT_INPUT;
+    }
+    hsbd_error err;
+    const int rc = hsbd_merge(out, dirs, ndirs, force, &err);
+    free(dirs);
+    return rc == HSBD_OK ? 0 : fail(rc, err.message);
+}
+
 /* One override from the command line, applied in order after the file. */
 typedef struct run_override {
     const char *flag, *value;
@@ -182,7 +318,8 @@ static int cmd_run(int argc, char **argv) {
             run_help();
             return 0;
         }
-        if (!strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed")) {
+        if (!strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed") ||
+            !strcmp(a, "--replica") || !strcmp(a, "--threads")) {
             const char *v = flag_value("run", argc, argv, &i);
             if (!v) return free(overrides), EXIT_INPUT;
             overrides[noverrides++] = (run_override){a, v};
@@ -240,7 +377,11 @@ static int cmd_run(int argc, char **argv) {
             snprintf(buf, sizeof buf, "%s", o->value);
         else
             snprintf(buf, sizeof buf, "%s=%s",
-                     !strcmp(o->flag, "--out") ? "output.dir" : "system.seed", o->value);
+                     !strcmp(o->flag, "--out")       ? "output.dir"
+                     : !strcmp(o->flag, "--replica") ? "run.replica"
+                     : !strcmp(o->flag, "--threads") ? "run.threads"
+                                                     : "system.seed",
+                     o->value);
         snprintf(origin, sizeof origin, "command line (%s)", o->flag);
         if (strlen(o->value) >= HSBD_PATH_MAX) {
             fprintf(stderr, "hsbd run: %s: the value is longer than %d characters\n", o->flag,
@@ -260,10 +401,11 @@ static int cmd_run(int argc, char **argv) {
     int rc = hsbd_config_finalize(&cfg, &err);
     if (rc == HSBD_OK) {
         catch_stop_signals();
-        rc = hsbd_run(&cfg, &opt, &err);
+        rc = run_ensemble_or_single(&cfg, &opt, &err);
     }
     if (config_path) free((char *)source.text);
     free(sets), free(set_list);
+    if (rc == HSBD_ESILENT) return exit_code_for(err.status);
     if (rc != HSBD_OK) return fail(rc, err.message);
     if (opt.progress) fprintf(stderr, "hsbd: results in %s/\n", cfg.output.dir);
     return 0;
@@ -331,6 +473,7 @@ static int cmd_resume(int argc, char **argv) {
 
 static int cmd_bench(int argc, char **argv) {
     double seconds = 2.0;
+    int threads = 0;
     const char *only = NULL;
     for (int i = 2; i < argc; ++i) {
         if (is_help(argv[i])) {
@@ -338,13 +481,19 @@ static int cmd_bench(int argc, char **argv) {
                    "  --seconds S   measuring time per case and variant (default 2; 0 < S < "
                    "3600)\n"
                    "  --case NAME   only this case\n"
-                   "  --list        print the names of the cases and exit\n",
+                   "  --list        print the names of the cases and exit\n"
+                   "  --threads     rods: one thread against all the process may use (wall\n"
+                   "                clock) instead of the one-core tables\n",
                    synopsis_bench);
             return 0;
         }
         if (!strcmp(argv[i], "--list")) {
             hsbd_bench_list(stdout);
             return 0;
+        }
+        if (!strcmp(argv[i], "--threads")) {
+            threads = 1;
+            continue;
         }
         if (!strcmp(argv[i], "--seconds")) {
             const char *v = flag_value("bench", argc, argv, &i);
@@ -367,7 +516,10 @@ static int cmd_bench(int argc, char **argv) {
                 "hsbd bench: --case: no case named '%.60s' (hsbd bench --list names them)\n", only);
         return EXIT_INPUT;
     }
-    hsbd_bench_run(only, seconds, stdout);
+    if (threads)
+        hsbd_bench_threads(only, seconds, stdout);
+    else
+        hsbd_bench_run(only, seconds, stdout);
     return 0;
 }
 
@@ -625,6 +777,78 @@ static int cmd_theory_percus(int argc, char **argv) {
     return close_theory_output(&o, f, 0);
 }
 
+/* One overdamped particle in U0/2 cos(2 pi x / lambda) - F x: the exact mean velocity
+ * (Stratonovich) and D_eff (Reimann et al. 2001) at one tilt or over a grid of tilts, and
+ * the adiabatically rocked drift for F(t) = F + F1 cos(omega t) (src/theory/washboard.c). */
+static int cmd_theory_washboard(int argc, char **argv) {
+    double u0 = 0, wavelength = 1, d = 1, kT = 1, force = NAN, fmin = NAN, fmax = NAN, nforces = 0,
+           rocking = 0, tol = 1e-10;
+    const char *out = NULL;
+    num_flag flags[] = {
+        {"--amplitude", &u0, -1e4, 1e4, 0, 0, 1, "cosine amplitude U0 (energy)", 0},
+        {"--wavelength", &wavelength, 0, 1e300, 1, 1, 0, "wavelength lambda (default 1)", 0},
+        {"--D", &d, 0, 1e300, 1, 1, 0, "diffusion coefficient (default 1)", 0},
+        {"--kT", &kT, 0, 1e300, 1, 1, 0, "thermal energy (default 1)", 0},
+        {"--force", &force, -1e6, 1e6, 0, 0, 0, "tilt F (energy/length); or a grid:", 0},
+        {"--force-min", &fmin, -1e6, 1e6, 0, 0, 0, "first tilt of the grid", 0},
+        {"--force-max", &fmax, -1e6, 1e6, 0, 0, 0, "last tilt of the grid", 0},
+        {"--forces", &nforces, 2, 1e5, 0, 0, 0, "tilts in the grid (whole)", 0},
+        {"--rocking", &rocking, 0, 1e6, 0, 0, 0,
+         "F1: add the adiabatic drift of F(t) = F + F1 cos(omega t) (default 0: none)", 0},
+        {"--tol", &tol, 1e-14, 1e-2, 0, 0, 0, "relative accuracy (default 1e-10)", 0},
+    };
+    const size_t nflags = sizeof flags / sizeof flags[0];
+    const int rc = parse_num_flags("theory washboard", argc, argv, flags, nflags, &out);
+    if (rc < 0)
+        num_flags_help(synopsis_washboard,
+                       "One overdamped Brownian particle in U(x) = (U0/2) cos(2 pi x / lambda) - "
+                       "F x: the exact\nmean velocity (Stratonovich) and effective diffusion "
+                       "coefficient D_eff (Reimann et al.,\nPRL 87, 010602 (2001)); columns force "
+                       "velocity d_eff rel_error [velocity_rocking]\n(docs/theory.md). Critical "
+                       "tilt: pi U0 / lambda.",
+                       flags, nflags, 1);
+    if (rc) return rc < 0 ? 0 : rc;
+    const int grid = !isnan(fmin) || !isnan(fmax) || nforces > 0;
+    if (grid == !isnan(force) || (grid && (isnan(fmin) || isnan(fmax) || nforces == 0)) ||
+        nforces != floor(nforces) || (grid && !(fmax > fmin))) {
+        fprintf(stderr, "hsbd theory washboard: give --force F, or --force-min A --force-max B "
+                        "--forces K with A < B and K whole (not both)\n");
+        return EXIT_INPUT;
+    }
+    hsbd_outfile o = {0};
+    FILE *f;
+    if (open_theory_output("theory washboard", out, &o, &f)) return EXIT_INPUT;
+    hsbd_field field = {0};
+    hsbd_field_add(&field, hsbd_field_cosine(u0, wavelength));
+    hsbd_washboard_params p = {
+        .diffusion = d, .kT = kT, .period = wavelength, .field = &field, .tol = tol};
+    const size_t nf = grid ? (size_t)nforces : 1;
+    fprintf(f,
+            "# hsbd %s (git %s): one particle in a tilted cosine, exact stationary drift and "
+            "D_eff (docs/theory.md)\n# amplitude = %.17g\n# wavelength = %.17g\n# D = %.17g\n"
+            "# kT = %.17g\n# critical_force = %.17g\n# rocking = %.17g\n",
+            HSBD_VERSION_STRING, HSBD_GIT_COMMIT, u0, wavelength, d, kT,
+            3.141592653589793 * fabs(u0) / wavelength, rocking);
+    fprintf(f, "force\tvelocity\td_eff\trel_error%s\n", rocking > 0 ? "\tvelocity_rocking" : "");
+    for (size_t k = 0; k < nf; ++k) {
+        p.force = grid ? fmin + (fmax - fmin) * (double)k / (double)(nf - 1) : force;
+        hsbd_washboard_result r;
+        hsbd_error err;
+        int st = hsbd_washboard_solve(&p, &r, &err);
+        if (st != HSBD_OK) return close_theory_output(&o, f, fail(st, err.message));
+        fprintf(f, "%.10g\t%.15g\t%.15g\t%.3g", p.force, r.velocity, r.diffusion_eff, r.error);
+        hsbd_washboard_result_free(&r);
+        if (rocking > 0) {
+            hsbd_washboard_rocking_result rr;
+            st = hsbd_washboard_rocking(&p, p.force, rocking, &rr, &err);
+            if (st != HSBD_OK) return close_theory_output(&o, f, fail(st, err.message));
+            fprintf(f, "\t%.15g", rr.velocity);
+        }
+        fputc('\n', f);
+    }
+    return close_theory_output(&o, f, 0);
+}
+
 static int cmd_theory_tonks(int argc, char **argv) {
     double sigma = 0, rho = 0, gamma = 0, d = 1;
     num_flag flags[] = {
@@ -735,18 +959,20 @@ static int cmd_theory(int argc, char **argv) {
     if (argc >= 3 && !strcmp(argv[2], "percus")) return cmd_theory_percus(argc, argv);
     if (argc >= 3 && !strcmp(argv[2], "tonks")) return cmd_theory_tonks(argc, argv);
     if (argc >= 3 && !strcmp(argv[2], "box")) return cmd_theory_box(argc, argv);
+    if (argc >= 3 && !strcmp(argv[2], "washboard")) return cmd_theory_washboard(argc, argv);
     if (argc >= 3 && is_help(argv[2])) {
-        printf("usage: %s       %s       %s", synopsis_percus, synopsis_tonks, synopsis_box);
+        printf("usage: %s       %s       %s       %s", synopsis_percus, synopsis_tonks,
+               synopsis_box, synopsis_washboard);
         return 0;
     }
     if (argc >= 3)
         fprintf(stderr,
-                "hsbd theory: unknown theory '%.60s'; allowed: percus, tonks, box (hsbd theory "
-                "--help)\n",
+                "hsbd theory: unknown theory '%.60s'; allowed: percus, tonks, box, washboard "
+                "(hsbd theory --help)\n",
                 argv[2]);
     else
-        fprintf(stderr, "hsbd theory: which theory? allowed: percus, tonks, box (hsbd theory "
-                        "--help)\n");
+        fprintf(stderr, "hsbd theory: which theory? allowed: percus, tonks, box, "
+                        "washboard (hsbd theory --help)\n");
     return EXIT_INPUT;
 }
 
@@ -769,6 +995,7 @@ int main(int argc, char **argv) {
     const char *cmd = argv[1];
     if (!strcmp(cmd, "run")) return cmd_run(argc, argv);
     if (!strcmp(cmd, "resume")) return cmd_resume(argc, argv);
+    if (!strcmp(cmd, "merge")) return cmd_merge(argc, argv);
     if (!strcmp(cmd, "bench")) return cmd_bench(argc, argv);
     if (!strcmp(cmd, "theory")) return cmd_theory(argc, argv);
     if (!strcmp(cmd, "validate")) return cmd_validate(argc, argv);

@@ -4,6 +4,7 @@
 #ifndef HSBD_CONFIG_H
 #define HSBD_CONFIG_H
 
+#include "hsbd/export.h"
 #include <stdint.h>
 #include <stdio.h>
 
@@ -25,10 +26,19 @@ enum hsbd_field_terms {
     HSBD_FIELD_HARMONIC = 4,
     HSBD_FIELD_TABLE = 8
 };
+/* drive.parameter: the field parameter a drive changes in time (the term it belongs to) */
+enum hsbd_drive_parameter {
+    HSBD_DRIVE_NONE = 0,
+    HSBD_DRIVE_FORCE,     /* tilt */
+    HSBD_DRIVE_AMPLITUDE, /* cosine: U0 */
+    HSBD_DRIVE_SHIFT,     /* cosine: its position (a travelling wave) */
+    HSBD_DRIVE_STIFFNESS, /* harmonic */
+    HSBD_DRIVE_CENTER     /* harmonic: its centre (dragged or oscillating trap) */
+};
 enum hsbd_boundary { HSBD_BOUNDARY_PERIODIC = 0, HSBD_BOUNDARY_WALLS };
 enum hsbd_coupling_law { HSBD_COUPLING_GIVEN = 0, HSBD_COUPLING_VOLUME = 1 };
 enum hsbd_pair_type { HSBD_PAIR_NONE = 0, HSBD_PAIR_YUKAWA, HSBD_PAIR_LJ, HSBD_PAIR_TABLE };
-enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ };
+enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ, HSBD_TRAJ_GSD };
 enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE, HSBD_BLOCKS_REPLICAS };
 enum {
     HSBD_PATH_MAX = 1024,
@@ -71,6 +81,11 @@ typedef struct hsbd_config {
         int axis;       /* spheres: the coordinate the field acts on (0 x, 1 y, 2 z) */
     } field;
     struct {
+        int parameter; /* enum hsbd_drive_parameter */
+        int wave;      /* enum hsbd_wave of hsbd/field.h */
+        double amplitude, period, phase, velocity;
+    } drive;
+    struct {
         /* the keys' texts: whitespace- or comma-separated lists */
         char names_text[HSBD_PATH_MAX], count_text[HSBD_PATH_MAX], sigma_text[HSBD_PATH_MAX],
             d_text[HSBD_PATH_MAX], fraction_text[HSBD_PATH_MAX];
@@ -91,6 +106,11 @@ typedef struct hsbd_config {
     } species;
     struct {
         double dt, t_equil, t_total, dt_equil;
+        /* ensembles: replicas in all (0: one per MPI rank), and this run's replica index
+         * (-1: not one replica of an ensemble) */
+        int64_t replicas, replica;
+        /* threads of one run (0: the cores the process may use) */
+        int64_t threads;
     } run;
     struct {
         double bin_width, contact_width, period;
@@ -99,6 +119,7 @@ typedef struct hsbd_config {
         int blocking;
         int64_t gr_every;
         double gr_max, gr_bin, contact_fit, fs_k;
+        int64_t phases; /* profiles resolved by the drive's phase: bins of its period */
     } sample;
     struct {
         char dir[HSBD_PATH_MAX];
@@ -118,41 +139,43 @@ typedef struct hsbd_config {
 } hsbd_config;
 
 /* Fill every key with its default. */
-void hsbd_config_defaults(hsbd_config *cfg);
+HSBD_API void hsbd_config_defaults(hsbd_config *cfg);
 /* Read an INI file (hsbd sections, or the authors' section-less keys; docs/config.md).
  * Lines of any length up to 1 MiB; a whole-line comment starts with '#' or ';', an inline
  * one with " #" or " ;". A file that sets no key, a directory, NUL bytes or control
  * characters, unknown sections or keys, keys set twice, and the authors' keys mixed with
  * sections are HSBD_EINPUT with the file and line. */
-int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err);
+HSBD_API int hsbd_config_load_file(hsbd_config *cfg, const char *path, hsbd_error *err);
 /* The same from an open stream; `name` stands for the file in messages and origins. */
-int hsbd_config_load_stream(hsbd_config *cfg, FILE *f, const char *name, hsbd_error *err);
+HSBD_API int hsbd_config_load_stream(hsbd_config *cfg, FILE *f, const char *name, hsbd_error *err);
 /* Apply "section.key=value" (from --set). */
-int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin, hsbd_error *err);
+HSBD_API int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin,
+                             hsbd_error *err);
 /* Derived defaults and checks that involve several keys; call once after all input. */
-int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
+HSBD_API int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
 
 /* Where a key got its value ("file:line", "--set ...", "default"); "" for unknown keys. */
-const char *hsbd_config_origin(const hsbd_config *cfg, const char *section, const char *key);
+HSBD_API const char *hsbd_config_origin(const hsbd_config *cfg, const char *section,
+                                        const char *key);
 
 /* Number of production / equilibration steps. */
-uint64_t hsbd_config_steps(const hsbd_config *cfg);
+HSBD_API uint64_t hsbd_config_steps(const hsbd_config *cfg);
 
 /* Spheres: every particle's species (in blocks of species.count), diameter (drawn with
  * species.polydispersity from the seed) and D (species.D, or Stokes-Einstein from the
  * nominal values: D_i = D_k sigma_k / sigma_i), for a finalized configuration. Any of the
  * arrays (N values) may be NULL. */
-int hsbd_config_particles(const hsbd_config *cfg, int *species, double *sigma, double *diffusion,
-                          hsbd_error *err);
-uint64_t hsbd_config_equil_steps(const hsbd_config *cfg);
+HSBD_API int hsbd_config_particles(const hsbd_config *cfg, int *species, double *sigma,
+                                   double *diffusion, hsbd_error *err);
+HSBD_API uint64_t hsbd_config_equil_steps(const hsbd_config *cfg);
 /* Time step of the equilibration (run.dt_equil, or run.dt when that is 0). */
-double hsbd_config_dt_equil(const hsbd_config *cfg);
+HSBD_API double hsbd_config_dt_equil(const hsbd_config *cfg);
 
 /* Every key as "prefix section.key = value" lines (TSV headers). */
-void hsbd_config_write_header(const hsbd_config *cfg, FILE *out, const char *prefix);
+HSBD_API void hsbd_config_write_header(const hsbd_config *cfg, FILE *out, const char *prefix);
 /* Every key as a JSON object {"section": {"key": value, ...}, ...} at the given indent. */
-void hsbd_config_write_json(const hsbd_config *cfg, FILE *out, int indent);
+HSBD_API void hsbd_config_write_json(const hsbd_config *cfg, FILE *out, int indent);
 /* The schema as a Markdown reference (docs/config.md) or plain text (--help). */
-void hsbd_config_write_reference(FILE *out, int markdown);
+HSBD_API void hsbd_config_write_reference(FILE *out, int markdown);
 
 #endif

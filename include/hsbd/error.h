@@ -2,6 +2,8 @@
 #ifndef HSBD_ERROR_H
 #define HSBD_ERROR_H
 
+#include "hsbd/export.h"
+
 enum hsbd_status {
     HSBD_OK = 0,
     HSBD_EINPUT = 2,    /* bad user input: configuration, flags, initial state (exit 2) */
@@ -17,8 +19,8 @@ typedef struct hsbd_error {
 } hsbd_error;
 
 /* Record status and a printf-style message (when err is not NULL); returns status. */
-int hsbd_error_set(hsbd_error *err, int status, const char *fmt, ...)
+HSBD_API int hsbd_error_set(hsbd_error *err, int status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
-void hsbd_error_clear(hsbd_error *err);
+HSBD_API void hsbd_error_clear(hsbd_error *err);
 
 #endif

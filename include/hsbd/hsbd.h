@@ -12,8 +12,10 @@
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
 #include "hsbd/run.h"
+#include "hsbd/sim.h"
 #include "hsbd/spheres.h"
 #include "hsbd/table.h"
 #include "hsbd/theory.h"
+#include "hsbd/version.h"
 
 #endif

@@ -3,6 +3,7 @@
 #ifndef HSBD_IO_H
 #define HSBD_IO_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -20,50 +21,51 @@ typedef struct hsbd_outfile {
     char tmp[HSBD_PATH_MAX + 72];
 } hsbd_outfile;
 
-int hsbd_outfile_open(hsbd_outfile *o, const char *dir, const char *name, hsbd_error *err);
+HSBD_API int hsbd_outfile_open(hsbd_outfile *o, const char *dir, const char *name, hsbd_error *err);
 /* Open an output file again to append to it after its first `length` bytes (a resumed
  * run): its temporary "<name>.part", or the committed "<name>" moved back to that name;
  * anything after `length` (written after the checkpoint) is cut off. HSBD_EINPUT when
  * the file is missing or shorter. */
-int hsbd_outfile_reopen(hsbd_outfile *o, const char *dir, const char *name, int64_t length,
-                        hsbd_error *err);
+HSBD_API int hsbd_outfile_reopen(hsbd_outfile *o, const char *dir, const char *name, int64_t length,
+                                 hsbd_error *err);
 /* Flush, fsync, close and rename; reports write errors (disk full...). */
-int hsbd_outfile_commit(hsbd_outfile *o, hsbd_error *err);
+HSBD_API int hsbd_outfile_commit(hsbd_outfile *o, hsbd_error *err);
 /* Close and delete the temporary file. */
-void hsbd_outfile_discard(hsbd_outfile *o);
+HSBD_API void hsbd_outfile_discard(hsbd_outfile *o);
 
 /* Create the run directory (and parents) and prove it writable (a probe file written,
  * synced and removed); HSBD_EINPUT naming the directory otherwise. An existing non-empty
  * directory is refused unless force is set; with force, an earlier run's files are
  * removed first, and a directory holding anything else is refused. */
-int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err);
+HSBD_API int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err);
 /* The same without any clearing: the directory (and parents) made if missing, proved
  * writable (e.g. the validation's directory of runs). */
-int hsbd_dir_create(const char *dir, hsbd_error *err);
+HSBD_API int hsbd_dir_create(const char *dir, hsbd_error *err);
 
 /* init.positions of a finalized rods configuration: system.N positions, one per line
  * (blank lines and '#' comment lines allowed); for a mixture each line is 'x name' and
  * species[i] gets the name's index (species may be NULL for one species). Every position
  * lies on the ring, 0 <= x <= L (not wrapped), or between the walls, and with the hard core
  * no two rods overlap; errors name the file and line. */
-int hsbd_read_positions(const hsbd_config *cfg, double *x, int *species, hsbd_error *err);
+HSBD_API int hsbd_read_positions(const hsbd_config *cfg, double *x, int *species, hsbd_error *err);
 /* The same from an open stream; `name` stands for the file in messages. */
-int hsbd_read_positions_stream(FILE *f, const char *name, const hsbd_config *cfg, double *x,
-                               int *species, hsbd_error *err);
+HSBD_API int hsbd_read_positions_stream(FILE *f, const char *name, const hsbd_config *cfg,
+                                        double *x, int *species, hsbd_error *err);
 
 /* ---- extended XYZ (src/io/xyz.c) ---- */
 
 /* One extended-XYZ frame of the rods (wrapped positions, unwrapped column, radius); names:
  * the species names of a mixture (NULL: every rod is "R"). */
-void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v, const char (*names)[HSBD_SPECIES_NAME]);
+HSBD_API void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v,
+                                  const char (*names)[HSBD_SPECIES_NAME]);
 
 /* The species name of spheres without species.names */
 #define HSBD_XYZ_ONE_SPECIES "S"
 
 /* One frame of the spheres: species, wrapped position, radius, image counters, id per
  * particle; names: the species names of a mixture (NULL: every particle is "S"). */
-void hsbd_xyz_write_spheres(FILE *f, const hsbd_spheres_view *v,
-                            const char (*names)[HSBD_SPECIES_NAME]);
+HSBD_API void hsbd_xyz_write_spheres(FILE *f, const hsbd_spheres_view *v,
+                                     const char (*names)[HSBD_SPECIES_NAME]);
 
 /* What a frame read back must match. */
 typedef struct hsbd_xyz_expect {
@@ -81,11 +83,47 @@ typedef struct hsbd_xyz_expect {
  * "name x y z [radius ...]" per particle (z may be left out in 2D), then nothing but blank
  * lines. Fills x (3 n, z = 0 in 2D), species (n) and, when e->radius_reason, radius (n).
  * HSBD_EINPUT with the file and line for anything that does not fit. */
-int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, double *x,
-                          int *species, double *radius, hsbd_error *err);
+HSBD_API int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, double *x,
+                                   int *species, double *radius, hsbd_error *err);
 /* init.positions of a finalized spheres configuration: x (3 N), species (N) and, when
  * species.polydispersity > 0, each diameter sigma (N) from the file's radii. */
-int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
-                            hsbd_error *err);
+HSBD_API int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
+                                     hsbd_error *err);
+
+/* ---- GSD trajectories (src/io/gsd.c; docs/trajectories.md) ---- */
+
+/* Rods in a GSD file: a 2D box of length L along x and this height along y, the rods at
+ * y = 0. */
+#define HSBD_GSD_RODS_HEIGHT 1.0
+
+/* A GSD 2.0 file (HOOMD schema 1.4) being written: the layout of its index (all that a
+ * checkpoint keeps besides the file's length) and a scratch buffer. */
+typedef struct hsbd_gsd {
+    FILE *f;
+    const char *name;                        /* the file, for messages */
+    uint64_t index_location, index_capacity; /* the index block */
+    uint64_t entries, frames;                /* written so far */
+    uint64_t end;                            /* the file's length */
+    unsigned char *buf;
+    size_t buf_size;
+} hsbd_gsd;
+
+/* A new file in f (opened for update, empty): header, an empty index, the name list;
+ * name: the file, for messages (kept, not copied). */
+HSBD_API int hsbd_gsd_start(hsbd_gsd *g, FILE *f, const char *name, hsbd_error *err);
+/* Continues a file cut back to `length` bytes whose layout (index_location, index_capacity,
+ * entries, frames) g holds from the moment it had that length: the header and the unused
+ * index entries, written in place since, are restored. */
+HSBD_API int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, const char *name, int64_t length,
+                               hsbd_error *err);
+HSBD_API void hsbd_gsd_free(hsbd_gsd *g);
+/* One frame: configuration/step, box, particles/N, position (float32, centred at the
+ * origin), image, log/hsbd/time and log/hsbd/position (float64, the same positions);
+ * the first frame also configuration/dimensions, particles/types, typeid, diameter.
+ * names: the species names of a mixture (NULL: one type, "R" for rods, "S" for spheres). */
+HSBD_API int hsbd_gsd_write_rods(hsbd_gsd *g, const hsbd_rods_view *v,
+                                 const char (*names)[HSBD_SPECIES_NAME], hsbd_error *err);
+HSBD_API int hsbd_gsd_write_spheres(hsbd_gsd *g, const hsbd_spheres_view *v,
+                                    const char (*names)[HSBD_SPECIES_NAME], hsbd_error *err);
 
 #endif

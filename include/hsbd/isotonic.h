@@ -9,24 +9,26 @@
 #ifndef HSBD_ISOTONIC_H
 #define HSBD_ISOTONIC_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 
 typedef struct hsbd_pava hsbd_pava;
 
-hsbd_pava *hsbd_pava_alloc(size_t nmax);
-void hsbd_pava_free(hsbd_pava *p);
+HSBD_API hsbd_pava *hsbd_pava_alloc(size_t nmax);
+HSBD_API void hsbd_pava_free(hsbd_pava *p);
 
 /* On a line: fit_0 <= ... <= fit_{n-1}. w may be NULL (all weights 1). fit may alias y.
  * Returns the number of blocks. */
-size_t hsbd_pava_line(hsbd_pava *p, size_t n, const double *y, const double *w, double *fit);
+HSBD_API size_t hsbd_pava_line(hsbd_pava *p, size_t n, const double *y, const double *w,
+                               double *fit);
 
 /* On a ring whose sequence continues periodically as y_{i+n} = y_i + shift (shift > 0):
  * fit_0 <= ... <= fit_{n-1} <= fit_0 + shift. A block may wrap around (its members at
  * the start of the array then sit at block mean - shift). Returns the number of blocks. */
-size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w, double shift,
-                      double *fit);
+HSBD_API size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w,
+                               double shift, double *fit);
 
 /* Blocks of the last call, in order: size of block k (0 <= k < number of blocks). */
-size_t hsbd_pava_block_size(const hsbd_pava *p, size_t k);
+HSBD_API size_t hsbd_pava_block_size(const hsbd_pava *p, size_t k);
 
 #endif

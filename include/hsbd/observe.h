@@ -3,6 +3,7 @@
 #ifndef HSBD_OBSERVE_H
 #define HSBD_OBSERVE_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 #include <stdint.h>
 
@@ -12,139 +13,176 @@
 
 /* ---- block averages of a vector of per-sample quantities ---- */
 typedef struct hsbd_blocks hsbd_blocks;
-hsbd_blocks *hsbd_blocks_alloc(size_t nvalues, size_t nblocks, uint64_t nsamples_total);
-void hsbd_blocks_free(hsbd_blocks *b);
+HSBD_API hsbd_blocks *hsbd_blocks_alloc(size_t nvalues, size_t nblocks, uint64_t nsamples_total);
+HSBD_API void hsbd_blocks_free(hsbd_blocks *b);
 /* Spatial blocks: each block is a part of the system (e.g. a segment of the ring) and
  * sees every sample; add values with hsbd_blocks_acc_block, close samples as usual. */
-hsbd_blocks *hsbd_blocks_alloc_spatial(size_t nvalues, size_t nblocks);
-double *hsbd_blocks_acc_block(hsbd_blocks *b, size_t k);
+HSBD_API hsbd_blocks *hsbd_blocks_alloc_spatial(size_t nvalues, size_t nblocks);
+HSBD_API double *hsbd_blocks_acc_block(hsbd_blocks *b, size_t k);
 /* The accumulator of the current sample: add this sample's values into it. */
-double *hsbd_blocks_acc(hsbd_blocks *b);
+HSBD_API double *hsbd_blocks_acc(hsbd_blocks *b);
 /* Close the current sample. */
-void hsbd_blocks_end_sample(hsbd_blocks *b);
+HSBD_API void hsbd_blocks_end_sample(hsbd_blocks *b);
 /* Mean per sample and its standard error: the sample standard deviation of the block
  * means over sqrt(blocks), using the blocks that received samples. Returns blocks used. */
-size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err);
+HSBD_API size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err);
 /* the number of blocks (sample.blocks, more after a run was extended) */
-size_t hsbd_blocks_count(const hsbd_blocks *b);
-uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
+HSBD_API size_t hsbd_blocks_count(const hsbd_blocks *b);
+HSBD_API uint64_t hsbd_blocks_samples(const hsbd_blocks *b);
+/* The time block the next sample goes to (0 for spatial blocks). */
+HSBD_API size_t hsbd_blocks_current(const hsbd_blocks *b);
 /* The time block that sample number `sample` (from 0) of nsamples_total falls in. */
-size_t hsbd_blocks_block_of(uint64_t sample, size_t nblocks, uint64_t nsamples_total);
+HSBD_API size_t hsbd_blocks_block_of(uint64_t sample, size_t nblocks, uint64_t nsamples_total);
 /* As hsbd_blocks_result, but the error is that of the shape: each block's values are
  * rescaled to the common total first (for quantities whose total is fixed, like the
  * density of a fixed number of rods observed in segments of the ring). */
-size_t hsbd_blocks_result_shape(const hsbd_blocks *b, double *mean, double *err);
+HSBD_API size_t hsbd_blocks_result_shape(const hsbd_blocks *b, double *mean, double *err);
 
 /* Each block's mean per sample (nblocks x nvalues, row k = block k; NaN rows for blocks
  * without samples). shape: each row rescaled to the common total, as in
  * hsbd_blocks_result_shape. The rows are the independent estimates behind the errors, for
  * users who want the covariance between values. Returns nblocks. */
-size_t hsbd_blocks_block_means(const hsbd_blocks *b, int shape, double *out);
+HSBD_API size_t hsbd_blocks_block_means(const hsbd_blocks *b, int shape, double *out);
 
 /* ---- density profile (Eqs. 24-25) and two-particle density at contact (Eq. 26) ---- */
 typedef struct hsbd_profile hsbd_profile;
 /* spatial_blocks = 0: error bars from time blocks; else from that many equal segments
  * of the ring (each a whole number of periods; set up by the caller). */
-hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact_width,
-                                 size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
-hsbd_profile *hsbd_profile_alloc_spatial(double period, double bin_width, double contact_width,
-                                         size_t nsegments, hsbd_error *err);
-void hsbd_profile_free(hsbd_profile *p);
+HSBD_API hsbd_profile *hsbd_profile_alloc(double period, double bin_width, double contact_width,
+                                          size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
+HSBD_API hsbd_profile *hsbd_profile_alloc_spatial(double period, double bin_width,
+                                                  double contact_width, size_t nsegments,
+                                                  hsbd_error *err);
+HSBD_API void hsbd_profile_free(hsbd_profile *p);
 /* HSBD_OK, or HSBD_ENOMEM (the sample is then not taken) */
-int hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v);
-size_t hsbd_profile_bins(const hsbd_profile *p);
+HSBD_API int hsbd_profile_sample(hsbd_profile *p, const hsbd_rods_view *v);
+HSBD_API size_t hsbd_profile_bins(const hsbd_profile *p);
 /* rho(x) normalised so that its mean over a period is N/L; x = bin centre. */
-void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double *err);
+HSBD_API void hsbd_profile_density(const hsbd_profile *p, double *x, double *rho, double *err);
 /* rho2(x, x+sigma), x the left rod of the pair, from the contact theorem: the mean
  * contact impulse per time over kT (docs/observables.md). The default estimator. */
-void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err);
+HSBD_API void hsbd_profile_contact(const hsbd_profile *p, double *x, double *rho2, double *err);
 /* rho2(x, x+sigma) as the gap density extrapolated linearly to zero gap from four
  * sub-windows of [0, contact_width]: removes the first-order bias of a pair density
  * that varies across the window (fields); meant for contact_rule = reflect, whose gap
  * density has no layer at contact. */
-void hsbd_profile_contact_extrapolated(const hsbd_profile *p, double *x, double *rho2, double *err);
+HSBD_API void hsbd_profile_contact_extrapolated(const hsbd_profile *p, double *x, double *rho2,
+                                                double *err);
 /* rho2(x, x+sigma) from pairs with gaps in [0, contact_width] (Antonov Eq. 26). */
-void hsbd_profile_contact_window(const hsbd_profile *p, double *x, double *rho2, double *err);
+HSBD_API void hsbd_profile_contact_window(const hsbd_profile *p, double *x, double *rho2,
+                                          double *err);
 /* Per-block profiles behind the error bars (time blocks, or segments with spatial
  * blocking), normalised like the profiles above: out is nblocks x bins. Returns nblocks. */
-size_t hsbd_profile_blocks(const hsbd_profile *p);
-void hsbd_profile_density_blocks(const hsbd_profile *p, double *out);
-void hsbd_profile_contact_blocks(const hsbd_profile *p, double *out);
-void hsbd_profile_contact_extrapolated_blocks(const hsbd_profile *p, double *out);
+HSBD_API size_t hsbd_profile_blocks(const hsbd_profile *p);
+HSBD_API void hsbd_profile_density_blocks(const hsbd_profile *p, double *out);
+HSBD_API void hsbd_profile_contact_blocks(const hsbd_profile *p, double *out);
+HSBD_API void hsbd_profile_contact_extrapolated_blocks(const hsbd_profile *p, double *out);
 /* Positions that were not finite in the samples (a run should stop at the first). */
-uint64_t hsbd_profile_nonfinite(const hsbd_profile *p);
+HSBD_API uint64_t hsbd_profile_nonfinite(const hsbd_profile *p);
 /* Smallest neighbour gap seen in the samples. */
-double hsbd_profile_min_gap(const hsbd_profile *p);
+HSBD_API double hsbd_profile_min_gap(const hsbd_profile *p);
 
 /* ---- contact impulses of a step, and contact densities per species pair and at walls ---- */
 /* The impulse each contact passed in the last step over (kT dt) (contact theorem: its
  * mean is the pair density at contact): out[i] for the gap right of rod i (i = N-1: across
  * the ring, or the right wall), out[N] the left wall; 0 for open gaps. N + 1 entries. */
-void hsbd_contact_impulses(const hsbd_rods_view *v, double *out);
+HSBD_API void hsbd_contact_impulses(const hsbd_rods_view *v, double *out);
 
 typedef struct hsbd_contacts hsbd_contacts;
 /* n rods of nspecies species (1 for a single species), block averages */
-hsbd_contacts *hsbd_contacts_alloc(size_t n, size_t nspecies, size_t nblocks,
-                                   uint64_t nsamples_total, hsbd_error *err);
-void hsbd_contacts_free(hsbd_contacts *c);
-void hsbd_contacts_sample(hsbd_contacts *c, const hsbd_rods_view *v);
+HSBD_API hsbd_contacts *hsbd_contacts_alloc(size_t n, size_t nspecies, size_t nblocks,
+                                            uint64_t nsamples_total, hsbd_error *err);
+HSBD_API void hsbd_contacts_free(hsbd_contacts *c);
+HSBD_API void hsbd_contacts_sample(hsbd_contacts *c, const hsbd_rods_view *v);
 /* Contact density of ordered pairs (species a on the left, b on the right) per length of
  * line, (1/L) int rho2_ab(x, x + sigma_ab+) dx, from the contact theorem. */
-void hsbd_contacts_pair(const hsbd_contacts *c, size_t a, size_t b, double *val, double *err);
+HSBD_API void hsbd_contacts_pair(const hsbd_contacts *c, size_t a, size_t b, double *val,
+                                 double *err);
 /* Density at contact with the left (right = 0) or right wall: the wall's force over kT. */
-void hsbd_contacts_wall(const hsbd_contacts *c, int right, double *val, double *err);
+HSBD_API void hsbd_contacts_wall(const hsbd_contacts *c, int right, double *val, double *err);
 
 /* ---- tagged-particle mean-squared displacement at log-spaced lags ---- */
 typedef struct hsbd_msd hsbd_msd;
 /* sample_dt: time between samples; max_lag: largest lag time. */
-hsbd_msd *hsbd_msd_alloc(size_t n, double sample_dt, uint64_t nsamples_total, double max_lag,
-                         int points_per_decade, size_t nblocks, hsbd_error *err);
-void hsbd_msd_free(hsbd_msd *m);
+HSBD_API hsbd_msd *hsbd_msd_alloc(size_t n, double sample_dt, uint64_t nsamples_total,
+                                  double max_lag, int points_per_decade, size_t nblocks,
+                                  hsbd_error *err);
+HSBD_API void hsbd_msd_free(hsbd_msd *m);
 /* Errors from nseg contiguous groups of rods instead of time blocks (call before sampling). */
-int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err);
+HSBD_API int hsbd_msd_set_segments(hsbd_msd *m, size_t nseg, hsbd_error *err);
 /* Only these rods (indices in line order, which never changes) enter the average, e.g.
  * one species of a mixture; call before sampling. */
-int hsbd_msd_set_members(hsbd_msd *m, size_t count, const size_t *members, hsbd_error *err);
-void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v);
+HSBD_API int hsbd_msd_set_members(hsbd_msd *m, size_t count, const size_t *members,
+                                  hsbd_error *err);
+HSBD_API void hsbd_msd_sample(hsbd_msd *m, const hsbd_rods_view *v);
 /* Sample from an array of unwrapped coordinates (one per item; members index into it):
  * for d-dimensional particles allocate n = d N items, one per coordinate; the MSD per
  * particle is then d times the result. */
-void hsbd_msd_sample_values(hsbd_msd *m, const double *values);
+HSBD_API void hsbd_msd_sample_values(hsbd_msd *m, const double *values);
 /* Forget every time origin: no lag spans the samples before and after this call (a new
  * independent replica starts). */
-void hsbd_msd_restart(hsbd_msd *m);
+HSBD_API void hsbd_msd_restart(hsbd_msd *m);
 /* Also accumulate the self-intermediate scattering function: the mean of cos(k dx) per
  * item (for coordinates: F_s(k, t) with k along the axes, averaged over them). */
-int hsbd_msd_set_wavenumber(hsbd_msd *m, double k, hsbd_error *err);
-void hsbd_msd_fs(const hsbd_msd *m, size_t k, double *fs, double *err);
-size_t hsbd_msd_lags(const hsbd_msd *m);
+HSBD_API int hsbd_msd_set_wavenumber(hsbd_msd *m, double k, hsbd_error *err);
+HSBD_API void hsbd_msd_fs(const hsbd_msd *m, size_t k, double *fs, double *err);
+HSBD_API size_t hsbd_msd_lags(const hsbd_msd *m);
 /* lag time, MSD, its error (time blocks or rod segments) and number of origins */
-void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double *err,
-                     size_t *origins);
+HSBD_API void hsbd_msd_result(const hsbd_msd *m, size_t k, double *t, double *msd, double *err,
+                              size_t *origins);
+
+/* ---- drift: mean velocity and effective diffusion (tagged, centre of mass) ----
+ * From the displacements over blocks of time (src/observe/drift.c has the estimator):
+ * D_eff = lim var x(t) / 2t estimated at t = the block length, with the blocks' errors. */
+typedef struct hsbd_drift hsbd_drift;
+typedef struct hsbd_drift_result {
+    double velocity, velocity_err; /* mean velocity of a particle */
+    double d_tagged, d_tagged_err; /* var of a tagged particle's displacement / 2T */
+    double d_cm, d_cm_err;         /* var of the centre of mass's displacement / 2T */
+    double block_time;             /* mean block length T */
+    size_t blocks;                 /* closed blocks (NaN results below 2) */
+} hsbd_drift_result;
+/* n tagged coordinates, nsamples_total samples cut into nblocks time blocks (as
+ * hsbd_blocks_alloc; blocks of an extended run and replicas' blocks fit as there) */
+HSBD_API hsbd_drift *hsbd_drift_alloc(size_t n, size_t nblocks, uint64_t nsamples_total,
+                                      hsbd_error *err);
+HSBD_API void hsbd_drift_free(hsbd_drift *d);
+/* A sample at time t of the unwrapped positions x (n values): the first sample of a time
+ * block closes the open block here and starts the next. HSBD_OK or HSBD_ENOMEM. */
+HSBD_API int hsbd_drift_sample_values(hsbd_drift *d, double t, const double *x);
+/* Close the open block at time t with positions x (the run's end, a replica's end). */
+HSBD_API int hsbd_drift_close_values(hsbd_drift *d, double t, const double *x);
+/* The same from a rods view (unwrapped positions); scratch holds n doubles. */
+HSBD_API int hsbd_drift_sample(hsbd_drift *d, const hsbd_rods_view *v, double *scratch);
+HSBD_API int hsbd_drift_close(hsbd_drift *d, const hsbd_rods_view *v, double *scratch);
+/* The estimates; x != NULL: the open block counted as if closed at time t with positions x
+ * (the run's current state; d is not changed). Allocates nothing; returns HSBD_OK. */
+HSBD_API int hsbd_drift_get(const hsbd_drift *d, double t, const double *x, hsbd_drift_result *out);
 
 /* ---- disks / spheres: radial distribution per species pair, contact values ---- */
 typedef struct hsbd_gr hsbd_gr;
 /* Bins of width `width` up to r_max (<= half the shortest box length); contact values by
  * a quadratic fit of g over gaps in [0, fit_width). A periodic box only (HSBD_EINPUT when
  * an axis has walls: the ideal-gas reference would be wrong). */
-hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, double fit_width,
-                       size_t nblocks, uint64_t nsamples_total, hsbd_error *err);
-void hsbd_gr_free(hsbd_gr *g);
+HSBD_API hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width,
+                                double fit_width, size_t nblocks, uint64_t nsamples_total,
+                                hsbd_error *err);
+HSBD_API void hsbd_gr_free(hsbd_gr *g);
 /* Returns HSBD_OK, or HSBD_ENOMEM (the sample is then not taken). */
-int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v);
-size_t hsbd_gr_bins(const hsbd_gr *g);
+HSBD_API int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v);
+HSBD_API size_t hsbd_gr_bins(const hsbd_gr *g);
 /* unordered species pairs a <= b: nspecies (nspecies + 1) / 2 */
-size_t hsbd_gr_pairs(const hsbd_gr *g);
-void hsbd_gr_pair_species(const hsbd_gr *g, size_t pair, size_t *a, size_t *b);
+HSBD_API size_t hsbd_gr_pairs(const hsbd_gr *g);
+HSBD_API void hsbd_gr_pair_species(const hsbd_gr *g, size_t pair, size_t *a, size_t *b);
 /* bin centres, g(r) and its block error (arrays of hsbd_gr_bins) */
-void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double *err);
+HSBD_API void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double *err);
 /* g_ab(sigma_ab+) extrapolated to contact, with the blocks' scatter as error; with sizes
  * that vary within a species, the mean of the pairs' contact values weighted by
  * sigma_ij^d (exact for the pressure) */
-void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err);
+HSBD_API void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err);
 /* C_ab of the virial route Z = 1 + sum over pairs C_ab g_ab(sigma_ab+): the sum over the
  * pairs of species a, b of S_d sigma_ij^d / (V d N), S_d = 4 pi (3D) or 2 pi (2D) */
-double hsbd_gr_contact_weight(const hsbd_gr *g, size_t pair);
+HSBD_API double hsbd_gr_contact_weight(const hsbd_gr *g, size_t pair);
 
 /* ---- disks / spheres between walls or in a field: profiles along one axis, wall contacts ---- */
 typedef struct hsbd_slab hsbd_slab;
@@ -152,33 +190,34 @@ typedef struct hsbd_slab hsbd_slab;
  * they fill the period), folded into `period` (a divisor of the box length; the length
  * between walls), and, when the axis has walls, the density of the gaps x - sigma_i/2 (and
  * L - sigma_i/2 - x) in four sub-windows of [0, contact_window) for the contact density. */
-hsbd_slab *hsbd_slab_alloc(const hsbd_spheres_view *v, int axis, double period, double bin_width,
+HSBD_API hsbd_slab *hsbd_slab_alloc(const hsbd_spheres_view *v, int axis, double period, double bin_width,
                            double contact_window, size_t nblocks, uint64_t nsamples_total,
                            hsbd_error *err);
-void hsbd_slab_free(hsbd_slab *p);
-void hsbd_slab_sample(hsbd_slab *p, const hsbd_spheres_view *v);
-size_t hsbd_slab_bins(const hsbd_slab *p);
+HSBD_API void hsbd_slab_free(hsbd_slab *p);
+HSBD_API void hsbd_slab_sample(hsbd_slab *p, const hsbd_spheres_view *v);
+HSBD_API size_t hsbd_slab_bins(const hsbd_slab *p);
 /* Bin centres, number density (per volume) of one species (or all: species < 0) and its
  * block error. */
-void hsbd_slab_density(const hsbd_slab *p, int species, double *x, double *rho, double *err);
+HSBD_API void hsbd_slab_density(const hsbd_slab *p, int species, double *x, double *rho, double *err);
 /* Density of centres at contact with the wall at 0 (side 0) or at the box length (side
  * 1): the gap density extrapolated linearly to zero gap from the four sub-windows, block
  * by block; error from the blocks' scatter. NaN without walls on the axis. */
-void hsbd_slab_wall_contact(const hsbd_slab *p, int side, int species, double *value,
+HSBD_API void hsbd_slab_wall_contact(const hsbd_slab *p, int side, int species, double *value,
                             double *err);
 /* the accumulators (checkpoints) */
-hsbd_blocks *hsbd_slab_blocks(hsbd_slab *p);
+HSBD_API hsbd_blocks *hsbd_slab_blocks(hsbd_slab *p);
 
 /* ---- clusters: size histogram, mean size, merge events per step ---- */
 typedef struct hsbd_clusters hsbd_clusters;
-hsbd_clusters *hsbd_clusters_alloc(size_t n, size_t nblocks, uint64_t nsamples_total);
-void hsbd_clusters_free(hsbd_clusters *c);
-void hsbd_clusters_sample(hsbd_clusters *c, const hsbd_rods *rods, const hsbd_rods_step_stats *st);
+HSBD_API hsbd_clusters *hsbd_clusters_alloc(size_t n, size_t nblocks, uint64_t nsamples_total);
+HSBD_API void hsbd_clusters_free(hsbd_clusters *c);
+HSBD_API void hsbd_clusters_sample(hsbd_clusters *c, const hsbd_rods *rods,
+                                   const hsbd_rods_step_stats *st);
 /* fraction of clusters of size s (1 <= s <= N) over all samples */
-double hsbd_clusters_size_fraction(const hsbd_clusters *c, size_t s);
-size_t hsbd_clusters_max_size(const hsbd_clusters *c);
-void hsbd_clusters_means(const hsbd_clusters *c, double *mean_size, double *mean_size_err,
-                         double *merges_per_step, double *merges_err);
+HSBD_API double hsbd_clusters_size_fraction(const hsbd_clusters *c, size_t s);
+HSBD_API size_t hsbd_clusters_max_size(const hsbd_clusters *c);
+HSBD_API void hsbd_clusters_means(const hsbd_clusters *c, double *mean_size, double *mean_size_err,
+                                  double *merges_per_step, double *merges_err);
 
 /* ---- disks / spheres: the EDBD scheme's assumptions (Scala Sec. II) ---- */
 /* Warned above these: Eq. 6 (mean step << diameter, the flat-wall collision), Eq. 3 (mean
@@ -197,15 +236,18 @@ typedef struct hsbd_scheme_check {
 } hsbd_scheme_check;
 /* From the view's diameters and D (<|dr_i|> = E|N_d| sqrt(2 D_i dt)) and a measured
  * collision rate (NaN when not yet measured). */
-void hsbd_scheme_check_compute(const hsbd_spheres_view *v, double collisions_per_particle_step,
-                               hsbd_scheme_check *out);
+HSBD_API void hsbd_scheme_check_compute(const hsbd_spheres_view *v,
+                                        double collisions_per_particle_step,
+                                        hsbd_scheme_check *out);
 /* Up to max messages for the criteria beyond their thresholds; returns their number. */
-int hsbd_scheme_check_warnings(const hsbd_scheme_check *c, char (*msg)[HSBD_WARNING_LEN], int max);
+HSBD_API int hsbd_scheme_check_warnings(const hsbd_scheme_check *c, char (*msg)[HSBD_WARNING_LEN],
+                                        int max);
 
 /* The long-time diffusion coefficient D_L from an MSD of d-dimensional coordinates: the
  * slope between its largest lag (with at least two origins) and a tenth of it, over 2 d;
  * NaN when there are too few lags. */
-void hsbd_msd_long_time_diffusion(const hsbd_msd *m, int dimension, double *dl, double *err);
+HSBD_API void hsbd_msd_long_time_diffusion(const hsbd_msd *m, int dimension, double *dl,
+                                           double *err);
 
 /* Size classes: per species HSBD_SIZE_CLASSES bins of its diameters (one class when
  * monodisperse), each with its members' mean diameter and number fraction of all
@@ -217,9 +259,11 @@ typedef struct hsbd_size_classes {
     double sigma[HSBD_SIZE_CLASS_SPECIES * HSBD_SIZE_CLASSES];
     int polydisperse;
 } hsbd_size_classes;
-void hsbd_size_classes_build(const hsbd_spheres_view *v, size_t nspecies, hsbd_size_classes *c);
+HSBD_API void hsbd_size_classes_build(const hsbd_spheres_view *v, size_t nspecies,
+                                      hsbd_size_classes *c);
 /* BMCSL's g_ab(sigma_ab+) (3D) over the classes of species a and b at number density rho,
  * weighted by x x' sigma^3 as the simulated contact value is */
-double hsbd_size_classes_bmcsl_contact(const hsbd_size_classes *c, double rho, size_t a, size_t b);
+HSBD_API double hsbd_size_classes_bmcsl_contact(const hsbd_size_classes *c, double rho, size_t a,
+                                                size_t b);
 
 #endif

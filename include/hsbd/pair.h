@@ -10,6 +10,7 @@
 #ifndef HSBD_PAIR_H
 #define HSBD_PAIR_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 
 #include "hsbd/error.h"
@@ -41,26 +42,27 @@ typedef struct hsbd_pair {
  * width epsilon > 0 (Eq. 31): V = -kT ln(1 + gamma delta_eps(r - sigma)), force Eq. (32)
  * times kT. Baxter's model is defined by its Boltzmann factor 1 + gamma delta_eps, which
  * does not depend on temperature: the term needs the kT of the system it acts in. */
-hsbd_pair_term hsbd_pair_sticky(double sigma, double gamma, double order, double epsilon,
-                                double kT);
+HSBD_API hsbd_pair_term hsbd_pair_sticky(double sigma, double gamma, double order, double epsilon,
+                                         double kT);
 /* Screened Coulomb: V(r) = A sigma exp(-kappa (r - sigma)) / r (A: value at contact),
  * force-shifted to vanish continuously at the cutoff: f(r) - f(rc), V(r) - V(rc) + (r - rc) f(rc).
  */
-hsbd_pair_term hsbd_pair_yukawa(double sigma, double contact_value, double kappa, double cutoff);
+HSBD_API hsbd_pair_term hsbd_pair_yukawa(double sigma, double contact_value, double kappa,
+                                         double cutoff);
 /* Lennard-Jones well (depth: energy) with its minimum at contact, attractive outside the hard core:
  * V(r) = depth ((sigma/r)^12 - 2 (sigma/r)^6), force-shifted at the cutoff like Yukawa. */
-hsbd_pair_term hsbd_pair_lj(double sigma, double depth, double cutoff);
+HSBD_API hsbd_pair_term hsbd_pair_lj(double sigma, double depth, double cutoff);
 /* Tabulated force f(r) (natural cubic spline through the table's points; zero beyond its
  * last r, where the table must reach zero force); V(r) = integral of f from r to the end. */
-hsbd_pair_term hsbd_pair_table(const hsbd_table *force_table);
+HSBD_API hsbd_pair_term hsbd_pair_table(const hsbd_table *force_table);
 
 /* Append a term; returns 0, or -1 when the list is full. */
-int hsbd_pair_add(hsbd_pair *pair, hsbd_pair_term term);
+HSBD_API int hsbd_pair_add(hsbd_pair *pair, hsbd_pair_term term);
 /* Largest range of the terms (0 without terms). */
-double hsbd_pair_range(const hsbd_pair *pair);
-double hsbd_pair_force(const hsbd_pair *pair, double r);
-double hsbd_pair_potential(const hsbd_pair *pair, double r);
+HSBD_API double hsbd_pair_range(const hsbd_pair *pair);
+HSBD_API double hsbd_pair_force(const hsbd_pair *pair, double r);
+HSBD_API double hsbd_pair_potential(const hsbd_pair *pair, double r);
 /* max |f(r)| over [r_lo, r_hi] (dense sampling plus golden-section refinement). */
-double hsbd_pair_max_force(const hsbd_pair *pair, double r_lo, double r_hi);
+HSBD_API double hsbd_pair_max_force(const hsbd_pair *pair, double r_lo, double r_hi);
 
 #endif

@@ -7,6 +7,7 @@
 #ifndef HSBD_RNG_H
 #define HSBD_RNG_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 #include <stdint.h>
 
@@ -19,11 +20,16 @@ enum hsbd_stream {
 };
 
 /* Standard normals for indices first .. first+n-1 at counter `step` of `stream`. */
-void hsbd_rng_normals(uint64_t seed, uint32_t stream, uint64_t step, size_t first, size_t n,
-                      double *out);
+HSBD_API void hsbd_rng_normals(uint64_t seed, uint32_t stream, uint64_t step, size_t first,
+                               size_t n, double *out);
 
 /* Uniforms in the open interval (0, 1) for indices first .. first+n-1. */
-void hsbd_rng_uniforms(uint64_t seed, uint32_t stream, uint64_t step, size_t first, size_t n,
-                       double *out);
+HSBD_API void hsbd_rng_uniforms(uint64_t seed, uint32_t stream, uint64_t step, size_t first,
+                                size_t n, double *out);
+
+/* Uniforms of the indices base + offset[k], k < n (any order, repeats allowed), each the
+ * number hsbd_rng_uniforms gives that index. */
+HSBD_API void hsbd_rng_uniforms_at(uint64_t seed, uint32_t stream, uint64_t step, size_t base,
+                                   const unsigned *offset, size_t n, double *out);
 
 #endif

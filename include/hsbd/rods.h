@@ -13,6 +13,7 @@
 #ifndef HSBD_RODS_H
 #define HSBD_RODS_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 #include <stdint.h>
 
@@ -57,6 +58,9 @@ typedef struct hsbd_rods_params {
     size_t nspecies;
     const int *species;
     const double *species_sigma, *species_diffusion;
+    /* threads for the step's per-rod loops (noise, field, contact pushes); <= 1: one. The
+     * results do not depend on it (docs/scaling.md) */
+    int threads;
 } hsbd_rods_params;
 
 /* What happened inside one step (filled only when asked for: it costs a pass). */
@@ -95,41 +99,41 @@ typedef struct hsbd_rods hsbd_rods;
 
 /* Checks the parameters (N >= 1, sum sigma < L, D > 0, kT > 0, dt > 0, pair range <= L/2
  * and pair forces only with the hard core and one species); NULL on error. */
-hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *params, hsbd_error *err);
-void hsbd_rods_free(hsbd_rods *rods);
+HSBD_API hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *params, hsbd_error *err);
+HSBD_API void hsbd_rods_free(hsbd_rods *rods);
 
 /* Exact equilibrium sample of field-free hard rods in their order (uniform on
  * configuration space): N sorted uniform points in the free length shifted by the
  * offsets; on a ring the whole ring is rotated by a uniform offset. Uses the seed's
  * initial-state stream. */
-void hsbd_rods_init_equilibrium(hsbd_rods *rods);
+HSBD_API void hsbd_rods_init_equilibrium(hsbd_rods *rods);
 
 /* The same with an independent draw number: draw 0 is hsbd_rods_init_equilibrium; other
  * draws give independent samples of the same seed (e.g. for independent replicas). */
-void hsbd_rods_init_equilibrium_draw(hsbd_rods *rods, uint64_t draw);
+HSBD_API void hsbd_rods_init_equilibrium_draw(hsbd_rods *rods, uint64_t draw);
 
 /* Positions (ring: in [0, L) or unwrapped; walls: in [sigma_i/2, L - sigma_i/2]), any
  * order; sorted along the line, a mixture's species following their rods. Refuses
  * overlaps (gap < -1e-12 sigma) and non-finite values with HSBD_EINPUT. */
-int hsbd_rods_set_positions(hsbd_rods *rods, const double *x, hsbd_error *err);
+HSBD_API int hsbd_rods_set_positions(hsbd_rods *rods, const double *x, hsbd_error *err);
 
 /* Change the time step (e.g. after a coarse equilibration); dt > 0. */
-void hsbd_rods_set_dt(hsbd_rods *rods, double dt);
+HSBD_API void hsbd_rods_set_dt(hsbd_rods *rods, double dt);
 
 /* One BCD step of length dt; stats may be NULL. Returns HSBD_OK: the step allocates
  * nothing and cannot fail (an int like hsbd_spheres_step, whose steps can). */
-int hsbd_rods_step(hsbd_rods *rods, hsbd_rods_step_stats *stats);
+HSBD_API int hsbd_rods_step(hsbd_rods *rods, hsbd_rods_step_stats *stats);
 
 /* Clusters of touching rods after the last step: count and sizes (first cluster is the
  * one containing or following rod 0). Valid for hard-core runs after a step. */
-size_t hsbd_rods_cluster_count(const hsbd_rods *rods);
-size_t hsbd_rods_cluster_size(const hsbd_rods *rods, size_t k);
+HSBD_API size_t hsbd_rods_cluster_count(const hsbd_rods *rods);
+HSBD_API size_t hsbd_rods_cluster_size(const hsbd_rods *rods, size_t k);
 
-hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *rods);
-const hsbd_rods_params *hsbd_rods_get_params(const hsbd_rods *rods);
+HSBD_API hsbd_rods_view hsbd_rods_get_view(const hsbd_rods *rods);
+HSBD_API const hsbd_rods_params *hsbd_rods_get_params(const hsbd_rods *rods);
 
 /* Smallest gap between neighbours, walls included (negative: overlap), and whether all
  * coordinates are finite. Hard-core runs only. */
-double hsbd_rods_min_gap(const hsbd_rods *rods, int *all_finite);
+HSBD_API double hsbd_rods_min_gap(const hsbd_rods *rods, int *all_finite);
 
 #endif

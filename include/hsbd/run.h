@@ -2,6 +2,7 @@
 #ifndef HSBD_RUN_H
 #define HSBD_RUN_H
 
+#include "hsbd/export.h"
 #include <signal.h>
 
 #include "hsbd/config.h"
@@ -32,10 +33,10 @@ typedef struct hsbd_run_options {
  * HSBD_EINPUT for bad input (nothing is written then), HSBD_EINTERRUPT when stopped
  * (valid partial results and "completed": false in summary.json, and a checkpoint to
  * continue from). */
-int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
+HSBD_API int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
 /* The same, by model (kept for callers that name it). */
-int hsbd_run_rods(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
-int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
+HSBD_API int hsbd_run_rods(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
+HSBD_API int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err);
 
 /* Continues the run in dir from its newest valid checkpoint (the previous one when the
  * newest is damaged): the configuration is built again from its source, the state and
@@ -44,7 +45,32 @@ int hsbd_run_spheres(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_e
  * run.t_total may be given (a longer time extends the run, also a completed one).
  * HSBD_EINPUT for a missing, damaged or incompatible checkpoint, a changed input file, or
  * a completed run without a longer run.t_total. */
-int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
-                hsbd_error *err);
+HSBD_API int hsbd_resume(const char *dir, const char *const *sets, size_t nsets,
+                         const hsbd_run_options *opt, hsbd_error *err);
+
+/* ---- Ensembles of replicas (docs/scaling.md) ---------------------------------------------
+ * Replica k of a configuration runs it whole (initial state, equilibration, production)
+ * with the key of its noise made from system.seed and k; an ensemble's run directory DIR
+ * holds each replica's run directory DIR/replica-k and their merged tables: means over the
+ * replicas and errors from their scatter, combined in replica order, so the bytes depend
+ * only on the set of replicas (not on the processes or the order they ran in). */
+
+/* The replicas of an ensemble started on `ranks` processes: run.replicas, or one per rank
+ * when it is 0; 1 means a single run. */
+HSBD_API size_t hsbd_ensemble_size(const hsbd_config *cfg, int ranks);
+/* Checks the ensemble's directory (one process, before any replica runs): an existing one
+ * is refused when it holds anything unless force, then an earlier ensemble's or run's
+ * files are removed; a missing one is made by the replicas once their input is accepted. */
+HSBD_API int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err);
+/* Runs replicas k = rank, rank + ranks, ... below `replicas`, each into DIR/replica-k. */
+HSBD_API int hsbd_ensemble_run(const hsbd_config *cfg, const hsbd_run_options *opt, size_t replicas,
+                               int rank, int ranks, hsbd_error *err);
+/* Merges DIR/replica-0 .. DIR/replica-(replicas-1) into DIR. */
+HSBD_API int hsbd_ensemble_merge(const hsbd_config *cfg, size_t replicas, hsbd_error *err);
+/* Merges the completed run directories of replicas of one configuration (any order of the
+ * arguments; distinct replica indices, at least two) into out. HSBD_EINPUT naming the
+ * directory and the parameter when they are not replicas of the same configuration. */
+HSBD_API int hsbd_merge(const char *out, const char *const *dirs, size_t ndirs, int force,
+                        hsbd_error *err);
 
 #endif

@@ -13,6 +13,7 @@
 #ifndef HSBD_SPHERES_H
 #define HSBD_SPHERES_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 #include <stdint.h>
 
@@ -118,38 +119,39 @@ typedef struct hsbd_spheres hsbd_spheres;
 /* Checks the parameters (N >= 1, dimension 2 or 3, sigma > 0, D >= 0 with some D > 0,
  * kT > 0, dt > 0, every box length >= 2 (sigma_max + 2 shell)); NULL on error with
  * HSBD_EINPUT and a message naming the parameter. */
-hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *err);
-void hsbd_spheres_free(hsbd_spheres *s);
+HSBD_API hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *err);
+HSBD_API void hsbd_spheres_free(hsbd_spheres *s);
 
 /* Initial states. Random sequential insertion (uniform trial positions, overlaps refused)
  * with the seed's initial-state stream; HSBD_EINPUT when it stalls (too dense for RSI). */
-int hsbd_spheres_init_random(hsbd_spheres *s, hsbd_error *err);
+HSBD_API int hsbd_spheres_init_random(hsbd_spheres *s, hsbd_error *err);
 /* A lattice (square / simple cubic cells filled with 1 (2D: triangular via 2-site
  * cell) or more sites) with spacing large enough for the largest diameter, species
  * shuffled over the sites; HSBD_EINPUT when the box cannot hold N such sites. */
-int hsbd_spheres_init_lattice(hsbd_spheres *s, hsbd_error *err);
+HSBD_API int hsbd_spheres_init_lattice(hsbd_spheres *s, hsbd_error *err);
 /* Positions (3 N values; z ignored in 2D), any values (wrapped into the box). Refuses
  * overlaps (gap < -1e-9 sigma_ij, naming the pair) and non-finite values. */
-int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err);
+HSBD_API int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err);
 
 /* Dense initial states: random insertion at reduced diameters, then Brownian steps in
  * which every particle grows into a fraction of its smallest gap until all have their
  * final diameters (docs/spheres.md). HSBD_EINPUT when growth stalls (a packing near
  * jamming); the positions are then overlapping and need another init. The compression's
  * noise has its own stream; the clock and statistics start from zero afterwards. */
-int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err);
+HSBD_API int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err);
 
 /* Continuous polydispersity: sigma_i = mean[i] (1 + width xi_i), xi of zero mean and unit
  * variance, Gaussian (truncated beyond about 3 widths, rescaled to keep unit variance) or
  * uniform, from the seed's initial-state stream. width in [0, 0.3]. */
 typedef enum { HSBD_SIZES_GAUSSIAN = 0, HSBD_SIZES_UNIFORM = 1 } hsbd_size_distribution;
-int hsbd_spheres_draw_diameters(uint64_t seed, size_t n, const double *mean, double width,
-                                hsbd_size_distribution dist, double *sigma, hsbd_error *err);
+HSBD_API int hsbd_spheres_draw_diameters(uint64_t seed, size_t n, const double *mean, double width,
+                                         hsbd_size_distribution dist, double *sigma,
+                                         hsbd_error *err);
 
 /* Packing fraction of n diameters in a periodic box of dimension 2 or 3 (area pi s^2/4 or
  * volume pi s^3/6 per particle over the box). */
-double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t n,
-                                     const double *sigma);
+HSBD_API double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t n,
+                                              const double *sigma);
 
 /* One EDBD step of length dt. Returns HSBD_OK, or HSBD_ENOMEM when an allocation failed
  * inside the step. A step is exact or fails as a whole: after an error the object holds
@@ -157,33 +159,35 @@ double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t 
  * views show it), and it can be freed, read, or stepped again (the same step: its noise
  * follows the step number; the shells are rebuilt first, so the retried step agrees with
  * an uninterrupted run to round-off, not bit for bit). */
-int hsbd_spheres_step(hsbd_spheres *s);
-void hsbd_spheres_set_dt(hsbd_spheres *s, double dt);
+HSBD_API int hsbd_spheres_step(hsbd_spheres *s);
+HSBD_API void hsbd_spheres_set_dt(hsbd_spheres *s, double dt);
 
-hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s);
-const hsbd_spheres_params *hsbd_spheres_get_params(const hsbd_spheres *s);
-hsbd_spheres_stats hsbd_spheres_get_stats(const hsbd_spheres *s);
+HSBD_API hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s);
+HSBD_API const hsbd_spheres_params *hsbd_spheres_get_params(const hsbd_spheres *s);
+HSBD_API hsbd_spheres_stats hsbd_spheres_get_stats(const hsbd_spheres *s);
 /* Wall impulses since the last reset_stats: out[(6 k + 2 a + side)] (species k, axis a,
  * side 0 at 0, 1 at box[a]) = the sum over the wall's contacts with particles of species
  * k of the displacement the wall caused over D_i: impulse / kT (time / length). Its mean
  * per unit time and wall area is the contact density (contact theorem). out has
  * 6 nspecies values. */
-void hsbd_spheres_wall_impulses(const hsbd_spheres *s, double *out);
-void hsbd_spheres_reset_stats(hsbd_spheres *s);
-double hsbd_spheres_shell(const hsbd_spheres *s);
+HSBD_API void hsbd_spheres_wall_impulses(const hsbd_spheres *s, double *out);
+HSBD_API void hsbd_spheres_reset_stats(hsbd_spheres *s);
+HSBD_API double hsbd_spheres_shell(const hsbd_spheres *s);
 
 /* Smallest surface gap over all pairs within reach, relative to sigma_ij, and of every
  * particle to the walls, relative to sigma_i (negative: overlap), and whether every coordinate is finite. Uses the neighbour lists: O(N) (when
  * memory ran out even for rebuilding them after a failed step, the pairs still listed). */
-double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite);
+HSBD_API double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite);
 
 /* The Brownian collision rule on the normal components (Scala Sec. III; elastic with
  * masses 1/D_i): u = (v_j - v_i).n < 0 becomes -u, the change shared in proportion to
  * D_i and D_j. Exposed for tests. */
-void hsbd_spheres_collide(double di, double dj, const double n[3], double vi[3], double vj[3]);
+HSBD_API void hsbd_spheres_collide(double di, double dj, const double n[3], double vi[3],
+                                   double vj[3]);
 
 /* Time in [0, tmax] at which two spheres at separation r (j minus i) with relative
  * velocity v reach the distance s, or -1 when they do not (exposed for tests). */
-double hsbd_spheres_contact_time(const double r[3], const double v[3], double s, double tmax);
+HSBD_API double hsbd_spheres_contact_time(const double r[3], const double v[3], double s,
+                                          double tmax);
 
 #endif

@@ -3,6 +3,7 @@
 #ifndef HSBD_THEORY_H
 #define HSBD_THEORY_H
 
+#include "hsbd/export.h"
 #include <stddef.h>
 
 #include "hsbd/error.h"
@@ -34,14 +35,16 @@ typedef struct hsbd_percus_result {
 
 /* Solve; HSBD_EINPUT for parameters out of range, HSBD_ENUMERIC when it does not converge
  * (nothing is returned then). */
-int hsbd_percus_solve(const hsbd_percus_params *p, hsbd_percus_result *out, hsbd_error *err);
-void hsbd_percus_result_free(hsbd_percus_result *r);
+HSBD_API int hsbd_percus_solve(const hsbd_percus_params *p, hsbd_percus_result *out,
+                               hsbd_error *err);
+HSBD_API void hsbd_percus_result_free(hsbd_percus_result *r);
 
 /* Linear interpolation of a periodic grid function (period m h) at any x. */
-double hsbd_periodic_interp(const double *f, size_t m, double h, double x);
+HSBD_API double hsbd_periodic_interp(const double *f, size_t m, double h, double x);
 /* Its average over [x - width/2, x + width/2] (64-point midpoint rule): what a histogram
  * bin centred at x with that width measures. */
-double hsbd_periodic_bin_average(const double *f, size_t m, double h, double x, double width);
+HSBD_API double hsbd_periodic_bin_average(const double *f, size_t m, double h, double x,
+                                          double width);
 
 /* ---- rods with a nearest-neighbour pair potential (range <= 2 sigma), exact ---- */
 /* The theory works in units of kT: pair and field terms given to it are read as U / kT
@@ -49,14 +52,14 @@ double hsbd_periodic_bin_average(const double *f, size_t m, double h, double x, 
 
 /* Homogeneous fluid (isobaric gap law, Takahashi): beta P and the pair density at
  * contact rho2(sigma+) = rho p(0+), p(h) the nearest-neighbour gap density. err may be NULL. */
-int hsbd_nn_homogeneous_solve(const hsbd_pair *pair, double sigma, double rho, double *beta_p,
-                              double *contact, hsbd_error *err);
+HSBD_API int hsbd_nn_homogeneous_solve(const hsbd_pair *pair, double sigma, double rho,
+                                       double *beta_p, double *contact, hsbd_error *err);
 /* In the cosine field of p (p->gamma is ignored: stickiness comes as a pair term): the
  * exact profile from the transfer operator between successive rods, on p->points grid
  * points per period (second order when sigma is a multiple of the spacing); rho2 is the
  * pair density at contact rho2(x, x + sigma+); beta_mu is not computed (NaN). */
-int hsbd_nn_transfer_solve(const hsbd_percus_params *p, const hsbd_pair *pair,
-                           hsbd_percus_result *out, hsbd_error *err);
+HSBD_API int hsbd_nn_transfer_solve(const hsbd_percus_params *p, const hsbd_pair *pair,
+                                    hsbd_percus_result *out, hsbd_error *err);
 
 /* ---- N hard rods between hard walls in any external field, exact and canonical ---- */
 typedef struct hsbd_box_params {
@@ -80,62 +83,64 @@ typedef struct hsbd_box_result {
  * give every rod's marginal density and every neighbour pair's density at contact
  * (trapezoid rule, second order in the spacing; docs/theory.md). No finite-size
  * correction is needed: this is the canonical ensemble of the simulation. */
-int hsbd_box_solve(const hsbd_box_params *p, double bin_width, hsbd_box_result *out,
-                   hsbd_error *err);
-void hsbd_box_result_free(hsbd_box_result *r);
+HSBD_API int hsbd_box_solve(const hsbd_box_params *p, double bin_width, hsbd_box_result *out,
+                            hsbd_error *err);
+HSBD_API void hsbd_box_result_free(hsbd_box_result *r);
 
 /* ---- homogeneous hard rods (Tonks gas) ---- */
-double hsbd_tonks_pressure(double rho, double sigma); /* beta P = rho / (1 - rho sigma) */
-double hsbd_tonks_beta_mu(double rho, double sigma);  /* ln(rho/(1-rho s)) + rho s/(1-rho s) */
-double hsbd_tonks_contact(double rho, double sigma);  /* rho2(x, x+sigma) = rho^2/(1-rho s) */
+HSBD_API double hsbd_tonks_pressure(double rho, double sigma); /* beta P = rho / (1 - rho sigma) */
+HSBD_API double hsbd_tonks_beta_mu(double rho,
+                                   double sigma); /* ln(rho/(1-rho s)) + rho s/(1-rho s) */
+HSBD_API double hsbd_tonks_contact(double rho,
+                                   double sigma); /* rho2(x, x+sigma) = rho^2/(1-rho s) */
 /* pair correlation g(r) of the infinite Tonks gas (sum over neighbour orders) */
-double hsbd_tonks_g(double r, double rho, double sigma);
+HSBD_API double hsbd_tonks_g(double r, double rho, double sigma);
 /* exact ring of N rods: contact density (N/L)(N-1)/(L - N sigma) */
-double hsbd_tonks_ring_contact(double n, double length, double sigma);
+HSBD_API double hsbd_tonks_ring_contact(double n, double length, double sigma);
 
 /* ---- homogeneous sticky (Baxter) rods ---- */
-double hsbd_sticky_pressure(double rho, double sigma, double gamma);
-double hsbd_sticky_beta_mu(double rho, double sigma, double gamma);
+HSBD_API double hsbd_sticky_pressure(double rho, double sigma, double gamma);
+HSBD_API double hsbd_sticky_beta_mu(double rho, double sigma, double gamma);
 
 /* ---- single-file diffusion: long-time tagged MSD -> ((1 - rho s)/rho) sqrt(4 D t / pi) ---- */
-double hsbd_single_file_msd(double t, double rho, double sigma, double diffusion);
+HSBD_API double hsbd_single_file_msd(double t, double rho, double sigma, double diffusion);
 /* the exact tagged MSD at any t for the infinite system started in equilibrium (the
  * Harris / Roedenbeck-Kaerger-Hahn construction; derivation in src/theory/closed.c):
  * 2 D t at short times, the law above at long times */
-double hsbd_single_file_msd_exact(double t, double rho, double sigma, double diffusion);
+HSBD_API double hsbd_single_file_msd_exact(double t, double rho, double sigma, double diffusion);
 /* short-time MSD with the first collision correction (docs/validation.md section 3) */
-double hsbd_short_time_msd(double t, double rho_gap, double diffusion);
+HSBD_API double hsbd_short_time_msd(double t, double rho_gap, double diffusion);
 
 /* Density at x >= 0 after time t of a Brownian particle (diffusion D) with constant drift
  * velocity c, started at x0 >= 0, reflected at a wall at 0: Scala Eq. 9 as corrected in
  * design notes 10, G(x - x0 - c t) + e^(-c x0 / D) G(x + x0 - c t)
  * - (c / 2D) e^(c x / D) erfc((x + x0 + c t) / sqrt(4 D t)), G the free Gaussian of
  * variance 2 D t. Its stationary limit for c < 0 is the barometric (|c| / D) e^(c x / D). */
-double hsbd_reflected_drift_density(double x, double x0, double c, double diffusion, double t);
+HSBD_API double hsbd_reflected_drift_density(double x, double x0, double c, double diffusion, double t);
 /* Its moments <x^k>, k = 0, 1, 2 (by quadrature; 0 gives the normalisation). */
-double hsbd_reflected_drift_moment(int k, double x0, double c, double diffusion, double t);
+HSBD_API double hsbd_reflected_drift_moment(int k, double x0, double c, double diffusion, double t);
 
 /* ---- hard disks and spheres ---- */
 /* Carnahan-Starling: contact value g(sigma+) and Z = P/(rho kT) at packing fraction phi */
-double hsbd_hs_contact_cs(double phi);
-double hsbd_hs_z_cs(double phi);
+HSBD_API double hsbd_hs_contact_cs(double phi);
+HSBD_API double hsbd_hs_z_cs(double phi);
 /* Kolafa-Labik-Malijevsky: the more accurate fluid equation of state (3D, one size) */
-double hsbd_hs_z_klm(double phi);
-double hsbd_hs_contact_klm(double phi);
+HSBD_API double hsbd_hs_z_klm(double phi);
+HSBD_API double hsbd_hs_contact_klm(double phi);
 /* Henderson's hard-disk equation of state (2D) */
-double hsbd_hd_contact_henderson(double phi);
-double hsbd_hd_z_henderson(double phi);
+HSBD_API double hsbd_hd_contact_henderson(double phi);
+HSBD_API double hsbd_hd_z_henderson(double phi);
 /* Hard disks from the virial series to B10 with a geometric remainder: the more accurate
  * fluid reference (Henderson is 0.14 % high at phi = 0.4); phi <= 0.45 */
-double hsbd_hd_z_virial(double phi);
-double hsbd_hd_contact_virial(double phi);
+HSBD_API double hsbd_hd_z_virial(double phi);
+HSBD_API double hsbd_hd_contact_virial(double phi);
 /* BMCSL contact value g_ab of a 3D mixture: ns species with number fractions x and
  * diameters sigma at number density rho */
-double hsbd_hs_contact_bmcsl(size_t ns, const double *x, const double *sigma, double rho, size_t a,
-                             size_t b);
+HSBD_API double hsbd_hs_contact_bmcsl(size_t ns, const double *x, const double *sigma, double rho,
+                                      size_t a, size_t b);
 /* Z from contact values (virial route): contact is ns x ns, g_ab(sigma_ab+) */
-double hsbd_hs_z_from_contacts(int dim, size_t ns, const double *x, const double *sigma, double rho,
-                               const double *contact);
+HSBD_API double hsbd_hs_z_from_contacts(int dim, size_t ns, const double *x, const double *sigma,
+                                        double rho, const double *contact);
 
 /* ---- one overdamped Brownian particle in a tilted periodic potential (washboard) ----
  * dx = mu F(x) dt + sqrt(2 D dt) N, mu = D / kT, F = -V', V(x) = U(x) - f x with U periodic
@@ -170,9 +175,9 @@ typedef struct hsbd_washboard_result {
  * (a tilt term belongs in `force`), HSBD_ENUMERIC when max_points is reached before tol or
  * the integrals overflow (barriers of several hundred kT), HSBD_ENOMEM. Nothing is returned
  * on error. err may be NULL. */
-int hsbd_washboard_solve(const hsbd_washboard_params *p, hsbd_washboard_result *out,
-                         hsbd_error *err);
-void hsbd_washboard_result_free(hsbd_washboard_result *r);
+HSBD_API int hsbd_washboard_solve(const hsbd_washboard_params *p, hsbd_washboard_result *out,
+                                  hsbd_error *err);
+HSBD_API void hsbd_washboard_result_free(hsbd_washboard_result *r);
 
 typedef struct hsbd_washboard_rocking_result {
     double velocity; /* (1/pi) int_0^pi <v>(f0 + f1 cos theta) d theta */
@@ -186,7 +191,7 @@ typedef struct hsbd_washboard_rocking_result {
  * time average of the static <v>(F(t)) over a drive period (trapezoid rule in the phase,
  * doubled until the change is below p->tol). p->force is ignored; p->points and
  * p->max_points apply to every static solve. Errors as hsbd_washboard_solve. */
-int hsbd_washboard_rocking(const hsbd_washboard_params *p, double f0, double f1,
-                           hsbd_washboard_rocking_result *out, hsbd_error *err);
+HSBD_API int hsbd_washboard_rocking(const hsbd_washboard_params *p, double f0, double f1,
+                                    hsbd_washboard_rocking_result *out, hsbd_error *err);
 
 #endif

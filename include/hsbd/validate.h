@@ -2,6 +2,7 @@
 #ifndef HSBD_VALIDATE_H
 #define HSBD_VALIDATE_H
 
+#include "hsbd/export.h"
 #include <stdio.h>
 
 #include "hsbd/error.h"
@@ -18,6 +19,6 @@ typedef struct hsbd_validate_options {
 
 /* Runs the cases, prints the table to `report`, writes validation.tsv and validation.md
  * into out_dir. Returns HSBD_OK when every case passes, HSBD_ENUMERIC when one fails. */
-int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *err);
+HSBD_API int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *err);
 
 #endif

@@ -9,24 +9,33 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/threads.h"
 #include "hsbd/rods.h"
 #include "hsbd/spheres.h"
 #include "hsbd_version.h"
 
+/* the field of a case: the cosine, plus a static tilt, or plus a rocking tilt */
+enum { BENCH_COSINE = 0, BENCH_TILT, BENCH_ROCKING };
+
 typedef struct bench_case {
     const char *name;
     double sigma, rho;
-    size_t n; /* 0: L = 100 */
+    size_t n;  /* 0: L = 100 */
+    int field; /* BENCH_COSINE (0), BENCH_TILT or BENCH_ROCKING */
 } bench_case;
 
 static const bench_case bench_cases[] = {
-    {"s0.5-rho0.2", 0.5, 0.2, 0},
-    {"s0.5-rho0.5", 0.5, 0.5, 0},
-    {"s0.5-rho0.8", 0.5, 0.8, 0},
-    {"s0.1-rho0.8", 0.1, 0.8, 0},
-    {"s0.5-rho0.5-N1e4", 0.5, 0.5, 10000},
-    {"s0.5-rho0.5-N1e6", 0.5, 0.5, 1000000},
-    {"dense-s0.9-rho1.0-N1e4", 0.9, 1.0, 10000},
+    {"s0.5-rho0.2", 0.5, 0.2, 0, BENCH_COSINE},
+    {"s0.5-rho0.5", 0.5, 0.5, 0, BENCH_COSINE},
+    {"s0.5-rho0.8", 0.5, 0.8, 0, BENCH_COSINE},
+    {"s0.1-rho0.8", 0.1, 0.8, 0, BENCH_COSINE},
+    {"s0.5-rho0.5-N1e4", 0.5, 0.5, 10000, BENCH_COSINE},
+    {"s0.5-rho0.5-N1e5", 0.5, 0.5, 100000, BENCH_COSINE},
+    {"s0.5-rho0.5-N1e6", 0.5, 0.5, 1000000, BENCH_COSINE},
+    {"dense-s0.9-rho1.0-N1e4", 0.9, 1.0, 10000, BENCH_COSINE},
+    /* a driven field against its static twin: F = 3 + 9 cos(2 pi t) against F = 3 */
+    {"tilt-s0.5-rho0.5-N1e4", 0.5, 0.5, 10000, BENCH_TILT},
+    {"rocking-s0.5-rho0.5-N1e4", 0.5, 0.5, 10000, BENCH_ROCKING},
 };
 
 /* CPU time of the calling thread: on a shared machine the wall clock also counts the time
@@ -37,9 +46,18 @@ static double now_seconds(void) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* particle-steps per second of the bare integrator over at least `seconds`, with the
- * given contact rule (hard_core = 0: free particles, the rule is not used) */
-static double bench_rate(const bench_case *c, int hard_core, int contact_rule, double seconds) {
+/* wall-clock seconds (the threads' speed-up: CPU time would add up every thread's) */
+static double wall_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* particle-steps per second of the bare integrator over at least `seconds` of the clock,
+ * with the given contact rule (hard_core = 0: free particles, the rule is not used) on
+ * `threads` threads */
+static double bench_rate_on(const bench_case *c, int hard_core, int contact_rule, double seconds,
+                            int threads, double (*clock)(void)) {
     const size_t n = c->n ? c->n : (size_t)llround(c->rho * 100.0);
     const double L = c->n ? (double)c->n / c->rho : 100.0;
     hsbd_rods_params p = {.n = n,
@@ -50,8 +68,14 @@ static double bench_rate(const bench_case *c, int hard_core, int contact_rule, d
                           .dt = 1e-4,
                           .seed = 1,
                           .hard_core = hard_core,
-                          .contact_rule = contact_rule};
+                          .contact_rule = contact_rule,
+                          .threads = threads};
     hsbd_field_add(&p.field, hsbd_field_cosine(6.0, 1.0));
+    hsbd_field_term tilt = hsbd_field_tilt(3.0);
+    if (c->field == BENCH_ROCKING)
+        hsbd_field_term_drive(&tilt, HSBD_DRIVE_STRENGTH, HSBD_WAVE_COSINE, 9.0,
+                              2 * 3.141592653589793, 0, 0);
+    if (c->field != BENCH_COSINE) hsbd_field_add(&p.field, tilt);
     hsbd_error err;
     hsbd_rods *r = hsbd_rods_alloc(&p, &err);
     if (!r) return NAN;
@@ -59,16 +83,38 @@ static double bench_rate(const bench_case *c, int hard_core, int contact_rule, d
     uint64_t batch = 1 + (uint64_t)(2e6 / (double)n), steps = 0;
     for (uint64_t k = 0; k < batch; ++k)
         if (hsbd_rods_step(r, NULL) != HSBD_OK) return hsbd_rods_free(r), NAN; /* warm-up */
-    const double t0 = now_seconds();
+    const double t0 = clock();
     double t = t0;
     while (t - t0 < seconds) {
         for (uint64_t k = 0; k < batch; ++k)
             if (hsbd_rods_step(r, NULL) != HSBD_OK) return hsbd_rods_free(r), NAN;
         steps += batch;
-        t = now_seconds();
+        t = clock();
     }
     hsbd_rods_free(r);
     return (double)n * (double)steps / (t - t0);
+}
+
+static double bench_rate(const bench_case *c, int hard_core, int contact_rule, double seconds) {
+    return bench_rate_on(c, hard_core, contact_rule, seconds, 1, now_seconds);
+}
+
+void hsbd_bench_threads(const char *only, double seconds, FILE *out) {
+    const int all = hsbd_threads_available();
+    fprintf(out,
+            "# rods, default rule (reflect), one thread against all %d threads the process may "
+            "use,\n# wall clock; M = 10^6 particle-steps per second; N >= 10^4 only\n"
+            "%-26s %9s %12s %12s %8s\n",
+            all, "case", "N", "1 thr. M/s", "all M/s", "speed-up");
+    for (size_t k = 0; k < sizeof bench_cases / sizeof bench_cases[0]; ++k) {
+        const bench_case *c = &bench_cases[k];
+        if ((only && strcmp(only, c->name)) || c->n < 10000) continue;
+        const double one = bench_rate_on(c, 1, HSBD_CONTACT_REFLECT, seconds, 1, wall_seconds);
+        const double many = bench_rate_on(c, 1, HSBD_CONTACT_REFLECT, seconds, all, wall_seconds);
+        fprintf(out, "%-26s %9zu %12.1f %12.1f %8.2f\n", c->name, c->n, one / 1e6, many / 1e6,
+                many / one);
+        fflush(out);
+    }
 }
 
 /* EDBD of monodisperse spheres: 3D, D = sigma = 1, from an fcc lattice. */
@@ -177,7 +223,8 @@ int hsbd_bench_has_case(const char *name) {
 void hsbd_bench_run(const char *only, double seconds, FILE *out) {
     fprintf(out,
             "# hsbd %s (git %s) bench: BCD step, cosine field U0=6 lambda=1, D=1, dt=1e-4,\n"
-            "# one core, CPU time; M = 10^6 particle-steps per CPU-second; reflect = the default contact rule,\n"
+            "# one core, CPU time; M = 10^6 particle-steps per CPU-second; reflect = the default "
+            "contact rule,\n"
             "# sticky = the paper's rule; free = same system, hard core off; cost = free/hard\n",
             HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
     fprintf(out, "%-26s %9s %12s %12s %12s %8s %8s\n", "case", "N", "reflect M/s", "sticky M/s",

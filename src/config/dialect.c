@@ -40,12 +40,12 @@ int config_authors_assign(ini_state *st, const char *name, const char *value) {
             strcat(known, i ? ", " : "");
             strcat(known, config_authors_keys[i].name);
         }
-        return hsbd_error_set(
-            st->err, HSBD_EINPUT,
-            "%s:%ld: unknown key '%.60s' outside any [section]; hsbd keys live in sections "
-            "([system], [species], [contact], [pair], [field], [run], [sample], [output], "
-            "[init]) and the authors' section-less keys are: %s",
-            st->path, st->line, name, known);
+        char sections[256];
+        config_section_list(sections, sizeof sections);
+        return hsbd_error_set(st->err, HSBD_EINPUT,
+                              "%s:%ld: unknown key '%.60s' outside any [section]; hsbd keys live "
+                              "in sections (%s) and the authors' section-less keys are: %s",
+                              st->path, st->line, name, sections, known);
     }
     char as[128];
     snprintf(as, sizeof as, "%s (%s.%s)", name, a->section, a->key);

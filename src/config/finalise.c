@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hsbd/field.h"
 #include "hsbd/spheres.h"
 
 #define INF HUGE_VAL
@@ -28,7 +29,9 @@ uint64_t hsbd_config_equil_steps(const hsbd_config *cfg) {
     return (uint64_t)llround(cfg->run.t_equil / hsbd_config_dt_equil(cfg));
 }
 
-size_t config_split_list(char *text, char **words, size_t max) {
+/* Split a list on spaces and commas into at most `max` words; returns the count, or
+ * max + 1 when there are more. */
+static size_t split_list(char *text, char **words, size_t max) {
     size_t count = 0;
     for (char *w = strtok(text, " \t,"); w; w = strtok(NULL, " \t,")) {
         if (count == max) return max + 1;
@@ -43,7 +46,7 @@ static int parse_species_numbers(hsbd_config *cfg, const char *key, const char *
                                  int open, int whole, double *out, hsbd_error *err) {
     char buf[HSBD_PATH_MAX], *words[HSBD_MAX_SPECIES + 1];
     snprintf(buf, sizeof buf, "%s", text);
-    const size_t ns = cfg->species.n, got = config_split_list(buf, words, HSBD_MAX_SPECIES);
+    const size_t ns = cfg->species.n, got = split_list(buf, words, HSBD_MAX_SPECIES);
     if (got != ns)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: species.%s has %zu entries for %zu species.names; allowed: one "
@@ -121,7 +124,7 @@ static int parse_species(hsbd_config *cfg, hsbd_error *err) {
     }
     char buf[HSBD_PATH_MAX], *words[HSBD_MAX_SPECIES + 1];
     snprintf(buf, sizeof buf, "%s", cfg->species.names_text);
-    const size_t ns = config_split_list(buf, words, HSBD_MAX_SPECIES);
+    const size_t ns = split_list(buf, words, HSBD_MAX_SPECIES);
     if (ns < 1 || ns > HSBD_MAX_SPECIES)
         return hsbd_error_set(err, HSBD_EINPUT, "%s: species.names: allowed: 1 to %d names",
                               config_origin_of(cfg, "species", "names"), HSBD_MAX_SPECIES);
@@ -204,15 +207,13 @@ static double rods_length(const hsbd_config *cfg) {
     return total;
 }
 
-static int check_run_keys(hsbd_config *cfg, hsbd_error *err);
-
 /* A list of `dim` finite numbers (or, when one_for_all, 1 repeated) in (min, inf) or any
  * (min = -inf). */
 static int parse_vector(const hsbd_config *cfg, const char *key, const char *text, int dim,
                         int one_for_all, double min, double *out, hsbd_error *err) {
     char buf[HSBD_PATH_MAX], *words[4];
     snprintf(buf, sizeof buf, "%s", text);
-    const size_t got = config_split_list(buf, words, 3);
+    const size_t got = split_list(buf, words, 3);
     if ((got != 1 || !one_for_all) && got != (size_t)dim)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: system.%s has %zu value%s; allowed: %s%d (system.dimension)",
@@ -320,9 +321,29 @@ static int check_step_counts(const hsbd_config *cfg, hsbd_error *err) {
                           (double)blocks * (double)cfg->sample.every * cfg->run.dt);
 }
 
+/* Ensembles (docs/scaling.md): a replica's index lies below their number when that is
+ * given, and an ensemble's replicas are not also the error blocks of one run. */
+static int check_ensemble_keys(const hsbd_config *cfg, hsbd_error *err) {
+    if (cfg->run.replicas > 0 && cfg->run.replica >= cfg->run.replicas)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: run.replica = %lld is not a replica of run.replicas = %lld; "
+                              "allowed: 0 <= replica < replicas",
+                              config_origin_of(cfg, "run", "replica"), (long long)cfg->run.replica,
+                              (long long)cfg->run.replicas);
+    if ((cfg->run.replicas > 1 || cfg->run.replica >= 0) &&
+        cfg->sample.blocking == HSBD_BLOCKS_REPLICAS)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.blocking = replicas with an ensemble (run.replicas or "
+                              "run.replica): the ensemble's replicas already give the errors; "
+                              "allowed: blocking = time or space",
+                              config_origin_of(cfg, "sample", "blocking"));
+    return HSBD_OK;
+}
+
 /* Checks of the run, sampling and output keys shared by every model. */
 static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
     if (check_step_counts(cfg, err) != HSBD_OK) return err->status;
+    if (check_ensemble_keys(cfg, err) != HSBD_OK) return err->status;
     const int replicas = cfg->sample.blocking == HSBD_BLOCKS_REPLICAS;
     const double lag_limit = replicas ? cfg->run.t_total / (double)cfg->sample.blocks
                                       : cfg->run.t_total; /* a replica's production time */
@@ -353,7 +374,7 @@ static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
 static int parse_boundary(hsbd_config *cfg, int dim, int *walls, hsbd_error *err) {
     char buf[HSBD_PATH_MAX], *words[4];
     snprintf(buf, sizeof buf, "%s", cfg->system.boundary_text);
-    const size_t got = config_split_list(buf, words, 3);
+    const size_t got = split_list(buf, words, 3);
     if (got != 1 && got != (size_t)dim)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: system.boundary has %zu values; allowed: %s", 
@@ -372,6 +393,69 @@ static int parse_boundary(hsbd_config *cfg, int dim, int *walls, hsbd_error *err
 }
 
 /* ---- rods ---------------------------------------------------------------------------- */
+
+/* ---- drives --------------------------------------------------------------------------- */
+
+/* A drive must change a parameter of a term in field.type, with a wave of a period of at
+ * least one step (and one amplitude) or a velocity; sample.phases needs the wave. */
+static int check_drive(const hsbd_config *cfg, hsbd_error *err) {
+    static const char *const keys[] = {"wave", "amplitude", "period", "phase", "velocity"};
+    static const int term_of[] = {0,
+                                  HSBD_FIELD_TILT,
+                                  HSBD_FIELD_COSINE,
+                                  HSBD_FIELD_COSINE,
+                                  HSBD_FIELD_HARMONIC,
+                                  HSBD_FIELD_HARMONIC};
+    static const char *const term_name[] = {"", "tilt", "cosine", "cosine", "harmonic", "harmonic"};
+    const int p = cfg->drive.parameter, wave = cfg->drive.wave != HSBD_WAVE_NONE;
+    if (p == HSBD_DRIVE_NONE) {
+        for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
+            if (!config_is_default(cfg, "drive", keys[k]))
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "%s: drive.%s is set, but drive.parameter = none drives "
+                                      "nothing; allowed: drive.parameter = "
+                                      "force|amplitude|shift|stiffness|center",
+                                      config_origin_of(cfg, "drive", keys[k]), keys[k]);
+    } else if (!(cfg->field.type & term_of[p])) {
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: drive.parameter drives the %s term, which field.type does not "
+                              "have; allowed: a parameter of a term in field.type",
+                              config_origin_of(cfg, "drive", "parameter"), term_name[p]);
+    } else if (wave) {
+        const double dt = fmax(cfg->run.dt, hsbd_config_dt_equil(cfg));
+        if (!(cfg->drive.period >= dt))
+            return hsbd_error_set(
+                err, HSBD_EINPUT,
+                "%s: drive.period = %g with drive.wave set; allowed: drive.period "
+                ">= the time step %g (run.dt, run.dt_equil)",
+                config_origin_of(cfg, "drive", "period"), cfg->drive.period, dt);
+        if (cfg->drive.amplitude == 0)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: drive.amplitude = 0 with drive.wave set changes nothing; "
+                                  "allowed: drive.amplitude != 0",
+                                  config_origin_of(cfg, "drive", "amplitude"));
+    } else {
+        for (size_t k = 1; k < 4; ++k)
+            if (!config_is_default(cfg, "drive", keys[k]))
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "%s: drive.%s is set, but drive.wave = none; allowed: "
+                                      "drive.wave = cosine|square, or leave drive.%s out",
+                                      config_origin_of(cfg, "drive", keys[k]), keys[k], keys[k]);
+        if (cfg->drive.velocity == 0)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: drive.parameter is set, but neither drive.wave nor "
+                                  "drive.velocity changes it; allowed: drive.wave = cosine|square "
+                                  "or drive.velocity != 0",
+                                  config_origin_of(cfg, "drive", "parameter"));
+    }
+    if (cfg->sample.phases > 0 && !(p != HSBD_DRIVE_NONE && wave))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.phases = %lld needs a periodic drive; allowed: "
+                              "sample.phases = 0, or drive.wave = cosine|square",
+                              config_origin_of(cfg, "sample", "phases"),
+                              (long long)cfg->sample.phases);
+    return HSBD_OK;
+}
 
 static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
     int walls_rods = 0;
@@ -397,8 +481,7 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
         for (size_t k = 0; k < cfg->species.n; ++k)
             d = fmax(d, cfg->species.diffusion[k]);
         cfg->sample.contact_width = fmax(1e-2, 3 * sqrt(4 * d * cfg->run.dt));
-        snprintf(cfg->origin[config_key_index(config_find_key("sample", "contact_width"))],
-                 HSBD_ORIGIN_MAX, "default (derived from run.dt)");
+        config_set_origin(cfg, "sample", "contact_width", "default (derived from run.dt)");
     }
     if (cfg->pair.type != HSBD_PAIR_NONE && !cfg->system.hard_core)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -412,8 +495,7 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
         if (cfg->pair.cutoff == 0) {
             cfg->pair.cutoff =
                 cfg->pair.type == HSBD_PAIR_YUKAWA ? sigma + 5.0 / cfg->pair.kappa : 2.5 * sigma;
-            snprintf(cfg->origin[config_key_index(config_find_key("pair", "cutoff"))],
-                     HSBD_ORIGIN_MAX, "default (derived from pair.type)");
+            config_set_origin(cfg, "pair", "cutoff", "default (derived from pair.type)");
         }
         if (!(cfg->pair.cutoff > sigma) || !(cfg->pair.cutoff <= 0.5 * L))
             return hsbd_error_set(err, HSBD_EINPUT,
@@ -447,14 +529,13 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
                               config_origin_of(cfg, "field", "type"));
     if (isnan(cfg->field.center)) {
         cfg->field.center = 0.5 * L;
-        snprintf(cfg->origin[config_key_index(config_find_key("field", "center"))], HSBD_ORIGIN_MAX,
-                 "default (L/2)");
+        config_set_origin(cfg, "field", "center", "default (L/2)");
     }
     if (isnan(cfg->sample.period)) {
         cfg->sample.period = has_cosine && !walls ? cfg->field.wavelength : L;
         if (!divides(cfg->sample.period, L)) cfg->sample.period = L;
-        snprintf(cfg->origin[config_key_index(config_find_key("sample", "period"))],
-                 HSBD_ORIGIN_MAX, walls ? "default (L: walls)" : "default (field.wavelength or L)");
+        config_set_origin(cfg, "sample", "period",
+                          walls ? "default (L: walls)" : "default (field.wavelength or L)");
     }
     if (walls && cfg->sample.period != L)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -490,6 +571,7 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
                               config_origin_of(cfg, "sample", "blocks"),
                               (long long)cfg->sample.blocks, L / cfg->sample.period);
     if (check_run_keys(cfg, err) != HSBD_OK) return err->status;
+    if (check_drive(cfg, err) != HSBD_OK) return err->status;
     return config_check_memory(cfg, 0, err);
 }
 
@@ -591,8 +673,7 @@ static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
     const int dim = (int)cfg->system.dimension;
     if (config_is_default(cfg, "system", "sigma")) {
         cfg->system.sigma = 1.0;
-        snprintf(cfg->origin[config_key_index(config_find_key("system", "sigma"))], HSBD_ORIGIN_MAX,
-                 "default (spheres)");
+        config_set_origin(cfg, "system", "sigma", "default (spheres)");
     }
     if (!(cfg->system.sigma > 0))
         return hsbd_error_set(err, HSBD_EINPUT, "%s: system.sigma = %g; allowed: sigma > 0",
@@ -674,8 +755,7 @@ static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
                               cfg->sample.gr_max);
     if (config_is_default(cfg, "sample", "every")) { /* an MSD sample costs d N: every 10 steps */
         cfg->sample.every = 10;
-        snprintf(cfg->origin[config_key_index(config_find_key("sample", "every"))], HSBD_ORIGIN_MAX,
-                 "default (spheres)");
+        config_set_origin(cfg, "sample", "every", "default (spheres)");
     }
     if (cfg->sample.fs_k == 0)
         cfg->sample.fs_k = 2 * 3.14159265358979323846 /
@@ -688,8 +768,7 @@ static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
         /* short runs: still at least 10 samples per error block */
         const double most = floor(steps / (10.0 * (double)cfg->sample.blocks));
         if ((double)cfg->sample.gr_every > most) cfg->sample.gr_every = (int64_t)fmax(1.0, most);
-        snprintf(cfg->origin[config_key_index(config_find_key("sample", "gr_every"))],
-                 HSBD_ORIGIN_MAX, "default (0.05 time units)");
+        config_set_origin(cfg, "sample", "gr_every", "default (0.05 time units)");
     }
     const uint64_t gr_samples = hsbd_config_steps(cfg) / (uint64_t)cfg->sample.gr_every;
     if (gr_samples < (uint64_t)cfg->sample.blocks)

@@ -245,12 +245,12 @@ static int open_section(ini_state *st, char *s) {
     if (!config_section_known(name)) {
         size_t best;
         const char *near = config_nearest_section(name, &best);
+        char sections[256];
+        config_section_list(sections, sizeof sections);
         return hsbd_error_set(st->err, HSBD_EINPUT, "%s:%ld: unknown section [%.60s]%s%s%s",
                               st->path, st->line, name,
                               best <= 2 ? "; did you mean [" : "; allowed: ", best <= 2 ? near : "",
-                              best <= 2 ? "]?"
-                                        : "[system], [species], [contact], [pair], [field], "
-                                          "[run], [sample], [output], [init]");
+                              best <= 2 ? "]?" : sections);
     }
     for (size_t i = 0; i < config_nkeys; ++i) /* the table's own string, alive after the line */
         if (!strcmp(config_schema[i].section, name)) st->section = config_schema[i].section;

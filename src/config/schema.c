@@ -104,6 +104,26 @@ const key_spec config_schema[] = {
     {"field", "table_kind", ALL_MODELS, K_ENUM, OFF(field.table_kind), 0, 0, 0, "potential",
      "potential|force",
      "what field.table holds: potential U(x) (energy; force -U') or force f(x) (energy/length)"},
+    {"drive", "parameter", RODS, K_ENUM, OFF(drive.parameter), 0, 0, 0, "none",
+     "none|force|amplitude|shift|stiffness|center",
+     "the field parameter that changes in time, p(t) = p + velocity t + amplitude w(2 pi t / "
+     "period + phase), t the simulated time from the initial state: force (tilt: a rocking "
+     "tilt), amplitude (cosine: flashing or modulated U0), shift (cosine: U = (U0/2) cos(2 pi (x "
+     "- shift)/wavelength), a travelling wave), stiffness or center (harmonic: a dragged or "
+     "oscillating trap); its term must be in field.type. The field is evaluated at each step's "
+     "start (docs/theory.md)"},
+    {"drive", "wave", RODS, K_ENUM, OFF(drive.wave), 0, 0, 0, "none", "none|cosine|square",
+     "waveform w: cos, or the square wave sign(cos) (+1 where cos = 0); none: only the velocity"},
+    {"drive", "amplitude", RODS, K_DOUBLE, OFF(drive.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX,
+     "0", 0, "amplitude of the wave, in the units of the parameter (F1 of F0 + F1 cos)"},
+    {"drive", "period", RODS, K_DOUBLE, OFF(drive.period), 0, INF, OPEN_MAX, "0", 0,
+     "period of the wave (time); at least run.dt and run.dt_equil"},
+    {"drive", "phase", RODS, K_DOUBLE, OFF(drive.phase), -INF, INF, OPEN_MIN | OPEN_MAX, "0", 0,
+     "phase of the wave at t = 0 (radians)"},
+    {"drive", "velocity", RODS, K_DOUBLE, OFF(drive.velocity), -INF, INF, OPEN_MIN | OPEN_MAX, "0",
+     0,
+     "rate of change of the parameter (its units per time): the speed of a travelling wave "
+     "(shift) or of a dragged trap (center)"},
     {"species", "names", ALL_MODELS, K_STRING, OFF(species.names_text), 0, 0, 0, "", 0,
      "a mixture: species names (letters, digits, '_'), separated by spaces or commas; empty: "
      "one species with system.sigma and system.D"},
@@ -147,6 +167,18 @@ const key_spec config_schema[] = {
     {"run", "dt_equil", RODS, K_DOUBLE, OFF(run.dt_equil), 0, INF, OPEN_MAX, "0", 0,
      "time step during equilibration (0: run.dt); a coarser step relaxes slow modes (barrier "
      "hopping) cheaply, the Euler distortion of dt then relaxes within a short time"},
+    {"run", "replicas", ALL_MODELS, K_INT, OFF(run.replicas), 0, 1e6, 0, "0", 0,
+     "independent replicas of the run, each with its own noise (the replica index mixed into "
+     "the seed) and its own initial state and equilibration, in DIR/replica-K; DIR gets their "
+     "merged tables with errors from the replica scatter (docs/scaling.md). 0: one per MPI "
+     "rank under mpirun, else a single run"},
+    {"run", "replica", ALL_MODELS, K_INT, OFF(run.replica), -1, 1e6, 0, "-1", 0,
+     "run replica K of an ensemble alone (hsbd run --replica K, e.g. one task of a job array; "
+     "join them with hsbd merge); -1: not a replica"},
+    {"run", "threads", ALL_MODELS, K_INT, OFF(run.threads), 0, 1024, NO_HEADER, "0", 0,
+     "threads of one run (hsbd run --threads N); 0: the cores the process may use. Rods: the "
+     "noise, field and contact pushes in parallel, results identical for every count; "
+     "spheres: one thread for now (docs/scaling.md)"},
     {"sample", "bin_width", ALL_MODELS, K_DOUBLE, OFF(sample.bin_width), 0, INF,
      OPEN_MIN | OPEN_MAX, "1e-2", 0,
      "density bin width Delta_x (Eq. 24); must divide sample.period (spheres: of the profiles "
@@ -174,6 +206,9 @@ const key_spec config_schema[] = {
      0, "largest MSD lag time (0: t_total/10)"},
     {"sample", "msd_points_per_decade", ALL_MODELS, K_INT, OFF(sample.msd_points_per_decade), 1,
      1000, 0, "10", 0, "log-spaced MSD lags per decade"},
+    {"sample", "phases", RODS, K_INT, OFF(sample.phases), 0, 100, 0, "0", 0,
+     "profiles resolved by the drive's phase: K bins of drive.period, each sample goes to the "
+     "bin of its time (stroboscopic), written to density_phases.tsv; 0: none; needs drive.wave"},
     {"sample", "current_every", RODS, K_DOUBLE, OFF(sample.current_every), 0, INF, OPEN_MAX, "0", 0,
      "write the particle current every this much time to current.tsv (0: off)"},
     {"sample", "gr_every", SPHERES, K_INT, OFF(sample.gr_every), 0, 1e15, 0, "0", 0,
@@ -192,7 +227,8 @@ const key_spec config_schema[] = {
     {"output", "dir", ALL_MODELS, K_STRING, OFF(output.dir), 0, 0, NO_HEADER, "", 0,
      "run directory (default: runs/<config name>); --out overrides"},
     {"output", "trajectory", ALL_MODELS, K_ENUM, OFF(output.trajectory), 0, 0, 0, "none",
-     "none|xyz", "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD)"},
+     "none|xyz|gsd",
+     "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD; gsd: GSD, HOOMD schema)"},
     {"output", "trajectory_every", ALL_MODELS, K_DOUBLE, OFF(output.trajectory_every), 0, INF,
      OPEN_MAX, "0", 0, "time between trajectory frames (0: t_total/100, at least run.dt)"},
     {"output", "checkpoints", ALL_MODELS, K_BOOL, OFF(output.checkpoints), 0, 1, NO_HEADER, "on", 0,
@@ -241,6 +277,16 @@ int config_section_known(const char *name) {
     for (size_t i = 0; i < NKEYS; ++i)
         if (!strcmp(config_schema[i].section, name)) return 1;
     return 0;
+}
+
+void config_section_list(char *buf, size_t len) {
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < NKEYS; ++i)
+        if ((i == 0 || strcmp(config_schema[i - 1].section, config_schema[i].section)) &&
+            used < len)
+            used += (size_t)snprintf(buf + used, len - used, "%s[%s]", used ? ", " : "",
+                                     config_schema[i].section);
 }
 
 int config_key_read(const hsbd_config *cfg, const key_spec *k) {

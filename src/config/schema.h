@@ -50,6 +50,8 @@ void *config_slot(hsbd_config *cfg, const key_spec *k);
 const void *config_cslot(const hsbd_config *cfg, const key_spec *k);
 /* is `name` a section of the table? */
 int config_section_known(const char *name);
+/* "[system], [contact], ...": the table's sections in its order */
+void config_section_list(char *buf, size_t len);
 /* the section of the table nearest to a misspelt one, and its edit distance */
 const char *config_nearest_section(const char *name, size_t *distance);
 /* Nearest known "section.key" to a misspelt one, in buf; NULL when none is near. */
@@ -110,11 +112,8 @@ int config_authors_assign(ini_state *st, const char *name, const char *value);
 /* What the authors' program fixes that their files do not say (field, kT). */
 void config_authors_finish(hsbd_config *cfg);
 
-/* ---- finalise.c, memory.c -------------------------------------------------------------- */
+/* ---- memory.c ---------------------------------------------------------------------- */
 
-/* Split a list on spaces and commas into at most `max` words; returns the count, or
- * max + 1 when there are more. */
-size_t config_split_list(char *text, char **words, size_t max);
 /* Refuses a run whose estimated memory exceeds a share of the machine's, naming the key
  * behind its largest part. `particles_only`: only the particles' part (before anything of
  * size N is allocated while finalising). */

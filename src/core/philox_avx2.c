@@ -30,18 +30,18 @@ static inline __m256d exact_u53_to_double(__m256i a) {
     return _mm256_add_pd(_mm256_mul_pd(dhi, two32), dlo); /* exact: an integer < 2^53 */
 }
 
-void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k0,
-                                    size_t npairs, double *restrict u1, double *restrict u2) {
+/* The uniform pairs of the four counters c[0..3] (index pairs) into u1[0..3], u2[0..3]. */
+static inline void philox4_pairs(uint64_t seed, uint32_t stream, uint64_t step, const uint64_t c[4],
+                                 double *restrict u1, double *restrict u2) {
     const __m256i step_lo = _mm256_set1_epi64x((uint32_t)step);
     const __m256i step_hi = _mm256_set1_epi64x((uint32_t)(step >> 32));
     const __m256i str = _mm256_set1_epi64x(stream);
     const __m256i w0 = _mm256_set1_epi64x(0x9E3779B9), w1 = _mm256_set1_epi64x(0xBB67AE85);
     const __m256i low = _mm256_set1_epi64x(0xffffffff);
     const __m256d half = _mm256_set1_pd(0.5), scale = _mm256_set1_pd(0x1.0p-53);
-    for (size_t j = 0; j + 4 <= npairs; j += 4) {
-        const uint64_t c = k0 + j;
-        __m256i x[4] = {_mm256_and_si256(_mm256_setr_epi64x((int64_t)c, (int64_t)(c + 1),
-                                                            (int64_t)(c + 2), (int64_t)(c + 3)),
+    {
+        __m256i x[4] = {_mm256_and_si256(_mm256_setr_epi64x((int64_t)c[0], (int64_t)c[1],
+                                                            (int64_t)c[2], (int64_t)c[3]),
                                          low),
                         step_lo, step_hi, str};
         __m256i key0 = _mm256_set1_epi64x((uint32_t)seed);
@@ -56,8 +56,23 @@ void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t ste
         /* 53 bits from (v0, v1) and from (v2, v3), as in src/core/rng.c */
         const __m256i a = _mm256_srli_epi64(_mm256_or_si256(_mm256_slli_epi64(x[0], 32), x[1]), 11);
         const __m256i b = _mm256_srli_epi64(_mm256_or_si256(_mm256_slli_epi64(x[2], 32), x[3]), 11);
-        _mm256_storeu_pd(u1 + j, _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(a), half), scale));
-        _mm256_storeu_pd(u2 + j, _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(b), half), scale));
+        _mm256_storeu_pd(u1, _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(a), half), scale));
+        _mm256_storeu_pd(u2, _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(b), half), scale));
     }
+}
+
+void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k0,
+                                    size_t npairs, double *restrict u1, double *restrict u2) {
+    for (size_t j = 0; j + 4 <= npairs; j += 4) {
+        const uint64_t c[4] = {k0 + j, k0 + j + 1, k0 + j + 2, k0 + j + 3};
+        philox4_pairs(seed, stream, step, c, u1 + j, u2 + j);
+    }
+}
+
+void hsbd_philox_uniform_pairs_at_avx2(uint64_t seed, uint32_t stream, uint64_t step,
+                                       const uint64_t *k, size_t npairs, double *restrict u1,
+                                       double *restrict u2) {
+    for (size_t j = 0; j + 4 <= npairs; j += 4)
+        philox4_pairs(seed, stream, step, k + j, u1 + j, u2 + j);
 }
 #endif

@@ -30,6 +30,12 @@ static void philox_uniform_pairs(uint64_t seed, uint32_t stream, uint64_t step, 
     }
 }
 
+/* The uniform pair of counter k (index pair), as philox_uniform_pairs gives it. */
+static void philox_uniform_pair(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k,
+                                double *u1, double *u2) {
+    philox_uniform_pairs(seed, stream, step, k, 1, u1, u2);
+}
+
 /* Calls body(pair_buffers) over the pairs that cover indices first .. first+n-1 and
  * copies the wanted half-pairs to out; shared by the normal and uniform generators. */
 typedef void (*pair_transform)(size_t npairs, double *u1, double *u2);
@@ -67,4 +73,28 @@ void hsbd_rng_normals(uint64_t seed, uint32_t stream, uint64_t step, size_t firs
 void hsbd_rng_uniforms(uint64_t seed, uint32_t stream, uint64_t step, size_t first, size_t n,
                        double *out) {
     fill_indices(seed, stream, step, first, n, out, NULL);
+}
+
+void hsbd_rng_uniforms_at(uint64_t seed, uint32_t stream, uint64_t step, size_t base,
+                          const unsigned *offset, size_t n, double *out) {
+    size_t k = 0;
+#if defined(__x86_64__)
+    if (hsbd_cpu_has_avx2()) { /* four counters at a time */
+        for (; k + 4 <= n; k += 4) {
+            uint64_t c[4];
+            double u1[4], u2[4];
+            for (int q = 0; q < 4; ++q)
+                c[q] = (base + offset[k + q]) / 2;
+            hsbd_philox_uniform_pairs_at_avx2(seed, stream, step, c, 4, u1, u2);
+            for (int q = 0; q < 4; ++q)
+                out[k + q] = (base + offset[k + q]) % 2 ? u2[q] : u1[q];
+        }
+    }
+#endif
+    for (; k < n; ++k) {
+        const size_t index = base + offset[k];
+        double u1, u2;
+        philox_uniform_pair(seed, stream, step, index / 2, &u1, &u2);
+        out[k] = index % 2 ? u2 : u1;
+    }
 }

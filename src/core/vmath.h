@@ -31,5 +31,9 @@ int hsbd_cpu_has_avx2(void);
  * (philox_avx2.c, -mavx2); npairs a multiple of 4. */
 void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k0,
                                     size_t npairs, double *restrict u1, double *restrict u2);
+/* The same for the counters k[0 .. npairs-1] (npairs a multiple of 4). */
+void hsbd_philox_uniform_pairs_at_avx2(uint64_t seed, uint32_t stream, uint64_t step,
+                                       const uint64_t *k, size_t npairs, double *restrict u1,
+                                       double *restrict u2);
 
 #endif

@@ -24,10 +24,14 @@ static double harmonic_potential(const hsbd_field_term *t, double x) {
     return 0.5 * t->p[HARM_K] * d * d;
 }
 
-static const hsbd_field_ops harmonic_ops = {"harmonic", harmonic_add_force, harmonic_potential};
+static const hsbd_field_ops harmonic_ops = {.name = "harmonic",
+                                            .strength = HARM_K + 1,
+                                            .position = HARM_CENTER + 1,
+                                            .add_force = harmonic_add_force,
+                                            .potential = harmonic_potential};
 
 hsbd_field_term hsbd_field_harmonic(double stiffness, double center, double period) {
-    hsbd_field_term t = {&harmonic_ops, {0}, 0};
+    hsbd_field_term t = {.ops = &harmonic_ops};
     t.p[HARM_K] = stiffness;
     t.p[HARM_CENTER] = center;
     t.p[HARM_PERIOD] = period;

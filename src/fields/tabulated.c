@@ -27,10 +27,14 @@ static double table_potential(const hsbd_field_term *t, double x) {
                                               : hsbd_table_value(t->table, xr);
 }
 
-static const hsbd_field_ops table_ops = {"table", table_add_force, table_potential};
+static const hsbd_field_ops table_ops = {.name = "table",
+                                         .strength = 0,
+                                         .position = 0,
+                                         .add_force = table_add_force,
+                                         .potential = table_potential};
 
 hsbd_field_term hsbd_field_table(const hsbd_table *table, int kind, double period) {
-    hsbd_field_term t = {&table_ops, {0}, table};
+    hsbd_field_term t = {.ops = &table_ops, .table = table};
     t.p[TAB_KIND] = kind;
     t.p[TAB_PERIOD] = period;
     return t;

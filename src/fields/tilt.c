@@ -13,10 +13,14 @@ static double tilt_potential(const hsbd_field_term *t, double x) {
     return -t->p[0] * x;
 }
 
-static const hsbd_field_ops tilt_ops = {"tilt", tilt_add_force, tilt_potential};
+static const hsbd_field_ops tilt_ops = {.name = "tilt",
+                                        .strength = 1,
+                                        .position = 0,
+                                        .add_force = tilt_add_force,
+                                        .potential = tilt_potential};
 
 hsbd_field_term hsbd_field_tilt(double force) {
-    hsbd_field_term t = {&tilt_ops, {0}, 0};
+    hsbd_field_term t = {.ops = &tilt_ops};
     t.p[0] = force;
     return t;
 }

@@ -12,7 +12,7 @@
 int hsbd_outfile_open(hsbd_outfile *o, const char *dir, const char *name, hsbd_error *err) {
     snprintf(o->path, sizeof o->path, "%s/%s", dir, name);
     snprintf(o->tmp, sizeof o->tmp, "%s.part", o->path);
-    o->f = fopen(o->tmp, "w");
+    o->f = fopen(o->tmp, "w+"); /* read too: the GSD index moves */
     if (!o->f)
         return hsbd_error_set(err, HSBD_EIO, "cannot write '%s': %s", o->tmp, strerror(errno));
     return HSBD_OK;

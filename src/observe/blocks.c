@@ -63,6 +63,10 @@ static size_t block_of(const hsbd_blocks *b, uint64_t sample) {
                                 b->ext_len ? b->ext_start : b->nsamples_total);
 }
 
+size_t hsbd_blocks_current(const hsbd_blocks *b) {
+    return b->spatial ? 0 : block_of(b, b->nsamples);
+}
+
 size_t hsbd_blocks_count(const hsbd_blocks *b) {
     return b->nblocks;
 }

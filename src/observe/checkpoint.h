@@ -17,6 +17,8 @@ void hsbd_contacts_save(const hsbd_contacts *c, hsbd_writer *w);
 int hsbd_contacts_load(hsbd_contacts *c, hsbd_reader *r);
 void hsbd_clusters_save(const hsbd_clusters *c, hsbd_writer *w);
 int hsbd_clusters_load(hsbd_clusters *c, hsbd_reader *r);
+void hsbd_drift_save(const hsbd_drift *d, hsbd_writer *w);
+int hsbd_drift_load(hsbd_drift *d, hsbd_reader *r);
 void hsbd_gr_save(const hsbd_gr *g, hsbd_writer *w);
 int hsbd_gr_load(hsbd_gr *g, hsbd_reader *r);
 

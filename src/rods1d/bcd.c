@@ -289,6 +289,54 @@ static void compute_pair_forces(hsbd_rods *r) {
     }
 }
 
+/* Threads for a loop over n rods: the configured number, one below a few chunks' worth
+ * (a parallel region costs a few microseconds). */
+static int step_threads(const hsbd_rods *r, size_t n) {
+    return r->par.threads > 1 && n >= 4 * STEP_CHUNK ? r->par.threads : 1;
+}
+
+/* Distance from rod i to rod j to its right as compute_pair_forces computes it (j
+ * reached across the ring when wrapped), the same operations in the same order. */
+static inline double pair_distance(const hsbd_rods *r, size_t i, size_t j, int wrapped) {
+    const double xi = r->z[i] + r->offset[i];
+    return r->z[j] + r->offset[j] + (wrapped ? r->par.length : 0.0) - xi;
+}
+
+/* The pair forces of compute_pair_forces on threads: each rod gathers its own, adding the
+ * terms in the order the serial walk adds them to it (rods to its left that reach it,
+ * from the farthest; then its own walk to the right; then, on a ring, rods that reach it
+ * across the end), so the sums have the same bits. Each pair is evaluated twice. */
+static void gather_pair_forces(hsbd_rods *r, int threads) {
+    const size_t n = r->par.n;
+    const double range = r->pair_range;
+    const int ring = !r->walls;
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long lt = 0; lt < (long)n; ++lt) {
+        const size_t t = (size_t)lt;
+        double acc = 0.0;
+        size_t lo = t; /* rods lo .. t-1 reach t from the left */
+        while (lo > 0 && pair_distance(r, lo - 1, t, 0) < range)
+            --lo;
+        for (size_t i = lo; i < t; ++i)
+            acc += hsbd_pair_force(&r->par.pair, pair_distance(r, i, t, 0));
+        for (size_t k = 1; k < n; ++k) { /* t's own walk */
+            if (!ring && t + k >= n) break;
+            const size_t j = t + k < n ? t + k : t + k - n;
+            const double d = pair_distance(r, t, j, t + k >= n);
+            if (d >= range) break;
+            acc -= hsbd_pair_force(&r->par.pair, d);
+        }
+        if (ring) {        /* rods t+1 .. n-1 whose walk wraps to t: the nearest ones, ascending */
+            size_t hi = n; /* rods hi .. n-1 reach t across the end */
+            while (hi > t + 1 && pair_distance(r, hi - 1, t, 1) < range)
+                --hi;
+            for (size_t i = hi; i < n; ++i)
+                acc += hsbd_pair_force(&r->par.pair, pair_distance(r, i, t, 1));
+        }
+        r->fpair[t] = acc;
+    }
+}
+
 /* mixtures: each species' mu dt and noise amplitude sqrt(2 D dt) for the current dt */
 static void species_step_factors(hsbd_rods *r) {
     for (size_t k = 0; k < r->par.nspecies; ++k) {
@@ -297,42 +345,61 @@ static void species_step_factors(hsbd_rods *r) {
     }
 }
 
-/* y_i = z_i + mu_i dt F_i + sqrt(2 D_i dt) N_i: the free end point of Eq. (10), i.e.
- * z_i + mu_i F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28). */
-static void compute_endpoints(hsbd_rods *r) {
-    const size_t n = r->par.n;
+/* The free end points of rods i0 .. i0 + STEP_CHUNK - 1 (see compute_endpoints). */
+static void endpoints_chunk(const hsbd_rods *r, const hsbd_field *field, size_t i0) {
+    const size_t n = r->par.n, m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
     const double mu_dt = r->mobility * r->par.dt;
     const double noise = sqrt(2.0 * r->par.diffusion * r->par.dt);
     const int has_field = r->par.field.nterms > 0, has_pair = r->fpair != NULL;
-    if (has_pair) compute_pair_forces(r);
-    if (r->species) species_step_factors(r);
     double x[STEP_CHUNK], f[STEP_CHUNK], g[STEP_CHUNK];
-    for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK) {
-        const size_t m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
-        const double *restrict z = r->z + i0;
-        double *restrict y = r->y + i0;
-        hsbd_rng_normals(r->par.seed, HSBD_STREAM_NOISE, r->step, i0, m, g);
-        if (has_field || has_pair) {
+    const double *restrict z = r->z + i0;
+    double *restrict y = r->y + i0;
+    hsbd_rng_normals(r->par.seed, HSBD_STREAM_NOISE, r->step, i0, m, g);
+    if (has_field || has_pair) {
+        for (size_t j = 0; j < m; ++j)
+            x[j] = z[j] + r->offset[i0 + j];
+        hsbd_field_force(field, m, x, f);
+        if (has_pair)
             for (size_t j = 0; j < m; ++j)
-                x[j] = z[j] + r->offset[i0 + j];
-            hsbd_field_force(&r->par.field, m, x, f);
-            if (has_pair)
-                for (size_t j = 0; j < m; ++j)
-                    f[j] += r->fpair[i0 + j];
-        } else if (r->species) {
-            memset(f, 0, m * sizeof *f);
-        }
-        if (r->species) {
-            const int *sp = r->species + i0;
-            for (size_t j = 0; j < m; ++j)
-                y[j] = z[j] + r->sp_mu_dt[sp[j]] * f[j] + r->sp_noise[sp[j]] * g[j];
-        } else if (has_field || has_pair) {
-            for (size_t j = 0; j < m; ++j)
-                y[j] = z[j] + mu_dt * f[j] + noise * g[j];
-        } else {
-            for (size_t j = 0; j < m; ++j)
-                y[j] = z[j] + noise * g[j];
-        }
+                f[j] += r->fpair[i0 + j];
+    } else if (r->species) {
+        memset(f, 0, m * sizeof *f);
+    }
+    if (r->species) {
+        const int *sp = r->species + i0;
+        for (size_t j = 0; j < m; ++j)
+            y[j] = z[j] + r->sp_mu_dt[sp[j]] * f[j] + r->sp_noise[sp[j]] * g[j];
+    } else if (has_field || has_pair) {
+        for (size_t j = 0; j < m; ++j)
+            y[j] = z[j] + mu_dt * f[j] + noise * g[j];
+    } else {
+        for (size_t j = 0; j < m; ++j)
+            y[j] = z[j] + noise * g[j];
+    }
+}
+
+/* y_i = z_i + mu_i dt F_i + sqrt(2 D_i dt) N_i: the free end point of Eq. (10), i.e.
+ * z_i + mu_i F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28).
+ * Chunks of rods are independent (each rod's noise is its own Philox counter): threads
+ * share them out without changing a bit; one thread enters no parallel region. */
+static void compute_endpoints(hsbd_rods *r) {
+    const size_t n = r->par.n;
+    const int threads = step_threads(r, n);
+    if (r->fpair && threads > 1)
+        gather_pair_forces(r, threads);
+    else if (r->fpair)
+        compute_pair_forces(r);
+    if (r->species) species_step_factors(r);
+    hsbd_field now; /* a driven field at the step's start, frozen over the step */
+    const hsbd_field *field = hsbd_field_at(&r->par.field, r->time, &now);
+    if (threads > 1) {
+        const long nchunks = (long)((n + STEP_CHUNK - 1) / STEP_CHUNK);
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (long c = 0; c < nchunks; ++c)
+            endpoints_chunk(r, field, (size_t)c * STEP_CHUNK);
+    } else {
+        for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK)
+            endpoints_chunk(r, field, i0);
     }
 }
 
@@ -396,15 +463,66 @@ static void recenter(hsbd_rods *r) {
  * variance 2 d_rel dt (d_rel: relative diffusion), drawn with the uniform u:
  * P(min < m) = exp(-(g0 - m)(g1 - m) / (d_rel dt)). Returns the push -m > 0 that reflects
  * the gap at zero (Skorokhod; design note 7), or 0. */
-static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed,
-                                 uint64_t step, size_t gap) {
-    /* crossing probability exp(-g0 g1 / (d_rel dt)) < 2e-9 otherwise */
-    if (g1 > 0 && g0 * g1 > 20.0 * d_rel_dt) return 0.0;
-    double u;
-    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, gap, 1, &u);
+/* a gap may have touched zero: its crossing probability exp(-g0 g1 / (d_rel dt)) is not
+ * below 2e-9 */
+static inline int bridge_may_cross(double g0, double g1, double d_rel_dt) {
+    return !(g1 > 0) | !(g0 * g1 > 20.0 * d_rel_dt); /* no branch: | evaluates both */
+}
+
+/* the push of a gap that may cross, with its uniform u: -m when the minimum m < 0, else
+ * +0.0, selected by a mask (the same bits as the branch, without its mispredictions) */
+static inline double bridge_push_with(double g0, double g1, double d_rel_dt, double u) {
     const double d = g1 - g0;
     const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));
-    return m < 0 ? -m : 0.0;
+    const double neg = -m;
+    uint64_t bits;
+    memcpy(&bits, &neg, sizeof bits);
+    bits &= -(uint64_t)(m < 0);
+    double push;
+    memcpy(&push, &bits, sizeof push);
+    return push;
+}
+
+static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed,
+                                 uint64_t step, size_t gap) {
+    if (!bridge_may_cross(g0, g1, d_rel_dt)) return 0.0;
+    double u;
+    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, gap, 1, &u);
+    return bridge_push_with(g0, g1, d_rel_dt, u);
+}
+
+enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pairs align */
+
+/* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in three
+ * passes that give the same bits as bridge_push gap by gap: the gaps that may cross
+ * collected without branches, their uniforms (four Philox counters at a time with AVX2: a
+ * gap's number depends only on its index, hsbd/rng.h), then their bridge minima (scalar
+ * libm log and sqrt). */
+static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
+                           double *restrict push) {
+    double u[GAP_CHUNK], g0[GAP_CHUNK], g1[GAP_CHUNK], d[GAP_CHUNK];
+    unsigned idx[GAP_CHUNK];
+    const double *restrict z = r->z + first, *restrict y = r->y + first;
+    const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
+    size_t count = 0;
+    if (r->species)
+        for (size_t j = 0; j < m; ++j)
+            d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
+    else
+        for (size_t j = 0; j < m; ++j)
+            d[j] = d_one;
+    for (size_t j = 0; j < m; ++j) {
+        g0[j] = z[j + 1] - z[j];
+        g1[j] = y[j + 1] - y[j];
+        push[j] = 0.0;
+        idx[count] = (unsigned)j;
+        count += (size_t)bridge_may_cross(g0[j], g1[j], d[j]);
+    }
+    hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
+    for (size_t k = 0; k < count; ++k) {
+        const size_t j = idx[k];
+        push[j] = bridge_push_with(g0[j], g1[j], d[j], u[k]);
+    }
 }
 
 /* The part of a gap's push that rod i takes: mu_i / (mu_i + mu_nb) against rod nb, all of
@@ -416,6 +534,22 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
     return mi / (mi + rod_mobility(r, nb));
 }
 
+/* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at the last one, n - 2), in
+ * batches of GAP_CHUNK from lo. */
+static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt) {
+    if (hi > r->par.n - 1) hi = r->par.n - 1;
+    for (size_t first = lo; first < hi; first += GAP_CHUNK)
+        push_gap_batch(r, first, hi - first < GAP_CHUNK ? hi - first : GAP_CHUNK, kt_dt,
+                       r->push + first);
+}
+
+/* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push. */
+static void take_half_pushes(hsbd_rods *r, size_t lo, size_t hi) {
+    const double *y = r->y, *push = r->push;
+    for (size_t i = lo; i < hi; ++i)
+        r->ypush[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
+}
+
 /* Reflect rule: for every gap that may have touched zero during the step, draw the
  * minimum of its Brownian bridge; a crossing reflects the gap (exact for an isolated pair,
  * any dt and constant force). Rod-rod gaps have relative diffusion D_i + D_{i+1}, and the
@@ -425,14 +559,29 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
 static void reflect_gaps(hsbd_rods *r) {
     const size_t n = r->par.n;
     const double kt_dt = r->par.kT * r->par.dt, lf = r->free_length;
-    const double d_rel_dt_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
     const uint64_t seed = r->par.seed, step = r->step;
     const double *z = r->z, *y = r->y;
     double *push = r->push;
-    for (size_t i = 0; i + 1 < n; ++i) {
-        const double d_rel_dt =
-            r->species ? (rod_mobility(r, i) + rod_mobility(r, i + 1)) * kt_dt : d_rel_dt_one;
-        push[i] = bridge_push(z[i + 1] - z[i], y[i + 1] - y[i], d_rel_dt, seed, step, i);
+    /* interior rods of one species take half of each neighbouring push */
+    const size_t first_general = r->species ? n : 1;
+    const int threads = step_threads(r, n);
+    if (threads > 1) { /* one parallel region, a barrier between pushes and their use */
+        const long nbatches = (long)((n - 1 + GAP_CHUNK - 1) / GAP_CHUNK);
+#pragma omp parallel num_threads(threads)
+        {
+#pragma omp for schedule(static)
+            for (long b = 0; b < nbatches; ++b)
+                push_gap_batches(r, (size_t)b * GAP_CHUNK, (size_t)(b + 1) * GAP_CHUNK, kt_dt);
+#pragma omp for schedule(static)
+            for (long b = 0; b < nbatches; ++b) {
+                const size_t lo = (size_t)b * GAP_CHUNK, hi = lo + GAP_CHUNK;
+                take_half_pushes(r, lo > first_general ? lo : first_general,
+                                 hi < n - 1 ? hi : n - 1);
+            }
+        }
+    } else {
+        push_gap_batches(r, 0, n - 1, kt_dt);
+        take_half_pushes(r, first_general, n - 1);
     }
     if (r->walls) { /* the rod's own D against each wall */
         const double d_last = rod_mobility(r, n - 1) * kt_dt, d_first = rod_mobility(r, 0) * kt_dt;
@@ -445,10 +594,6 @@ static void reflect_gaps(hsbd_rods *r) {
                             : 0.0;
         push[n] = 0.0;
     }
-    /* interior rods of one species take half of each neighbouring push */
-    const size_t first_general = r->species ? n : 1;
-    for (size_t i = first_general; i + 1 < n; ++i)
-        r->ypush[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
     for (size_t i = 0; i < n; ++i) {
         if (i >= first_general && i + 1 < n) continue;
         const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;

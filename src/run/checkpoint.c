@@ -50,8 +50,13 @@ static void save_run(const run *r, hsbd_writer *w) {
     hsbd_put_tag(w, "streams");
     hsbd_put_u64(w, r->nstreams);
     for (size_t k = 0; k < r->nstreams; ++k) {
-        hsbd_put_string(w, r->streams[k].name);
-        hsbd_put_i64(w, r->streams[k].committed);
+        const run_stream *s = &r->streams[k];
+        hsbd_put_string(w, s->name);
+        hsbd_put_i64(w, s->committed);
+        if (!s->is_gsd) continue;
+        const uint64_t layout[4] = {s->gsd.index_location, s->gsd.index_capacity, s->gsd.entries,
+                                    s->gsd.frames};
+        hsbd_put_u64s(w, layout, 4);
     }
 }
 
@@ -288,6 +293,12 @@ int run_checkpoint_load_run(run *r, hsbd_reader *rd) {
             return -1;
         if (strcmp(name, r->streams[k].name) || r->streams[k].committed < 0)
             return hsbd_reader_fail(rd, "another stream file");
+        hsbd_gsd *g = &r->streams[k].gsd;
+        uint64_t layout[4];
+        if (!r->streams[k].is_gsd) continue;
+        if (hsbd_get_u64s(rd, layout, 4)) return -1;
+        g->index_location = layout[0], g->index_capacity = layout[1];
+        g->entries = layout[2], g->frames = layout[3];
     }
     return 0;
 }

@@ -4,6 +4,19 @@
 #include "hsbd/table.h"
 #include "run/run.h"
 
+/* The configuration's drive on `term` when drive.parameter is one of its parameters
+ * (strength_key or position_key), else the term unchanged. */
+static hsbd_field_term driven(const hsbd_config *cfg, hsbd_field_term term, int strength_key,
+                              int position_key) {
+    const int p = cfg->drive.parameter;
+    if (p == HSBD_DRIVE_NONE || (p != strength_key && p != position_key)) return term;
+    const double omega = cfg->drive.period > 0 ? 2 * 3.141592653589793 / cfg->drive.period : 0;
+    hsbd_field_term_drive(&term, p == strength_key ? HSBD_DRIVE_STRENGTH : HSBD_DRIVE_POSITION,
+                          cfg->drive.wave, cfg->drive.amplitude, omega, cfg->drive.phase,
+                          cfg->drive.velocity);
+    return term;
+}
+
 /* Field terms from the configuration (field.type is a sum) along a line of length L,
  * periodic or between walls (run.h). A table is loaded; between
  * walls it must cover the box [0, L] (natural spline); on a ring it must span exactly one
@@ -14,10 +27,15 @@ int run_build_field(const hsbd_config *cfg, double L, int periodic, const char *
     const int t = cfg->field.type;
     const double period = periodic ? L : 0.0;
     if (t & HSBD_FIELD_COSINE)
-        hsbd_field_add(field, hsbd_field_cosine(cfg->field.amplitude, cfg->field.wavelength));
-    if (t & HSBD_FIELD_TILT) hsbd_field_add(field, hsbd_field_tilt(cfg->field.force));
+        hsbd_field_add(field,
+                       driven(cfg, hsbd_field_cosine(cfg->field.amplitude, cfg->field.wavelength),
+                              HSBD_DRIVE_AMPLITUDE, HSBD_DRIVE_SHIFT));
+    if (t & HSBD_FIELD_TILT)
+        hsbd_field_add(field, driven(cfg, hsbd_field_tilt(cfg->field.force), HSBD_DRIVE_FORCE, -1));
     if (t & HSBD_FIELD_HARMONIC)
-        hsbd_field_add(field, hsbd_field_harmonic(cfg->field.stiffness, cfg->field.center, period));
+        hsbd_field_add(
+            field, driven(cfg, hsbd_field_harmonic(cfg->field.stiffness, cfg->field.center, period),
+                          HSBD_DRIVE_STIFFNESS, HSBD_DRIVE_CENTER));
     if (t & HSBD_FIELD_TABLE) {
         *table = hsbd_table_load(cfg->field.table, err);
         if (!*table) return err->status;

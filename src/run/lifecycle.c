@@ -40,6 +40,18 @@ int run_stream_check(const run_stream *s, hsbd_error *err) {
     return hsbd_error_set(err, HSBD_EIO, "writing '%s' failed: %s", s->file.tmp, strerror(errno));
 }
 
+int run_add_trajectory(run *r, run_action write, void *ctx, run_stream **s, hsbd_error *err) {
+    const hsbd_config *cfg = r->cfg;
+    *s = NULL;
+    if (cfg->output.trajectory == HSBD_TRAJ_NONE) return HSBD_OK;
+    const int gsd = cfg->output.trajectory == HSBD_TRAJ_GSD;
+    *s = run_add_stream(r, gsd ? "trajectory.gsd" : "trajectory.xyz", err);
+    if (!*s) return err->status;
+    (*s)->is_gsd = gsd;
+    return run_add_op(r, "trajectory", run_every(cfg, cfg->output.trajectory_every), write, ctx,
+                      err);
+}
+
 uint64_t run_every(const hsbd_config *cfg, double period) {
     return period > 0 ? (uint64_t)fmax(1.0, round(period / cfg->run.dt)) : 0;
 }
@@ -84,6 +96,10 @@ static void enter_equilibration(run *r) {
     r->stage = RUN_EQUILIBRATING;
     r->stage_steps = 0;
     if (r->model.equilibration_dt) r->model.equilibration_dt(r, 1);
+}
+
+void run_begin(run *r) {
+    enter_equilibration(r);
 }
 
 static void leave_equilibration(run *r) {
@@ -134,9 +150,10 @@ static void account(run *r, stage_clock *t) {
 }
 
 /* The loop: equilibration, then production with its operations, replicas and
- * checkpoints, until done, stopped or failed. Resumable: it continues from whatever
- * stage and counters the run holds (a fresh run or one loaded from a checkpoint). */
-static int run_loop(run *r, hsbd_error *err) {
+ * checkpoints, until done, stopped, failed or `budget` steps are taken. Resumable: it
+ * continues from whatever stage and counters the run holds (a fresh run, one loaded from
+ * a checkpoint, one advanced step by step through hsbd_sim). */
+static int run_loop(run *r, uint64_t budget, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     const uint64_t nprod = hsbd_config_steps(cfg), nequil = hsbd_config_equil_steps(cfg);
     checkpoint_clock ck = {.enabled = r->model.save != NULL && cfg->output.checkpoints,
@@ -146,7 +163,7 @@ static int run_loop(run *r, hsbd_error *err) {
     int shown = -1;
     stage_clock clock = {hsbd_wall_seconds(), cpu_seconds()};
     int rc = HSBD_OK;
-    for (uint64_t iter = 0; rc == HSBD_OK && r->stage != RUN_DONE; ++iter) {
+    for (uint64_t iter = 0, taken = 0; rc == HSBD_OK && r->stage != RUN_DONE; ++iter) {
         if (shown != r->stage) { /* a progress line per stage */
             if (shown >= 0) hsbd_progress_end(&pr);
             hsbd_progress_start(&pr, r->opt->progress,
@@ -172,6 +189,7 @@ static int run_loop(run *r, hsbd_error *err) {
             enter_equilibration(r);
             continue;
         }
+        if (taken++ == budget) break;
         rc = r->model.step(r, err);
         if (rc != HSBD_OK) break;
         if (equilibrating)
@@ -198,6 +216,10 @@ static int run_loop(run *r, hsbd_error *err) {
     /* a stopped or finished run leaves a checkpoint to continue or extend from */
     if (rc == HSBD_OK && ck.enabled) rc = take_checkpoint(r, &ck, err);
     return rc;
+}
+
+int run_advance(run *r, uint64_t steps, hsbd_error *err) {
+    return run_loop(r, steps, err);
 }
 
 void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
@@ -248,6 +270,7 @@ static void release(run *r) {
             fclose(o->f), o->f = NULL;
         else
             hsbd_outfile_discard(o);
+        hsbd_gsd_free(&r->streams[k].gsd);
     }
     if (r->model.release) r->model.release(r);
 }
@@ -258,6 +281,8 @@ static int open_streams(run *r, hsbd_error *err) {
         if (hsbd_outfile_open(&s->file, r->cfg->output.dir, s->name, err) != HSBD_OK)
             return err->status;
         if (s->header) s->header(r, s->file.f);
+        if (s->is_gsd && hsbd_gsd_start(&s->gsd, s->file.f, s->file.tmp, err) != HSBD_OK)
+            return err->status;
     }
     return HSBD_OK;
 }
@@ -292,8 +317,8 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
     if (rc == HSBD_OK) {
         record_inputs(&r);
         r.started = 1;
-        enter_equilibration(&r);
-        rc = finish(&r, run_loop(&r, err), err);
+        run_begin(&r);
+        rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     release(&r);
     return rc;
@@ -375,6 +400,9 @@ static int reopen_streams(run *r, hsbd_error *err) {
         run_stream *s = &r->streams[k];
         if (hsbd_outfile_reopen(&s->file, r->cfg->output.dir, s->name, s->committed, err) !=
             HSBD_OK)
+            return err->status;
+        if (s->is_gsd &&
+            hsbd_gsd_continue(&s->gsd, s->file.f, s->file.tmp, s->committed, err) != HSBD_OK)
             return err->status;
     }
     return HSBD_OK;
@@ -514,6 +542,20 @@ int run_checkpoint_try_load(const char *dir, hsbd_error *err) {
     return rc;
 }
 
+/* summary.json, written last, says the run's results are all committed (a run stopped
+ * after its final checkpoint but before its results, e.g. by kill -9, has none or an old
+ * one: resuming it writes them). */
+static int results_written(const char *dir) {
+    char path[HSBD_PATH_MAX + 16], line[256];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    FILE *f = fopen(path, "r");
+    int done = 0;
+    while (f && !done && fgets(line, sizeof line, f))
+        done = strstr(line, "\"completed\": true") != NULL;
+    if (f) fclose(f);
+    return done;
+}
+
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
                 hsbd_error *err) {
     hsbd_error_clear(err);
@@ -522,18 +564,20 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     run r = {.opt = opt};
     resumed_source rs = {0};
     int rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
-    if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg))
+    if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg) &&
+        results_written(dir))
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: the run in '%s' is complete (%llu of %llu steps); to "
                             "extend it: --set run.t_total=T with T > %g",
                             dir, (unsigned long long)r.steps_done,
                             (unsigned long long)hsbd_config_steps(cfg), cfg->run.t_total);
-    if (rc == HSBD_OK && r.stage == RUN_DONE) r.stage = RUN_PRODUCING; /* extended */
+    if (rc == HSBD_OK && r.stage == RUN_DONE) /* extended, or its results unwritten */
+        r.stage = RUN_PRODUCING;
     if (rc == HSBD_OK) rc = reopen_streams(&r, err);
     if (rc == HSBD_OK) {
         r.resumes += 1;
         r.started = 1;
-        rc = finish(&r, run_loop(&r, err), err);
+        rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     unload(&r, cfg, &rs);
     return rc;

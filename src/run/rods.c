@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/threads.h"
 #include "core/vmath.h"
 #include "hsbd/io.h"
 #include "hsbd/observe.h"
@@ -28,6 +29,11 @@ typedef struct rods_model {
     hsbd_contacts *contacts;                 /* contacts per species pair, at walls */
     int *species;                            /* mixtures: species of each rod, line order */
     hsbd_clusters *clusters;
+    hsbd_drift *drift; /* mean velocity, D_eff of tagged rods and of the centre of mass */
+    double *drift_x;   /* its scratch: N unwrapped positions */
+    hsbd_profile **phase_profile; /* sample.phases: one density profile per phase bin */
+    hsbd_blocks *trap; /* field.type with harmonic: X - c(t) and its square at the samples */
+    double *trap_rows; /* its block means, for the summary (2 per block) */
     hsbd_rods_step_stats stats; /* of the last step, when it is sampled */
     run_stream *trajectory, *current;
     double sum_x_start, sum_x_last_current; /* for the particle current */
@@ -93,11 +99,12 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
         .diffusion = cfg->system.diffusion,
         .kT = cfg->system.kT,
         .dt = cfg->run.dt,
-        .seed = cfg->system.seed,
+        .seed = run_noise_seed(cfg),
         .hard_core = cfg->system.hard_core,
         .contact_rule = cfg->system.contact_rule,
         .boundary =
             cfg->system.boundary == HSBD_BOUNDARY_WALLS ? HSBD_RODS_WALLS : HSBD_RODS_PERIODIC,
+        .threads = cfg->run.threads > 0 ? (int)cfg->run.threads : hsbd_threads_available(),
     };
     return p;
 }
@@ -160,7 +167,7 @@ static int arrange_species(const hsbd_config *cfg, rods_model *m, hsbd_rods_para
     for (size_t k = 0; k < cfg->species.n; ++k)
         for (int64_t c = 0; c < cfg->species.count[k]; ++c)
             m->species[i++] = (int)k;
-    hsbd_rng_uniforms(cfg->system.seed, HSBD_STREAM_INIT, 3, 0, n, u);
+    hsbd_rng_uniforms(run_noise_seed(cfg), HSBD_STREAM_INIT, 3, 0, n, u);
     for (size_t k = n; k-- > 1;) {
         size_t j = (size_t)(u[k] * (double)(k + 1));
         if (j > k) j = k;
@@ -229,6 +236,33 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
 
 /* ---- observers and their operations ----------------------------------------------------- */
 
+/* The centre of mass minus the harmonic trap's centre at the state's time (each rod's
+ * nearest image on a ring, as in the trap's force), and its square. */
+static void sample_trap(rods_model *m, const hsbd_rods_view *v) {
+    const hsbd_field *base = &hsbd_rods_get_params(m->rods)->field;
+    hsbd_field now;
+    const hsbd_field *field = hsbd_field_at(base, v->time, &now);
+    double center = NAN, e = 0;
+    for (size_t k = 0; k < field->nterms; ++k)
+        if (!strcmp(field->term[k].ops->name, "harmonic"))
+            center = field->term[k].p[field->term[k].ops->position - 1];
+    for (size_t i = 0; i < v->n; ++i) { /* each rod's nearest image, as the trap's force */
+        const double d = v->z[i] + v->offset[i] + v->unwrap - center;
+        e += v->periodic ? d - v->length * floor(d / v->length + 0.5) : d;
+    }
+    e /= (double)v->n;
+    double *acc = hsbd_blocks_acc(m->trap);
+    acc[0] += e, acc[1] += e * e;
+    hsbd_blocks_end_sample(m->trap);
+}
+
+/* sample.phases: the bin of t mod drive.period, K bins of the period (stroboscopic) */
+static size_t phase_bin(const hsbd_config *cfg, double t) {
+    const double period = cfg->drive.period, phase = t / period - floor(t / period);
+    const size_t k = (size_t)(phase * (double)cfg->sample.phases);
+    return k < (size_t)cfg->sample.phases ? k : (size_t)cfg->sample.phases - 1;
+}
+
 static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
     rods_model *m = ctx;
     const hsbd_config *cfg = r->cfg;
@@ -236,12 +270,17 @@ static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
     if (hsbd_profile_sample(m->profile, &v) != HSBD_OK)
         return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the profiles");
     hsbd_msd_sample(m->msd, &v);
+    if (m->trap) sample_trap(m, &v);
+    if (hsbd_drift_sample(m->drift, &v, m->drift_x) != HSBD_OK)
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the drift");
     for (size_t q = 0; q < cfg->species.n; ++q)
         hsbd_msd_sample(m->msd_species[q], &v);
     if (cfg->system.hard_core) {
         hsbd_contacts_sample(m->contacts, &v);
         hsbd_clusters_sample(m->clusters, m->rods, &m->stats);
     }
+    if (m->phase_profile && hsbd_profile_sample(m->phase_profile[phase_bin(cfg, v.time)], &v))
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory sampling the phase profiles");
     if (hsbd_profile_nonfinite(m->profile))
         return hsbd_error_set(err, HSBD_ENUMERIC,
                               "non-finite position after step %llu (time %g); check the "
@@ -253,7 +292,9 @@ static int sample_profiles(run *r, void *ctx, hsbd_error *err) {
 static int write_frame(run *r, void *ctx, hsbd_error *err) {
     rods_model *m = ctx;
     const hsbd_rods_view v = hsbd_rods_get_view(m->rods);
-    hsbd_xyz_write_rods(m->trajectory->file.f, &v, r->cfg->species.n ? r->cfg->species.name : NULL);
+    const char(*names)[HSBD_SPECIES_NAME] = r->cfg->species.n ? r->cfg->species.name : NULL;
+    if (m->trajectory->is_gsd) return hsbd_gsd_write_rods(&m->trajectory->gsd, &v, names, err);
+    hsbd_xyz_write_rods(m->trajectory->file.f, &v, names);
     return run_stream_check(m->trajectory, err);
 }
 
@@ -317,6 +358,25 @@ static int build_observers(const hsbd_config *cfg, rods_model *m, hsbd_error *er
         return err->status;
     m->clusters = hsbd_clusters_alloc(n, blocks, samples);
     if (!m->clusters) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    m->drift = hsbd_drift_alloc(n, blocks, samples, err);
+    if (!m->drift) return err->status;
+    m->drift_x = malloc(n * sizeof *m->drift_x);
+    if (!m->drift_x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    if ((cfg->field.type & HSBD_FIELD_HARMONIC) &&
+        (!(m->trap = hsbd_blocks_alloc(2, blocks, samples)) ||
+         !(m->trap_rows = malloc(2 * blocks * sizeof *m->trap_rows))))
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    const size_t phases = (size_t)cfg->sample.phases;
+    if (phases > 0) {
+        m->phase_profile = calloc(phases, sizeof *m->phase_profile);
+        if (!m->phase_profile) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        for (size_t k = 0; k < phases; ++k) {
+            m->phase_profile[k] =
+                hsbd_profile_alloc(cfg->sample.period, cfg->sample.bin_width,
+                                   cfg->sample.contact_width, blocks, samples / phases + 1, err);
+            if (!m->phase_profile[k]) return err->status;
+        }
+    }
     if (cfg->system.hard_core) {
         m->contacts = hsbd_contacts_alloc(n, cfg->species.n, blocks, samples, err);
         if (!m->contacts) return err->status;
@@ -368,10 +428,13 @@ static void rods_start_production(run *r) {
 static int rods_start_replica(run *r, size_t k, hsbd_error *err) {
     rods_model *m = model_of(r);
     m->displacement_before += sum_unwrapped(m->rods) - m->sum_x_start;
-    int rc = HSBD_OK;
-    if (m->x_start)
+    const hsbd_rods_view end = hsbd_rods_get_view(m->rods); /* the last replica's end */
+    int rc = hsbd_drift_close(m->drift, &end, m->drift_x) == HSBD_OK
+                 ? HSBD_OK
+                 : hsbd_error_set(err, HSBD_ENOMEM, "out of memory closing a drift block");
+    if (rc == HSBD_OK && m->x_start)
         rc = hsbd_rods_set_positions(m->rods, m->x_start, err);
-    else
+    else if (rc == HSBD_OK)
         hsbd_rods_init_equilibrium_draw(m->rods, k);
     hsbd_msd_restart(m->msd);
     for (size_t q = 0; q < r->cfg->species.n; ++q)
@@ -518,9 +581,37 @@ static int write_clusters(const run *r, const rods_model *m, hsbd_error *err) {
     return rc;
 }
 
+/* sample.phases: the density in each phase bin of the drive, one value/error pair each */
+static int write_phase_profiles(const run *r, const rods_model *m, hsbd_error *err) {
+    const size_t nb = hsbd_profile_bins(m->profile), phases = (size_t)r->cfg->sample.phases;
+    double *x = malloc(nb * sizeof *x), *val = malloc(2 * phases * nb * sizeof *val);
+    char *columns = malloc(phases * 48 + 8);
+    int rc = x && val && columns
+                 ? HSBD_OK
+                 : hsbd_error_set(err, HSBD_ENOMEM, "out of memory writing density_phases.tsv");
+    if (rc == HSBD_OK) {
+        strcpy(columns, "x");
+        for (size_t k = 0; k < phases; ++k) {
+            hsbd_profile_density(m->phase_profile[k], x, val + 2 * k * nb, val + (2 * k + 1) * nb);
+            sprintf(columns + strlen(columns), "\trho_%zu\trho_%zu_err", k, k);
+        }
+        char what[320];
+        snprintf(what, sizeof what,
+                 "density profile resolved by the drive's phase (stroboscopic): column rho_k "
+                 "holds the samples with t mod drive.period in [k, k+1) drive.period / %zu, "
+                 "folded into one sample.period and normalised to mean N/L; block errors",
+                 phases);
+        rc = hsbd_write_columns_table(r->cfg->output.dir, "density_phases.tsv", r->cfg, what,
+                                      columns, nb, x, phases, val, err);
+    }
+    free(x), free(val), free(columns);
+    return rc;
+}
+
 static int rods_write_tables(run *r, hsbd_error *err) {
     const rods_model *m = model_of(r);
     int rc = write_profiles(r, m, err);
+    if (rc == HSBD_OK && m->phase_profile) rc = write_phase_profiles(r, m, err);
     if (rc == HSBD_OK) rc = write_profile_blocks(r, m, err);
     if (rc == HSBD_OK) rc = write_msd(r, m, err);
     if (rc == HSBD_OK && r->cfg->system.hard_core) rc = write_clusters(r, m, err);
@@ -555,6 +646,46 @@ static void write_contacts_json(const run *r, const rods_model *m, FILE *f) {
     fprintf(f, "\n  },\n");
 }
 
+/* the mean velocity and D_eff (tagged, centre of mass) of the time blocks, the open block
+ * counted up to now; the current's error is the velocity's times N/L */
+static void write_drift_json(const rods_model *m, const hsbd_rods_view *v, FILE *f) {
+    for (size_t i = 0; i < v->n; ++i)
+        m->drift_x[i] = v->z[i] + v->offset[i] + v->unwrap;
+    hsbd_drift_result d;
+    hsbd_drift_get(m->drift, v->time, m->drift_x, &d);
+    hsbd_json_number(f, "particle_current_err", d.velocity_err * (double)v->n / v->length, 1);
+    hsbd_json_number(f, "mean_velocity", d.velocity, 1);
+    hsbd_json_number(f, "mean_velocity_err", d.velocity_err, 1);
+    hsbd_json_number(f, "d_eff_tagged", d.d_tagged, 1);
+    hsbd_json_number(f, "d_eff_tagged_err", d.d_tagged_err, 1);
+    hsbd_json_number(f, "d_eff_cm", d.d_cm, 1);
+    hsbd_json_number(f, "d_eff_cm_err", d.d_cm_err, 1);
+    hsbd_json_number(f, "drift_block_time", d.block_time, 1);
+}
+
+/* trap_offset: <X - c> of the centre of mass X and the trap centre c(t); trap_variance: the
+ * variance of X - c, per block about the overall mean (errors from the blocks' scatter) */
+static void write_trap_json(const rods_model *m, FILE *f) {
+    const size_t nb = hsbd_blocks_count(m->trap);
+    double mean[2], err[2], *rows = m->trap_rows;
+    hsbd_blocks_result(m->trap, mean, err);
+    hsbd_blocks_block_means(m->trap, 0, rows);
+    double var = NAN, var_err = NAN, s = 0, ss = 0;
+    size_t used = 0;
+    for (size_t k = 0; k < nb; ++k) {
+        const double vb = rows[2 * k + 1] - 2 * mean[0] * rows[2 * k] + mean[0] * mean[0];
+        if (isfinite(vb)) s += vb, ss += vb * vb, ++used;
+    }
+    if (used > 1) {
+        var = s / (double)used;
+        var_err = sqrt(fmax(ss / (double)used - var * var, 0) / (double)(used - 1));
+    }
+    hsbd_json_number(f, "trap_offset", mean[0], 1);
+    hsbd_json_number(f, "trap_offset_err", err[0], 1);
+    hsbd_json_number(f, "trap_variance", var, 1);
+    hsbd_json_number(f, "trap_variance_err", var_err, 1);
+}
+
 static void rods_write_summary(run *r, FILE *f) {
     const rods_model *m = model_of(r);
     const hsbd_config *cfg = r->cfg;
@@ -584,6 +715,8 @@ static void rods_write_summary(run *r, FILE *f) {
     hsbd_json_number(f, "min_gap", cfg->system.hard_core ? hsbd_profile_min_gap(m->profile) : NAN,
                      1);
     hsbd_json_number(f, "particle_current", current, 1);
+    write_drift_json(m, &v, f);
+    if (m->trap) write_trap_json(m, f);
     if (m->contacts && r->steps_done >= (uint64_t)cfg->sample.every) write_contacts_json(r, m, f);
     hsbd_json_number(f, "final_time", v.time, 1);
 }
@@ -602,6 +735,10 @@ static void rods_save(const run *r, hsbd_writer *w) {
     for (size_t q = 0; q < r->cfg->species.n; ++q)
         hsbd_msd_save(m->msd_species[q], w);
     hsbd_clusters_save(m->clusters, w);
+    hsbd_drift_save(m->drift, w);
+    if (m->trap) hsbd_blocks_save(m->trap, w);
+    for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
+        hsbd_profile_save(m->phase_profile[k], w);
     if (m->contacts) hsbd_contacts_save(m->contacts, w);
     if (m->x_start) hsbd_put_f64s(w, m->x_start, (size_t)r->cfg->system.n);
 }
@@ -616,10 +753,28 @@ static int rods_load(run *r, hsbd_reader *rd) {
     m->sum_x_start = sums[0], m->sum_x_last_current = sums[1], m->displacement_before = sums[2];
     for (size_t q = 0; q < r->cfg->species.n; ++q)
         if (hsbd_msd_load(m->msd_species[q], rd)) return -1;
-    if (hsbd_clusters_load(m->clusters, rd)) return -1;
+    if (hsbd_clusters_load(m->clusters, rd) || hsbd_drift_load(m->drift, rd)) return -1;
+    if (m->trap && hsbd_blocks_load(m->trap, rd)) return -1;
+    if (m->trap) { /* an extended run has more blocks */
+        double *rows = realloc(m->trap_rows, 2 * hsbd_blocks_count(m->trap) * sizeof *rows);
+        if (!rows) return hsbd_reader_oom(rd, "the trap's block means");
+        m->trap_rows = rows;
+    }
+    for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
+        if (hsbd_profile_load(m->phase_profile[k], rd)) return -1;
     if (m->contacts && hsbd_contacts_load(m->contacts, rd)) return -1;
     if (m->x_start && hsbd_get_f64s(rd, m->x_start, (size_t)r->cfg->system.n)) return -1;
     return 0;
+}
+
+static void rods_expose(const run *r, hsbd_sim_parts *p) {
+    const rods_model *m = model_of(r);
+    p->rods = m->rods;
+    p->species = m->species;
+    p->profile = m->profile;
+    p->msd = m->msd;
+    for (size_t q = 0; q < r->cfg->species.n; ++q)
+        p->msd_species[q] = m->msd_species[q];
 }
 
 static void rods_release(run *r) {
@@ -635,6 +790,13 @@ static void rods_release(run *r) {
     hsbd_contacts_free(m->contacts);
     free(m->species);
     hsbd_clusters_free(m->clusters);
+    hsbd_drift_free(m->drift);
+    hsbd_blocks_free(m->trap);
+    free(m->trap_rows);
+    free(m->drift_x);
+    for (size_t k = 0; m->phase_profile && k < (size_t)r->cfg->sample.phases; ++k)
+        hsbd_profile_free(m->phase_profile[k]);
+    free(m->phase_profile);
     free(m->x_start);
     free(m);
     r->m = NULL;
@@ -645,13 +807,7 @@ static void rods_release(run *r) {
 static int register_ops(run *r, rods_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     int rc = run_add_op(r, "sample", (uint64_t)cfg->sample.every, sample_profiles, m, err);
-    if (rc == HSBD_OK && cfg->output.trajectory == HSBD_TRAJ_XYZ) {
-        m->trajectory = run_add_stream(r, "trajectory.xyz", err);
-        rc = m->trajectory
-                 ? run_add_op(r, "trajectory", run_every(cfg, cfg->output.trajectory_every),
-                              write_frame, m, err)
-                 : err->status;
-    }
+    if (rc == HSBD_OK) rc = run_add_trajectory(r, write_frame, m, &m->trajectory, err);
     if (rc == HSBD_OK && cfg->sample.current_every > 0) {
         m->current = run_add_stream(r, "current.tsv", err);
         if (m->current) m->current->header = current_header;
@@ -678,6 +834,7 @@ int run_rods_build(run *r, hsbd_error *err) {
                            .load = rods_load,
                            .write_tables = rods_write_tables,
                            .write_summary = rods_write_summary,
+                           .expose = rods_expose,
                            .release = rods_release};
     int rc = build_system(r, m, err);
     if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);

@@ -15,6 +15,7 @@
 #include "hsbd/field.h"
 #include "hsbd/io.h"
 #include "hsbd/run.h"
+#include "hsbd/sim.h"
 
 typedef struct run run;
 
@@ -36,6 +37,9 @@ typedef struct run_stream {
     int64_t committed; /* bytes on disk at the last checkpoint */
     /* writes the file's header when a run opens it (may be NULL) */
     void (*header)(const struct run *r, FILE *f);
+    /* a GSD file (also written in place: its index layout goes into checkpoints) */
+    int is_gsd;
+    hsbd_gsd gsd;
 } run_stream;
 
 /* What a model provides. Every function gets the run; the model's own state is r->m. */
@@ -61,6 +65,8 @@ typedef struct run_model {
     int (*load)(run *r, hsbd_reader *rd);
     /* final tables and the model's part of summary.json */
     int (*write_tables)(run *r, hsbd_error *err);
+    /* the state and observers, for hsbd_sim */
+    void (*expose)(const run *r, hsbd_sim_parts *parts);
     void (*write_summary)(run *r, FILE *f);
     void (*release)(run *r);
 } run_model;
@@ -108,6 +114,9 @@ int run_add_op(run *r, const char *name, uint64_t every, run_action act, void *c
 run_stream *run_add_stream(run *r, const char *name, hsbd_error *err);
 /* After writing to a stream: HSBD_EIO naming its file when a write failed (disk full). */
 int run_stream_check(const run_stream *s, hsbd_error *err);
+/* output.trajectory: the stream trajectory.xyz or trajectory.gsd and the operation `write`
+ * that adds a frame every output.trajectory_every; *s stays NULL without a trajectory. */
+int run_add_trajectory(run *r, run_action write, void *ctx, run_stream **s, hsbd_error *err);
 /* Steps between calls for a period of simulated time (at least 1); 0 for period 0. */
 uint64_t run_every(const hsbd_config *cfg, double period);
 
@@ -120,8 +129,22 @@ int run_build_field(const hsbd_config *cfg, double L, int periodic, const char *
 int run_rods_build(run *r, hsbd_error *err);
 int run_spheres_build(run *r, hsbd_error *err);
 
+/* A built run enters its first equilibration. */
+void run_begin(run *r);
+/* At most `steps` more steps of the run (equilibration, production with its operations,
+ * replicas), fewer when it ends; the lifecycle's own loop, as hsbd_run runs it. */
+int run_advance(run *r, uint64_t steps, hsbd_error *err);
+
 /* The common fields of summary.json (program, version, completion, steps, timings); the
  * model then adds its own. */
 void run_write_summary_head(const run *r, FILE *f, const char *stop_reason);
+
+/* Ensembles (src/run/ensemble.c, merge.c): the noise key of this run (system.seed mixed
+ * with run.replica), replica k's directory under an ensemble's, and the merge of the
+ * replicas' run directories into out (prepared first, after every check, when asked). */
+uint64_t run_noise_seed(const hsbd_config *cfg);
+int run_replica_dir(const char *dir, size_t k, char *out, size_t len, hsbd_error *err);
+int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int prepare,
+                   int force, hsbd_error *err);
 
 #endif

@@ -143,7 +143,7 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .diffusion = cfg->system.diffusion,
                              .kT = cfg->system.kT,
                              .dt = cfg->run.dt,
-                             .seed = cfg->system.seed,
+                             .seed = run_noise_seed(cfg),
                              .hard_core = cfg->system.hard_core,
                              .shell = cfg->system.shell,
                              .nspecies = cfg->species.n,
@@ -265,8 +265,9 @@ static int sample_gr(run *r, void *ctx, hsbd_error *err) {
 static int write_frame(run *r, void *ctx, hsbd_error *err) {
     spheres_model *m = ctx;
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
-    FILE *f = m->trajectory->file.f;
-    hsbd_xyz_write_spheres(f, &v, r->cfg->species.n ? r->cfg->species.name : NULL);
+    const char(*names)[HSBD_SPECIES_NAME] = r->cfg->species.n ? r->cfg->species.name : NULL;
+    if (m->trajectory->is_gsd) return hsbd_gsd_write_spheres(&m->trajectory->gsd, &v, names, err);
+    hsbd_xyz_write_spheres(m->trajectory->file.f, &v, names);
     return run_stream_check(m->trajectory, err);
 }
 
@@ -571,18 +572,21 @@ static void spheres_release(run *r) {
     r->m = NULL;
 }
 
+static void spheres_expose(const run *r, hsbd_sim_parts *p) {
+    const spheres_model *m = model_of(r);
+    p->spheres = m->sys;
+    p->msd = m->msd;
+    for (size_t q = 0; q < r->cfg->species.n; ++q)
+        p->msd_species[q] = m->msd_species[q];
+    p->gr = m->gr;
+}
+
 static int register_ops(run *r, spheres_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     int rc = run_add_op(r, "sample", (uint64_t)cfg->sample.every, sample_virial_msd, m, err);
     if (rc == HSBD_OK && m->gr)
         rc = run_add_op(r, "g(r)", (uint64_t)cfg->sample.gr_every, sample_gr, m, err);
-    if (rc == HSBD_OK && cfg->output.trajectory == HSBD_TRAJ_XYZ) {
-        m->trajectory = run_add_stream(r, "trajectory.xyz", err);
-        rc = m->trajectory
-                 ? run_add_op(r, "trajectory", run_every(cfg, cfg->output.trajectory_every),
-                              write_frame, m, err)
-                 : err->status;
-    }
+    if (rc == HSBD_OK) rc = run_add_trajectory(r, write_frame, m, &m->trajectory, err);
     return rc;
 }
 
@@ -599,6 +603,7 @@ int run_spheres_build(run *r, hsbd_error *err) {
                            .load = spheres_load,
                            .write_tables = spheres_write_tables,
                            .write_summary = spheres_write_summary,
+                           .expose = spheres_expose,
                            .release = spheres_release};
     int rc = build_system(r, m, err);
     if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);

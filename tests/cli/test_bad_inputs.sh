@@ -160,6 +160,19 @@ bad_case config-directory "cannot read configuration file 'cfgdir': Is a directo
 bad_case config-missing "cannot read configuration file 'nosuch.ini': No such file" -- run nosuch.ini
 bad_case no-config "no configuration file given; --defaults" -- run
 bad_case defaults-and-file "--defaults runs without a configuration file" -- run good.ini --defaults
+# drives that make no sense: the file, line and key named
+rods_ini '[drive]' 'parameter = force' 'wave = cosine' 'amplitude = 2' 'period = 1' >drive-absent.ini
+bad_case drive-absent-term "drive-absent.ini:16: drive.parameter" "the tilt term, which field.type does not have" -- run drive-absent.ini
+rods_ini '[drive]' 'parameter = amplitude' 'wave = square' 'amplitude = 2' 'period = 1e-4' >drive-period.ini
+bad_case drive-short-period "drive-period.ini:19: drive.period" "allowed: drive.period >= the time step 0.001" -- run drive-period.ini
+bad_case drive-dt-equil "drive.period = 0.002" "time step 0.01 (run.dt, run.dt_equil)" -- run drive-period.ini --set drive.period=2e-3 --set run.dt_equil=1e-2
+bad_case drive-nothing "drive.velocity is set, but drive.parameter = none drives nothing" -- run good.ini --set drive.velocity=1
+bad_case drive-no-change "neither drive.wave nor drive.velocity changes it" -- run good.ini --set drive.parameter=shift
+bad_case drive-period-without-wave "drive.period is set, but drive.wave = none" -- run good.ini --set drive.parameter=shift --set drive.velocity=1 --set drive.period=2
+bad_case drive-zero-amplitude "drive.amplitude = 0 with drive.wave set changes nothing" -- run good.ini --set drive.parameter=amplitude --set drive.wave=cosine --set drive.period=2
+bad_case drive-wave-name "drive.wave" "one of none|cosine|square" -- run good.ini --set drive.wave=sawtooth
+bad_case phases-without-drive "sample.phases = 4 needs a periodic drive" -- run good.ini --set sample.phases=4
+bad_case phases-range "sample.phases" "0 <= phases <= 100" -- run good.ini --set sample.phases=101
 in_system "$(printf 'N = 2\001 0')" >ctrl.ini
 bad_case control-character "ctrl.ini:2:" "control character 0x01" -- run ctrl.ini
 { echo '[system]'; printf 'N = 2\0 0\n'; rods_ini | tail -n +2; } >nul.ini
@@ -423,7 +436,10 @@ bad_case theory-no-out "--out FILE (or - for standard output) is required" -- th
 bad_case theory-flag-value "--sigma needs a value, but the next argument '--rho' is a flag" -- theory tonks --sigma --rho 0.5
 bad_case theory-range "--rho = '-1'; allowed: 0 < rho < inf" -- theory tonks --sigma 0.5 --rho -1
 bad_case theory-unknown "unknown option '--frobnicate'" -- theory tonks --sigma 0.5 --rho 0.5 --frobnicate 1
-bad_case theory-which "hsbd theory: unknown theory 'maxwell'; allowed: percus, tonks, box" -- theory maxwell
+bad_case theory-which "hsbd theory: unknown theory 'maxwell'; allowed: percus, tonks, box, washboard" -- theory maxwell
+bad_case theory-washboard-tilt "give --force F, or --force-min A --force-max B --forces K" -- theory washboard --amplitude 2 --out -
+bad_case theory-washboard-both "give --force F, or --force-min A" -- theory washboard --amplitude 2 --force 1 --forces 3 --force-min 0 --force-max 1 --out -
+bad_case theory-washboard-range "--amplitude = '1e5'; allowed: -10000 <= amplitude <= 10000" -- theory washboard --amplitude 1e5 --force 1 --out -
 bad_case theory-box-whole "need whole --N" -- theory box --N 2.5 --L 10 --sigma 1 --out -
 bad_case bench-case "--case: no case named 'nope' (hsbd bench --list names them)" -- bench --case nope
 bad_case bench-seconds "--seconds needs a value" -- bench --seconds

@@ -59,7 +59,7 @@ base >tab.ini
 if "$HSBD" run tab.ini --set field.type=table --set field.table=tab.txt --out tab --quiet; then ok; else bad "a long comment in a table"; fi
 
 # every subcommand takes --help (usage on standard output, exit 0)
-for cmd in "run" "bench" "theory" "theory percus" "theory tonks" "theory box" "validate" "config-doc"; do
+for cmd in "run" "bench" "theory" "theory percus" "theory tonks" "theory box" "theory washboard" "validate" "config-doc"; do
     # shellcheck disable=SC2086
     if "$HSBD" $cmd --help >help.txt 2>"$T/stderr" && grep -q '^usage: ' help.txt && [ ! -s "$T/stderr" ]; then ok
     else bad "hsbd $cmd --help"; fi

@@ -2,7 +2,9 @@
 # A run stopped any number of times at any moment (kill -9 included) and continued with
 # `hsbd resume` ends with the same bytes as a run never stopped: every table, the
 # trajectory and the currents, for both models with every observer on (profiles and
-# contacts, MSD per species, clusters, replicas, spatial blocks, g(r), F_s, virial).
+# contacts, MSD per species, clusters, replicas, spatial blocks, g(r), F_s, virial), and
+# GSD trajectories, whose index is also written in place and moves as it grows (the
+# gsd cases write enough frames for it to move several times).
 # The kill moments are random (bash's RANDOM, seeded, over the run's wall time); each
 # case is killed several times, once with SIGTERM (a graceful stop) and otherwise with
 # SIGKILL, which may hit a checkpoint being written or a frame half-written.
@@ -77,6 +79,8 @@ cases=(
   "rods-replicas|rods.ini|--set sample.blocking=replicas --set run.t_equil=0.5 --set run.dt_equil=2e-4"
   "spheres|spheres.ini|"
   "spheres-2d-drift|spheres.ini|--set system.dimension=2 --set system.drift=0.3,-0.2 --set system.packing_fraction=0.4"
+  "rods-gsd|rodsmix.ini|--set output.trajectory=gsd --set output.trajectory_every=0.01 --set species.names=A,B --set species.count=40,20 --set species.sigma=0.4,0.7 --set species.D=1,0.6"
+  "spheres-gsd|spheres.ini|--set output.trajectory=gsd --set output.trajectory_every=0.01"
   "spheres-walls-gravity|spheres.ini|--set system.boundary=walls,periodic,walls --set field.type=tilt --set field.force=-0.5 --set species.coupling=1,2"
 )
 
@@ -116,7 +120,7 @@ for c in "${cases[@]}"; do
     # shellcheck disable=SC2086
     kills=$(run_killed "$name" "$cfg" "$wall" $extra)
     same=1
-    for f in "$name-ref"/*.tsv "$name-ref"/*.xyz; do
+    for f in "$name-ref"/*.tsv "$name-ref"/*.xyz "$name-ref"/*.gsd; do
         [ -e "$f" ] || continue
         if ! cmp -s "$f" "$name/$(basename "$f")"; then
             same=0
@@ -133,6 +137,13 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     # a completed run: refused, unless extended
     "$HSBD" resume rods-ref --quiet 2>err
     if [ $? = 2 ] && grep -q "is complete" err; then ok; else bad "completed run: $(cat err)"; fi
+    # a run stopped after its final checkpoint but before its results were all written
+    # (kill -9 in that window): resuming writes them, the same bytes
+    cp -r rods-ref late
+    rm late/summary.json late/density.tsv && mv late/trajectory.xyz late/trajectory.xyz.part
+    if "$HSBD" resume late --quiet 2>err && cmp -s late/density.tsv rods-ref/density.tsv &&
+        cmp -s late/trajectory.xyz rods-ref/trajectory.xyz && grep -q '"completed": true' late/summary.json
+    then ok; else bad "results after the final checkpoint: $(cat err)"; fi
     # a damaged newest checkpoint: the previous one is used (with a warning)
     "$HSBD" run rods.ini --quiet --set run.t_total=2 --out dmg 2>/dev/null &
     pid=$!
@@ -158,10 +169,12 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     # taking checkpoints never changes the results, not even the tables' bytes
     "$HSBD" run rods.ini --quiet --set run.t_total=1 --set output.checkpoints=off --out ck-off 2>/dev/null
     "$HSBD" run rods.ini --quiet --set run.t_total=1 --set output.checkpoint_every=1e-4 --out ck-all 2>/dev/null
-    "$HSBD" run spheres.ini --quiet --set run.t_total=0.5 --set output.checkpoints=off --out cks-off 2>/dev/null
-    "$HSBD" run spheres.ini --quiet --set run.t_total=0.5 --set output.checkpoint_every=1e-3 --out cks-all 2>/dev/null
+    "$HSBD" run spheres.ini --quiet --set run.t_total=0.5 --set output.checkpoint_every=1e-3 --out cks-all \
+        --set output.trajectory=gsd --set output.trajectory_every=1e-3 2>/dev/null
+    "$HSBD" run spheres.ini --quiet --set run.t_total=0.5 --set output.checkpoints=off --out cks-off \
+        --set output.trajectory=gsd --set output.trajectory_every=1e-3 2>/dev/null
     same=1
-    for f in ck-off/*.tsv ck-off/*.xyz cks-off/*.tsv cks-off/*.xyz; do
+    for f in ck-off/*.tsv ck-off/*.xyz cks-off/*.tsv cks-off/*.gsd; do
         g=${f/ck-off/ck-all}; g=${g/cks-off/cks-all}
         cmp -s "$f" "$g" || { same=0; echo "checkpoints changed $f" >&2; }
     done
@@ -180,6 +193,14 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
         diff -q <(grep -v '^#' ext/density.tsv | cut -f1,2) <(grep -v '^#' ext-ref/density.tsv | cut -f1,2) >/dev/null &&
         [ "$(grep -v '^#' ext/density_blocks.tsv | head -1 | wc -w)" = 13 ] &&
         grep -q '"steps": 20000' ext/summary.json; then ok; else bad "extension: $(cat err)"; fi
+    # the same for a GSD trajectory: its index moves as the extension grows it, as in a run
+    # planned that long
+    "$HSBD" run rods.ini --quiet --set run.t_total=1 --set output.trajectory=gsd \
+        --set output.trajectory_every=2e-3 --out extg 2>/dev/null
+    "$HSBD" run rods.ini --quiet --set run.t_total=2 --set sample.msd_max_lag=0.1 --set output.trajectory=gsd \
+        --set output.trajectory_every=2e-3 --out extg-ref 2>/dev/null
+    if "$HSBD" resume extg --set run.t_total=2 --quiet 2>err && [ -s extg-ref/trajectory.gsd ] &&
+        cmp -s extg/trajectory.gsd extg-ref/trajectory.gsd; then ok; else bad "GSD extension: $(cat err)"; fi
     "$HSBD" run rods.ini --quiet --set run.t_total=1 --set sample.blocking=replicas --out extrep 2>/dev/null
     "$HSBD" resume extrep --set run.t_total=2 --quiet 2>err
     if [ $? = 2 ] && grep -q "replicas" err; then ok; else bad "extending replicas: $(cat err)"; fi

@@ -1,5 +1,8 @@
 #include "bcd_oracle.h"
 
+#include "hsbd/rng.h"
+#include "hsbd/rods.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -167,4 +170,38 @@ size_t oracle_step(size_t n, double *x, const double *force, const double *mob, 
     const size_t merges = oracle_step_general(n, x, force, mob, sig, L, 0, dt, contact_tol);
     free(sig);
     return merges;
+}
+
+double oracle_library_deviation(const hsbd_rods_params *par, int steps) {
+    enum { NMAX = 64 };
+    const size_t n = par->n;
+    hsbd_error err;
+    hsbd_rods *rods = n <= NMAX ? hsbd_rods_alloc(par, &err) : NULL;
+    if (!rods) return NAN;
+    hsbd_rods_init_equilibrium(rods);
+    const double mu = par->diffusion / par->kT;
+    double worst = 0;
+    for (int s = 0; s < steps; ++s) {
+        const hsbd_rods_view v = hsbd_rods_get_view(rods);
+        double x[NMAX], force[NMAX], g[NMAX], mob[NMAX];
+        hsbd_rng_normals(par->seed, HSBD_STREAM_NOISE, v.step, 0, n, g);
+        for (size_t i = 0; i < n; ++i) {
+            x[i] = v.z[i] + v.offset[i];
+            mob[i] = mu;
+        }
+        hsbd_field now;
+        hsbd_field_force(hsbd_field_at(&par->field, v.time, &now), n, x, force);
+        for (size_t i = 0; i < n; ++i)
+            force[i] += sqrt(2 * par->diffusion / par->dt) / mu * g[i];
+        const double shift = v.unwrap;
+        oracle_step(n, x, force, mob, par->sigma, par->length, par->dt, 1e-12);
+        if (hsbd_rods_step(rods, NULL) != HSBD_OK) worst = NAN;
+        const hsbd_rods_view w = hsbd_rods_get_view(rods);
+        for (size_t i = 0; i < n; ++i) {
+            const double d = fabs((w.z[i] + w.offset[i] + w.unwrap) - (x[i] + shift));
+            if (d > worst) worst = d;
+        }
+    }
+    hsbd_rods_free(rods);
+    return worst;
 }

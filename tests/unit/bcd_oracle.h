@@ -6,6 +6,8 @@
 
 #include <stddef.h>
 
+struct hsbd_rods_params;
+
 /* Fragmentation of one cluster with velocities v_i = mob_i F_i: writes the subcluster
  * sizes to sizes[] and returns their number. */
 size_t oracle_fragment(size_t n, const double *force, const double *mob, size_t *sizes);
@@ -22,5 +24,11 @@ size_t oracle_step(size_t n, double *x, const double *force, const double *mob, 
  * start stay, and clusters reaching it stop. Returns the number of merge events. */
 size_t oracle_step_general(size_t n, double *x, const double *force, const double *mob,
                            const double *sig, double L, int walls, double dt, double contact_tol);
+
+/* The library's rods (par: one species on a ring, sticky rule) against oracle_step fed with
+ * the same total forces, Eq. (11) (the noise from the seed, the field at each step's start
+ * time, driven or not), over `steps` consecutive steps from the field-free equilibrium
+ * sample: the largest deviation of a position (NAN when the rods cannot be allocated). */
+double oracle_library_deviation(const struct hsbd_rods_params *par, int steps);
 
 #endif

@@ -166,33 +166,8 @@ static void test_library_step_vs_oracle(void) {
                             .contact_rule = HSBD_CONTACT_STICKY};
     hsbd_field_add(&par.field, hsbd_field_cosine(6.0, 1.0));
     hsbd_field_add(&par.field, hsbd_field_tilt(0.8));
-    hsbd_error err;
-    hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
-    hsbd_rods_init_equilibrium(rods);
-    const double mu = par.diffusion / par.kT;
-    double worst = 0;
-    for (int s = 0; s < 400; ++s) {
-        const hsbd_rods_view v = hsbd_rods_get_view(rods);
-        double x[NMAX], force[NMAX], g[NMAX], mob[NMAX];
-        hsbd_rng_normals(par.seed, HSBD_STREAM_NOISE, v.step, 0, n, g);
-        for (size_t i = 0; i < n; ++i) {
-            x[i] = v.z[i] + v.offset[i];
-            mob[i] = mu;
-        }
-        hsbd_field_force(&par.field, n, x, force);
-        for (size_t i = 0; i < n; ++i)
-            force[i] += sqrt(2 * par.diffusion / par.dt) / mu * g[i];
-        const double shift = v.unwrap;
-        oracle_step(n, x, force, mob, par.sigma, par.length, par.dt, 1e-12);
-        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
-        const hsbd_rods_view w = hsbd_rods_get_view(rods);
-        for (size_t i = 0; i < n; ++i) {
-            const double d = fabs((w.z[i] + w.offset[i] + w.unwrap) - (x[i] + shift));
-            if (d > worst) worst = d;
-        }
-    }
+    const double worst = oracle_library_deviation(&par, 400);
     CHECK(worst <= 1e-12, "library step vs oracle: max deviation %.3g", worst);
-    hsbd_rods_free(rods);
 }
 
 /* A binary mixture (lengths 0.3 and 0.7, D 1 and 2.5) on a ring and between walls: the

@@ -56,6 +56,27 @@ static void test_uniforms_match_random123(void) {
     }
 }
 
+/* uniforms of listed indices (the reflect rule's gaps that may cross) equal those of the
+ * index ranges bit for bit: any order, repeats, odd and even indices, a count that is
+ * not a multiple of four, a base index past 2^32 pairs */
+static void test_uniforms_at_listed_indices(void) {
+    const uint64_t seed = 77, step = 12345;
+    const size_t bases[2] = {1000, (size_t)1 << 34};
+    for (int b = 0; b < 2; ++b) {
+        unsigned offset[203];
+        for (size_t k = 0; k < 203; ++k)
+            offset[k] = (unsigned)((k * 7919u + 13u * (k % 3)) % 500u);
+        offset[5] = offset[4]; /* a repeat */
+        double got[203], range[500];
+        hsbd_rng_uniforms_at(seed, HSBD_STREAM_CONTACT, step, bases[b], offset, 203, got);
+        hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, bases[b], 500, range);
+        int bad = 0;
+        for (size_t k = 0; k < 203; ++k)
+            bad += memcmp(&got[k], &range[offset[k]], sizeof got[k]) != 0;
+        CHECK(bad == 0, "%d listed uniforms differ from the range's (base %zu)", bad, bases[b]);
+    }
+}
+
 static void test_normal_moments(void) {
     static double g[NDRAW];
     hsbd_rng_normals(123456789, HSBD_STREAM_NOISE, 1, 0, NDRAW, g);
@@ -119,6 +140,7 @@ static void test_vector_math_matches_libm(void) {
 int main(void) {
     test_batching_invariance();
     test_uniforms_match_random123();
+    test_uniforms_at_listed_indices();
     test_normal_moments();
     test_uniform_moments();
     test_vector_math_matches_libm();

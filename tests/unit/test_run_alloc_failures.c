@@ -1,5 +1,6 @@
 /* Every allocation failure of a whole run surfaces as an error: hsbd_run and hsbd_resume
- * of small rods and spheres runs (every observer on, trajectories, currents, checkpoints)
+ * of small rods and spheres runs (every observer on, trajectories (rods XYZ, spheres GSD),
+ * currents, checkpoints)
  * are made once counting their allocations K, then once for every k from 1 to K with the
  * k-th failing. Checked: the call returns HSBD_ENOMEM exactly when an allocation failed
  * during it (never HSBD_OK after a failure, never a failure without one), and nothing
@@ -39,11 +40,23 @@ void *__wrap_realloc(void *p, size_t size) {
     return fails() ? NULL : __real_realloc(p, size);
 }
 
-static const char *const rods_keys[] = {
-    "system.N=20",          "system.L=20",           "field.type=cosine+tilt",
-    "field.force=0.2",      "run.dt=1e-3",           "run.t_equil=0.02",
-    "run.t_total=0.1",      "sample.blocks=4",       "sample.current_every=0.05",
-    "sample.bin_width=0.1", "output.trajectory=xyz", "output.checkpoint_every=0.03"};
+static const char *const rods_keys[] = {"system.N=20",
+                                        "system.L=20",
+                                        "field.type=cosine+tilt+harmonic",
+                                        "drive.parameter=force",
+                                        "drive.wave=cosine",
+                                        "drive.amplitude=1",
+                                        "drive.period=0.05",
+                                        "sample.phases=2",
+                                        "field.force=0.2",
+                                        "run.dt=1e-3",
+                                        "run.t_equil=0.02",
+                                        "run.t_total=0.1",
+                                        "sample.blocks=4",
+                                        "sample.current_every=0.05",
+                                        "sample.bin_width=0.1",
+                                        "output.trajectory=xyz",
+                                        "output.checkpoint_every=0.03"};
 static const char *const spheres_keys[] = {"system.model=spheres",
                                            "system.N=60",
                                            "system.packing_fraction=0.2",
@@ -57,7 +70,7 @@ static const char *const spheres_keys[] = {"system.model=spheres",
                                            "sample.blocks=4",
                                            "sample.gr_every=5",
                                            "sample.every=5",
-                                           "output.trajectory=xyz",
+                                           "output.trajectory=gsd",
                                            "output.checkpoint_every=0.02"};
 
 static int build_config(hsbd_config *cfg, const char *const *keys, size_t n, const char *dir) {

@@ -30,11 +30,12 @@ static void ratchet_add_force(const hsbd_field_term *t, size_t n, const double *
     }
 }
 
-static const hsbd_field_ops ratchet_ops = {"ratchet", ratchet_add_force, ratchet_potential};
+static const hsbd_field_ops ratchet_ops = {
+    .name = "ratchet", .add_force = ratchet_add_force, .potential = ratchet_potential};
 
 static hsbd_field ratchet_field(double amplitude, double lambda, double sign) {
     hsbd_field field = {0};
-    hsbd_field_term t = {&ratchet_ops, {amplitude, lambda, sign, 0}, NULL};
+    hsbd_field_term t = {.ops = &ratchet_ops, .p = {amplitude, lambda, sign, 0}};
     hsbd_field_add(&field, t);
     return field;
 }

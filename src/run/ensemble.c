@@ -1,0 +1,126 @@
+/* Ensembles of replicas (see hsbd/run.h, docs/scaling.md): the replicas' noise keys, their
+ * run directories DIR/replica-k, and the replicas a process runs. The merge of their
+ * results is src/run/merge.c. */
+#include <dirent.h>
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "hsbd/io.h"
+#include "run/run.h"
+
+/* Replica k's Philox key: the seed moved by k steps of the golden-ratio Weyl sequence
+ * (replica 0, and a run that is no replica, keep the seed itself). */
+uint64_t run_noise_seed(const hsbd_config *cfg) {
+    const uint64_t k = cfg->run.replica > 0 ? (uint64_t)cfg->run.replica : 0;
+    return cfg->system.seed + k * UINT64_C(0x9E3779B97F4A7C15);
+}
+
+size_t hsbd_ensemble_size(const hsbd_config *cfg, int ranks) {
+    if (cfg->run.replica >= 0) return 1; /* one replica, run alone */
+    if (cfg->run.replicas > 0) return (size_t)cfg->run.replicas;
+    return ranks > 1 ? (size_t)ranks : 1;
+}
+
+int run_replica_dir(const char *dir, size_t k, char *out, size_t len, hsbd_error *err) {
+    const int n = snprintf(out, len, "%s/replica-%zu", dir, k);
+    if (n < 0 || (size_t)n >= len)
+        return hsbd_error_set(err, HSBD_EINPUT, "output.dir '%.200s...': too long for its replicas",
+                              dir);
+    return HSBD_OK;
+}
+
+/* "replica-<digits>" */
+static int is_replica_name(const char *name) {
+    if (strncmp(name, "replica-", 8) || !name[8]) return 0;
+    for (const char *p = name + 8; *p; ++p)
+        if (*p < '0' || *p > '9') return 0;
+    return 1;
+}
+
+int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err) {
+    hsbd_error_clear(err);
+    const char *dir = cfg->output.dir;
+    struct stat dst;
+    /* a new directory is made by the first replica, after its input was accepted */
+    if (dir[0] && stat(dir, &dst) != 0 && errno == ENOENT) return HSBD_OK;
+    DIR *d = force ? opendir(dir) : NULL;
+    int rc = HSBD_OK;
+    /* --force: an earlier ensemble's replica directories go first (each holding only a
+     * run's files), then the merged files like any run's */
+    for (struct dirent *e; rc == HSBD_OK && d && (e = readdir(d));) {
+        if (!is_replica_name(e->d_name)) continue;
+        char sub[HSBD_PATH_MAX + 300];
+        snprintf(sub, sizeof sub, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (stat(sub, &st) != 0 || !S_ISDIR(st.st_mode)) continue;
+        rc = hsbd_run_dir_prepare(sub, 1, err);
+        if (rc == HSBD_OK && rmdir(sub) != 0)
+            rc = hsbd_error_set(err, HSBD_EINPUT, "cannot remove '%s' of the earlier run", sub);
+    }
+    if (d) closedir(d);
+    return rc == HSBD_OK ? hsbd_run_dir_prepare(dir, force, err) : rc;
+}
+
+/* The source of replica k's checkpoints: the run's own with run.replica=k appended, so
+ * that `hsbd resume DIR/replica-k` continues that replica. */
+typedef struct replica_source {
+    hsbd_run_source source;
+    const char **sets;
+    char replica_set[64];
+} replica_source;
+
+static int replica_source_make(replica_source *rs, const hsbd_run_source *src, size_t k) {
+    const size_t n = src ? src->nsets : 0;
+    rs->sets = calloc(n + 1, sizeof *rs->sets);
+    if (!rs->sets) return -1;
+    for (size_t j = 0; j < n; ++j)
+        rs->sets[j] = src->sets[j];
+    snprintf(rs->replica_set, sizeof rs->replica_set, "run.replica=%zu", k);
+    rs->sets[n] = rs->replica_set;
+    rs->source = src ? *src : (hsbd_run_source){.text = "", .text_len = 0};
+    rs->source.sets = rs->sets;
+    rs->source.nsets = n + 1;
+    return 0;
+}
+
+int hsbd_ensemble_run(const hsbd_config *cfg, const hsbd_run_options *opt, size_t replicas,
+                      int rank, int ranks, hsbd_error *err) {
+    hsbd_error_clear(err);
+    hsbd_config *one = malloc(sizeof *one);
+    if (!one) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int rc = HSBD_OK;
+    for (size_t k = (size_t)rank; k < replicas && rc == HSBD_OK; k += (size_t)ranks) {
+        *one = *cfg;
+        one->run.replica = (int64_t)k;
+        rc = run_replica_dir(cfg->output.dir, k, one->output.dir, sizeof one->output.dir, err);
+        if (rc != HSBD_OK) break;
+        replica_source rs;
+        if (replica_source_make(&rs, opt->source, k) != 0) {
+            rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+            break;
+        }
+        hsbd_run_options o = *opt;
+        o.source = &rs.source;
+        rc = hsbd_run(one, &o, err);
+        free(rs.sets);
+    }
+    free(one);
+    return rc;
+}
+
+int hsbd_ensemble_merge(const hsbd_config *cfg, size_t replicas, hsbd_error *err) {
+    hsbd_error_clear(err);
+    char(*paths)[HSBD_PATH_MAX + 32] = calloc(replicas, sizeof *paths);
+    const char **dirs = calloc(replicas, sizeof *dirs);
+    int rc = paths && dirs ? HSBD_OK : hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    for (size_t k = 0; k < replicas && rc == HSBD_OK; ++k) {
+        rc = run_replica_dir(cfg->output.dir, k, paths[k], sizeof paths[k], err);
+        dirs[k] = paths[k];
+    }
+    if (rc == HSBD_OK) rc = run_merge_into(cfg->output.dir, dirs, replicas, 0, 0, err);
+    free(paths), free(dirs);
+    return rc;
+}

@@ -1,0 +1,629 @@
+/* The merge of an ensemble's replicas (see hsbd/run.h, docs/scaling.md): the run
+ * directories of replicas of one configuration become one result whose means are the
+ * replicas' means and whose errors come from their scatter (standard error of the mean
+ * over replicas, as sample.blocking = replicas does with blocks). Every sum runs over the
+ * replicas in the order of their index, so the bytes depend only on the set of replicas.
+ *
+ * Each table X.tsv is merged row by row: the first column (abscissa) must agree (cluster
+ * size distributions are padded with zeros), a column `c_err` next to a column `c` gets
+ * the scatter of `c`, `origins` (counts) are summed, every other column is averaged.
+ * X_blocks.tsv gets one column per replica: the replica's value of X. summary.json keeps
+ * the values all replicas share, averages the others (with their scatter as KEY_err)
+ * and leaves out timings (wall and CPU seconds, rates); nested objects (rods' contacts per species
+ * pair) stay in the replicas' summaries. */
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hsbd/io.h"
+#include "io/tables.h"
+#include "run/run.h"
+
+/* ---- text files as lines ----------------------------------------------------------- */
+
+typedef struct text_lines {
+    char *buf;
+    char **line;
+    size_t n;
+} text_lines;
+
+static void text_free(text_lines *t) {
+    free(t->buf), free(t->line);
+    t->buf = NULL, t->line = NULL, t->n = 0;
+}
+
+/* The file's lines (without their newlines); -1 when it cannot be read, -2 out of memory. */
+static int text_read(const char *path, text_lines *t) {
+    memset(t, 0, sizeof *t);
+    FILE *f = fopen(path, "rb");
+    if (!f) return -1;
+    size_t cap = 1 << 16, len = 0;
+    t->buf = malloc(cap + 1);
+    for (size_t got; t->buf && (got = fread(t->buf + len, 1, cap - len, f)) > 0;) {
+        len += got;
+        if (len == cap) {
+            char *b = realloc(t->buf, 2 * cap + 1);
+            if (!b) free(t->buf);
+            t->buf = b, cap *= 2;
+        }
+    }
+    const int bad = ferror(f);
+    fclose(f);
+    if (!t->buf) return -2;
+    if (bad) return text_free(t), -1;
+    t->buf[len] = '\0';
+    size_t lines = 1;
+    for (size_t k = 0; k < len; ++k)
+        lines += t->buf[k] == '\n';
+    t->line = malloc(lines * sizeof *t->line);
+    if (!t->line) return text_free(t), -2;
+    char *p = t->buf;
+    while (*p) {
+        t->line[t->n++] = p;
+        char *nl = strchr(p, '\n');
+        if (!nl) break;
+        *nl = '\0';
+        p = nl + 1;
+    }
+    return 0;
+}
+
+static int read_in(const char *dir, const char *name, text_lines *t, hsbd_error *err) {
+    char path[HSBD_PATH_MAX + 300];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    const int rc = text_read(path, t);
+    if (rc == -2) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory reading '%s'", path);
+    if (rc != 0)
+        return hsbd_error_set(err, HSBD_EINPUT, "merge: cannot read '%s': %s", path,
+                              strerror(errno));
+    return HSBD_OK;
+}
+
+/* ---- the replicas' summaries --------------------------------------------------------- */
+
+typedef struct merge_source {
+    const char *dir;
+    long index;     /* run.replica */
+    text_lines sum; /* summary.json */
+    size_t params;  /* its line `  "parameters": {` */
+} merge_source;
+
+/* A summary line `<indent>"key": value`: the key (into key) and the value; NULL if none. */
+static const char *json_entry(const char *line, size_t indent, char *key, size_t keylen) {
+    for (size_t k = 0; k < indent; ++k)
+        if (line[k] != ' ') return NULL;
+    if (line[indent] != '"') return NULL;
+    const char *q = strchr(line + indent + 1, '"');
+    if (!q || q[1] != ':' || q[2] != ' ') return NULL;
+    snprintf(key, keylen, "%.*s", (int)(q - line - indent - 1), line + indent + 1);
+    return q + 3;
+}
+
+/* Parameters that differ between replicas of one configuration (or do not change
+ * results: the threads). */
+static int replica_parameter(const char *key) {
+    return !strcmp(key, "replica") || !strcmp(key, "replicas") || !strcmp(key, "dir") ||
+           !strcmp(key, "threads");
+}
+
+static int load_source(merge_source *s, hsbd_error *err) {
+    int rc = read_in(s->dir, "summary.json", &s->sum, err);
+    if (rc != HSBD_OK)
+        return hsbd_error_set(err, rc,
+                              "merge: '%s' holds no readable summary.json: not a run "
+                              "directory of hsbd",
+                              s->dir);
+    int completed = 0, found = 0;
+    s->params = 0;
+    for (size_t k = 0; k < s->sum.n; ++k) {
+        char key[64];
+        const char *v = json_entry(s->sum.line[k], 2, key, sizeof key);
+        if (v && !strcmp(key, "completed")) completed = !strncmp(v, "true", 4);
+        if (v && !strcmp(key, "parameters")) s->params = k;
+        if (s->params && k > s->params && (v = json_entry(s->sum.line[k], 6, key, sizeof key)) &&
+            !strcmp(key, "replica"))
+            s->index = strtol(v, NULL, 10), found = 1;
+    }
+    if (!s->params || !found)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s/summary.json' has no parameters with run.replica: not "
+                              "a run of this hsbd",
+                              s->dir);
+    if (!completed)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: the run in '%s' did not complete; continue it first "
+                              "(hsbd resume %s)",
+                              s->dir, s->dir);
+    if (s->index < 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s' is no replica of an ensemble (run.replica = -1); run "
+                              "replicas with hsbd run CONFIG --replica K",
+                              s->dir);
+    return HSBD_OK;
+}
+
+static int by_index(const void *a, const void *b) {
+    const long x = ((const merge_source *)a)->index, y = ((const merge_source *)b)->index;
+    return (x > y) - (x < y);
+}
+
+/* The same configuration: every parameter but the replica's own (index, count, dir). */
+static int same_parameters(const merge_source *a, const merge_source *b, hsbd_error *err) {
+    size_t i = a->params, j = b->params;
+    char ka[64], kb[64];
+    for (;; ++i, ++j) {
+        while (i < a->sum.n && json_entry(a->sum.line[i], 6, ka, sizeof ka) &&
+               replica_parameter(ka))
+            ++i;
+        while (j < b->sum.n && json_entry(b->sum.line[j], 6, kb, sizeof kb) &&
+               replica_parameter(kb))
+            ++j;
+        if (i == a->sum.n || j == b->sum.n) break;
+        if (strcmp(a->sum.line[i], b->sum.line[j])) break;
+    }
+    if (i == a->sum.n && j == b->sum.n) return HSBD_OK;
+    const char *la = i < a->sum.n ? a->sum.line[i] : "(end)";
+    const char *lb = j < b->sum.n ? b->sum.line[j] : "(end)";
+    while (*la == ' ')
+        ++la;
+    while (*lb == ' ')
+        ++lb;
+    return hsbd_error_set(err, HSBD_EINPUT,
+                          "merge: '%s' and '%s' are not replicas of one configuration: "
+                          "parameter %.200s there, %.200s here; only runs of the same "
+                          "configuration (apart from run.replica) can be merged",
+                          a->dir, b->dir, la, lb);
+}
+
+/* ---- tables ----------------------------------------------------------------------------- */
+
+/* mean and standard error of the mean of v[0..n-1], summed in order */
+static void mean_and_error(const double *v, size_t n, double *mean, double *err) {
+    double s = 0;
+    for (size_t k = 0; k < n; ++k)
+        s += v[k];
+    const double m = s / (double)n;
+    double q = 0;
+    for (size_t k = 0; k < n; ++k)
+        q += (v[k] - m) * (v[k] - m);
+    *mean = m;
+    *err = n > 1 ? sqrt(q / ((double)n * (double)(n - 1))) : NAN;
+}
+
+static size_t comment_lines(const text_lines *t) {
+    size_t c = 0;
+    while (c < t->n && t->line[c][0] == '#')
+        ++c;
+    return c;
+}
+
+static int replica_comment(const char *line) {
+    return !strncmp(line, "# run.replica = ", 16) || !strncmp(line, "# run.replicas = ", 17);
+}
+
+/* The header lines of a merged table: the first line's description with `what_more`, the
+ * configuration lines (the replica's own with the ensemble's values). */
+static void write_comments(FILE *f, const text_lines *t, size_t nreplicas, const char *what) {
+    const size_t c = comment_lines(t);
+    const char *colon = strstr(t->line[0], "): ");
+    if (what && colon)
+        fprintf(f, "%.*s): %s\n", (int)(colon - t->line[0]), t->line[0], what);
+    else
+        fprintf(f,
+                "%s; merged over %zu replicas: means of the replicas' values, errors from "
+                "their scatter\n",
+                t->line[0], nreplicas);
+    for (size_t k = 1; k < c; ++k) {
+        if (!strncmp(t->line[k], "# run.replica = ", 16))
+            fprintf(f, "# run.replica = -1\n");
+        else if (!strncmp(t->line[k], "# run.replicas = ", 17))
+            fprintf(f, "# run.replicas = %zu\n", nreplicas);
+        else
+            fprintf(f, "%s\n", t->line[k]);
+    }
+}
+
+/* The tables of the replicas agree in their headers (configuration and columns). */
+static int same_header(const text_lines *a, const text_lines *b, const char *dira, const char *dirb,
+                       const char *name, hsbd_error *err) {
+    const size_t ca = comment_lines(a), cb = comment_lines(b);
+    size_t i = 1, j = 1;
+    for (;; ++i, ++j) {
+        while (i < ca && replica_comment(a->line[i]))
+            ++i;
+        while (j < cb && replica_comment(b->line[j]))
+            ++j;
+        if (i >= ca || j >= cb || strcmp(a->line[i], b->line[j])) break;
+    }
+    if (i >= ca && j >= cb && ca < a->n && cb < b->n && !strcmp(a->line[ca], b->line[cb]))
+        return HSBD_OK;
+    return hsbd_error_set(err, HSBD_EINPUT,
+                          "merge: %s of '%s' and of '%s' differ in their header (%.200s); only "
+                          "runs of the same configuration can be merged",
+                          name, dira, dirb, i < ca ? a->line[i] + 2 : "the columns");
+}
+
+/* Splits a row at tabs into at most max cells; returns the count. */
+static size_t split_tabs(char *row, char **cell, size_t max) {
+    size_t n = 0;
+    for (char *p = row; n < max;) {
+        cell[n++] = p;
+        char *t = strchr(p, '\t');
+        if (!t) break;
+        *t = '\0';
+        p = t + 1;
+    }
+    return n;
+}
+
+enum { MERGE_MAX_COLUMNS = 64 };
+enum column_kind { COLUMN_MEAN, COLUMN_ERROR, COLUMN_COUNT };
+
+/* One table of every replica: its values as numbers, rows x columns each. */
+typedef struct table_set {
+    text_lines *text;
+    size_t ncol, rows; /* rows of the longest */
+    char *names[MERGE_MAX_COLUMNS];
+    int kind[MERGE_MAX_COLUMNS];
+    size_t base[MERGE_MAX_COLUMNS]; /* COLUMN_ERROR: its value column */
+    double *val;                    /* [replica][row][column], zero-padded */
+    const char **abscissa;          /* [row]: the first column of the longest */
+} table_set;
+
+static void table_set_free(table_set *t, size_t n) {
+    for (size_t k = 0; t->text && k < n; ++k)
+        text_free(&t->text[k]);
+    free(t->text), free(t->val), free(t->abscissa);
+}
+
+static void classify_columns(table_set *t) {
+    for (size_t j = 1; j < t->ncol; ++j) {
+        t->kind[j] = !strcmp(t->names[j], "origins") ? COLUMN_COUNT : COLUMN_MEAN;
+        const size_t len = strlen(t->names[j]);
+        if (len <= 4 || strcmp(t->names[j] + len - 4, "_err")) continue;
+        for (size_t b = 1; b < t->ncol; ++b)
+            if (strlen(t->names[b]) == len - 4 && !strncmp(t->names[b], t->names[j], len - 4))
+                t->kind[j] = COLUMN_ERROR, t->base[j] = b;
+    }
+}
+
+/* Reads table `name` of every replica into t. Rows must agree in their first column;
+ * size distributions (padded) may be longer in some replicas. */
+static int load_tables(const char *name, const merge_source *src, size_t n, table_set *t,
+                       hsbd_error *err) {
+    memset(t, 0, sizeof *t);
+    t->text = calloc(n, sizeof *t->text);
+    if (!t->text) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int rc = HSBD_OK;
+    for (size_t k = 0; k < n && rc == HSBD_OK; ++k) {
+        rc = read_in(src[k].dir, name, &t->text[k], err);
+        if (rc == HSBD_OK && comment_lines(&t->text[k]) == 0)
+            rc = hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' is not a table of hsbd",
+                                src[k].dir, name);
+        if (rc == HSBD_OK && k > 0)
+            rc = same_header(&t->text[0], &t->text[k], src[0].dir, src[k].dir, name, err);
+    }
+    if (rc != HSBD_OK) return rc;
+    const size_t c = comment_lines(&t->text[0]);
+    if (c >= t->text[0].n)
+        return hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' has no columns", src[0].dir, name);
+    t->ncol = split_tabs(t->text[0].line[c], t->names, MERGE_MAX_COLUMNS);
+    classify_columns(t);
+    size_t longest = 0;
+    for (size_t k = 0; k < n; ++k) {
+        const size_t r = t->text[k].n - c - 1;
+        if (r > t->rows) t->rows = r, longest = k;
+    }
+    t->val = calloc(n * (t->rows ? t->rows : 1) * t->ncol, sizeof *t->val);
+    t->abscissa = calloc(t->rows ? t->rows : 1, sizeof *t->abscissa);
+    if (!t->val || !t->abscissa) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    const int padded = !strcmp(name, "clusters.tsv");
+    for (size_t k = 0; k < n && rc == HSBD_OK; ++k) {
+        const text_lines *tx = &t->text[k];
+        const size_t r = tx->n - c - 1;
+        if (r != t->rows && !padded)
+            rc = hsbd_error_set(err, HSBD_EINPUT, "merge: %s has %zu rows in '%s' and %zu in '%s'",
+                                name, r, src[k].dir, t->rows, src[longest].dir);
+        for (size_t i = 0; i < r && rc == HSBD_OK; ++i) {
+            char *cell[MERGE_MAX_COLUMNS];
+            const size_t nc = split_tabs(tx->line[c + 1 + i], cell, MERGE_MAX_COLUMNS);
+            if (nc != t->ncol)
+                rc = hsbd_error_set(err, HSBD_EINPUT,
+                                    "merge: '%s/%s' line %zu has %zu columns, "
+                                    "not %zu",
+                                    src[k].dir, name, c + 2 + i, nc, t->ncol);
+            if (k == longest) t->abscissa[i] = cell[0];
+            for (size_t j = 1; j < nc && rc == HSBD_OK; ++j)
+                t->val[(k * t->rows + i) * t->ncol + j] = strtod(cell[j], NULL);
+        }
+    }
+    /* the abscissae agree row by row */
+    for (size_t k = 0; k < n && rc == HSBD_OK; ++k) {
+        const size_t r = t->text[k].n - c - 1;
+        for (size_t i = 0; i < r && rc == HSBD_OK; ++i)
+            if (strcmp(t->text[k].line[c + 1 + i], t->abscissa[i]))
+                rc = hsbd_error_set(err, HSBD_EINPUT,
+                                    "merge: %s row %zu is at %.40s in '%s' and %.40s in '%s'", name,
+                                    i + 1, t->text[k].line[c + 1 + i], src[k].dir, t->abscissa[i],
+                                    src[longest].dir);
+    }
+    return rc;
+}
+
+static int merge_plain_table(FILE *f, const char *name, const merge_source *src, size_t n,
+                             hsbd_error *err) {
+    table_set t;
+    int rc = load_tables(name, src, n, &t, err);
+    double *v = rc == HSBD_OK ? malloc(n * sizeof *v) : NULL;
+    if (rc == HSBD_OK && !v) rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    if (rc == HSBD_OK) {
+        write_comments(f, &t.text[0], n, NULL);
+        for (size_t j = 0; j < t.ncol; ++j)
+            fprintf(f, "%s%s", j ? "\t" : "", t.names[j]);
+        fputc('\n', f);
+        for (size_t i = 0; i < t.rows; ++i) {
+            fputs(t.abscissa[i], f);
+            for (size_t j = 1; j < t.ncol; ++j) {
+                const size_t col = t.kind[j] == COLUMN_ERROR ? t.base[j] : j;
+                for (size_t k = 0; k < n; ++k)
+                    v[k] = t.val[(k * t.rows + i) * t.ncol + col];
+                double mean, error;
+                mean_and_error(v, n, &mean, &error);
+                if (t.kind[j] == COLUMN_ERROR)
+                    fprintf(f, "\t%.4g", error);
+                else if (t.kind[j] == COLUMN_COUNT)
+                    fprintf(f, "\t%.0f", mean * (double)n);
+                else
+                    fprintf(f, "\t%.10g", mean);
+            }
+            fputc('\n', f);
+        }
+    }
+    free(v);
+    table_set_free(&t, n);
+    return rc;
+}
+
+/* X_blocks.tsv: one column per replica, the replica's value (second column) of X.tsv. */
+static int merge_blocks_table(FILE *f, const char *name, const merge_source *src, size_t n,
+                              hsbd_error *err) {
+    char base[256];
+    snprintf(base, sizeof base, "%.*s.tsv", (int)(strlen(name) - strlen("_blocks.tsv")), name);
+    table_set t, b;
+    int rc = load_tables(base, src, n, &t, err);
+    int brc = load_tables(name, src, n, &b, rc == HSBD_OK ? err : &(hsbd_error){0});
+    if (rc == HSBD_OK) rc = brc;
+    if (rc == HSBD_OK && (b.rows != t.rows || t.ncol < 2))
+        rc = hsbd_error_set(err, HSBD_EINPUT, "merge: %s of '%s' has %zu rows, %s has %zu", name,
+                            src[0].dir, b.rows, base, t.rows);
+    if (rc == HSBD_OK) {
+        char what[640];
+        snprintf(what, sizeof what,
+                 "%.100s of %.200s in each replica (the estimates behind the merged errors; their "
+                 "covariance gives correlated errors)",
+                 t.names[1], base);
+        write_comments(f, &b.text[0], n, what);
+        fprintf(f, "%s", b.names[0]);
+        for (size_t k = 0; k < n; ++k)
+            fprintf(f, "\tblock_%zu", k + 1);
+        fputc('\n', f);
+        for (size_t i = 0; i < t.rows; ++i) {
+            fputs(b.abscissa[i], f);
+            for (size_t k = 0; k < n; ++k)
+                fprintf(f, "\t%.8g", t.val[(k * t.rows + i) * t.ncol + 1]);
+            fputc('\n', f);
+        }
+    }
+    table_set_free(&t, n);
+    table_set_free(&b, n);
+    return rc;
+}
+
+/* ---- summary.json -------------------------------------------------------------------- */
+
+static int timing_key(const char *key) {
+    return strstr(key, "wall") || strstr(key, "cpu") || strstr(key, "per_second") ||
+           !strcmp(key, "resumes") || !strcmp(key, "stop_reason") || !strcmp(key, "completed") ||
+           !strcmp(key, "replicas");
+}
+
+/* The value of top-level key in summary s as text (NULL if absent). */
+static const char *summary_value(const merge_source *s, const char *key) {
+    for (size_t k = 1; k < s->params; ++k) {
+        char kk[64];
+        const char *v = json_entry(s->sum.line[k], 2, kk, sizeof kk);
+        if (v && !strcmp(kk, key)) return v;
+    }
+    return NULL;
+}
+
+/* a value without its trailing comma */
+static int value_len(const char *v) {
+    const size_t len = strlen(v);
+    return (int)(len && v[len - 1] == ',' ? len - 1 : len);
+}
+
+static int is_number(const char *v) {
+    char *end;
+    strtod(v, &end);
+    return end != v && (*end == ',' || *end == '\0');
+}
+
+static int write_summary(FILE *f, const merge_source *src, size_t n, const char *out,
+                         hsbd_error *err) {
+    double *v = malloc(n * sizeof *v);
+    if (!v) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    const merge_source *s0 = &src[0];
+    fprintf(f, "{\n");
+    for (size_t k = 1; k < s0->params; ++k) {
+        char key[64], errkey[80];
+        const char *val = json_entry(s0->sum.line[k], 2, key, sizeof key);
+        if (!val || *val == '{' || *val == '[' || timing_key(key)) continue;
+        const size_t len = strlen(key);
+        if (len > 4 && !strcmp(key + len - 4, "_err")) {
+            snprintf(errkey, sizeof errkey, "%.*s", (int)(len - 4), key);
+            if (summary_value(s0, errkey)) continue; /* written with its value */
+        }
+        int same = 1, numbers = is_number(val);
+        for (size_t r = 0; r < n; ++r) {
+            const char *vr = summary_value(&src[r], key);
+            if (!vr) vr = "null";
+            same &= value_len(vr) == value_len(val) && !strncmp(vr, val, (size_t)value_len(val));
+            numbers &= is_number(vr);
+            v[r] = strtod(vr, NULL);
+        }
+        if (same) {
+            fprintf(f, "  \"%s\": %.*s,\n", key, value_len(val), val);
+        } else if (numbers && !strncmp(key, "min_", 4)) { /* the smallest over replicas */
+            double least = v[0];
+            for (size_t r = 1; r < n; ++r)
+                least = fmin(least, v[r]);
+            fprintf(f, "  \"%s\": %.10g,\n", key, least);
+        } else if (numbers) {
+            double mean, error;
+            mean_and_error(v, n, &mean, &error);
+            fprintf(f, "  \"%s\": %.10g,\n  \"%s_err\": %.4g,\n", key, mean, key, error);
+        }
+        if (strcmp(key, "model")) continue;
+        /* after the model: the ensemble */
+        fprintf(f, "  \"completed\": true,\n  \"replicas\": %zu,\n  \"replica_indices\": [", n);
+        for (size_t r = 0; r < n; ++r)
+            fprintf(f, "%s%ld", r ? ", " : "", src[r].index);
+        fprintf(f, "],\n");
+    }
+    fprintf(f, "%s\n", s0->sum.line[s0->params]);
+    for (size_t k = s0->params + 1; k < s0->sum.n; ++k) {
+        char key[64];
+        const char *line = s0->sum.line[k];
+        const char *val = json_entry(line, 6, key, sizeof key);
+        const char *comma = val && line[strlen(line) - 1] == ',' ? "," : "";
+        if (val && !strcmp(key, "replica"))
+            fprintf(f, "      \"replica\": -1%s\n", comma);
+        else if (val && !strcmp(key, "replicas"))
+            fprintf(f, "      \"replicas\": %zu%s\n", n, comma);
+        else if (val && !strcmp(key, "dir")) {
+            fprintf(f, "      \"dir\": ");
+            hsbd_json_string(f, out);
+            fprintf(f, "%s\n", comma);
+        } else if (line[0] || k + 1 < s0->sum.n)
+            fprintf(f, "%s\n", line);
+    }
+    free(v);
+    return HSBD_OK;
+}
+
+/* ---- the merge ------------------------------------------------------------------------ */
+
+static int by_name(const void *a, const void *b) {
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* The tables of the first replica (X.tsv), sorted by name. */
+static int list_tables(const char *dir, char ***names, size_t *n, hsbd_error *err) {
+    DIR *d = opendir(dir);
+    if (!d) return hsbd_error_set(err, HSBD_EINPUT, "merge: cannot read '%s'", dir);
+    size_t cap = 16;
+    *n = 0;
+    *names = malloc(cap * sizeof **names);
+    int rc = *names ? HSBD_OK : HSBD_ENOMEM;
+    for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
+        const size_t len = strlen(e->d_name);
+        if (len < 5 || strcmp(e->d_name + len - 4, ".tsv")) continue;
+        if (*n == cap) {
+            char **g = realloc(*names, 2 * cap * sizeof **names);
+            if (!g) {
+                rc = HSBD_ENOMEM;
+                break;
+            }
+            *names = g, cap *= 2;
+        }
+        if (!((*names)[*n] = strdup(e->d_name)))
+            rc = HSBD_ENOMEM;
+        else
+            *n += 1;
+    }
+    closedir(d);
+    if (rc != HSBD_OK) return hsbd_error_set(err, rc, "out of memory");
+    qsort(*names, *n, sizeof **names, by_name);
+    return HSBD_OK;
+}
+
+/* One merged file, made in memory first: nothing is written unless every file merges. */
+typedef struct merged_file {
+    char name[256];
+    char *text;
+    size_t len;
+} merged_file;
+
+static int make_file(merged_file *m, const char *name, const merge_source *src, size_t n,
+                     const char *out, hsbd_error *err) {
+    snprintf(m->name, sizeof m->name, "%s", name);
+    FILE *f = open_memstream(&m->text, &m->len);
+    if (!f) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    const size_t len = strlen(name);
+    int rc;
+    if (!strcmp(name, "summary.json"))
+        rc = write_summary(f, src, n, out, err);
+    else if (len > 11 && !strcmp(name + len - 11, "_blocks.tsv"))
+        rc = merge_blocks_table(f, name, src, n, err);
+    else
+        rc = merge_plain_table(f, name, src, n, err);
+    fclose(f);
+    return rc;
+}
+
+int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int prepare, int force,
+                   hsbd_error *err) {
+    if (ndirs < 2)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: %zu run directories given; allowed: at least two replicas",
+                              ndirs);
+    merge_source *src = calloc(ndirs, sizeof *src);
+    if (!src) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int rc = HSBD_OK;
+    for (size_t k = 0; k < ndirs && rc == HSBD_OK; ++k) {
+        src[k].dir = dirs[k];
+        rc = load_source(&src[k], err);
+    }
+    if (rc == HSBD_OK) qsort(src, ndirs, sizeof *src, by_index);
+    for (size_t k = 1; k < ndirs && rc == HSBD_OK; ++k) {
+        if (src[k].index == src[k - 1].index)
+            rc = hsbd_error_set(err, HSBD_EINPUT, "merge: '%s' and '%s' are both replica %ld",
+                                src[k - 1].dir, src[k].dir, src[k].index);
+        if (rc == HSBD_OK) rc = same_parameters(&src[0], &src[k], err);
+    }
+    char **names = NULL;
+    size_t nnames = 0;
+    if (rc == HSBD_OK) rc = list_tables(src[0].dir, &names, &nnames, err);
+    merged_file *files = rc == HSBD_OK ? calloc(nnames + 1, sizeof *files) : NULL;
+    if (rc == HSBD_OK && !files) rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    for (size_t k = 0; k < nnames && rc == HSBD_OK; ++k)
+        rc = make_file(&files[k], names[k], src, ndirs, out, err);
+    if (rc == HSBD_OK) rc = make_file(&files[nnames], "summary.json", src, ndirs, out, err);
+    /* everything was read and checked before the output directory is touched */
+    if (rc == HSBD_OK && prepare) rc = hsbd_run_dir_prepare(out, force, err);
+    for (size_t k = 0; k <= nnames && rc == HSBD_OK; ++k) {
+        hsbd_outfile o;
+        rc = hsbd_outfile_open(&o, out, files[k].name, err);
+        if (rc == HSBD_OK) {
+            fwrite(files[k].text, 1, files[k].len, o.f);
+            rc = hsbd_outfile_commit(&o, err);
+        }
+    }
+    for (size_t k = 0; files && k <= nnames; ++k)
+        free(files[k].text);
+    for (size_t k = 0; k < nnames; ++k)
+        free(names[k]);
+    free(files), free(names);
+    for (size_t k = 0; k < ndirs; ++k)
+        text_free(&src[k].sum);
+    free(src);
+    return rc;
+}
+
+int hsbd_merge(const char *out, const char *const *dirs, size_t ndirs, int force, hsbd_error *err) {
+    hsbd_error_clear(err);
+    return run_merge_into(out, dirs, ndirs, 1, force, err);
+}
