@@ -36,6 +36,7 @@ enum hsbd_drive_parameter {
     HSBD_DRIVE_CENTER     /* harmonic: its centre (dragged or oscillating trap) */
 };
 enum hsbd_boundary { HSBD_BOUNDARY_PERIODIC = 0, HSBD_BOUNDARY_WALLS };
+enum hsbd_coupling_law { HSBD_COUPLING_GIVEN = 0, HSBD_COUPLING_VOLUME = 1 };
 enum hsbd_pair_type { HSBD_PAIR_NONE = 0, HSBD_PAIR_YUKAWA, HSBD_PAIR_LJ, HSBD_PAIR_TABLE };
 enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ, HSBD_TRAJ_GSD };
 enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE, HSBD_BLOCKS_REPLICAS };
@@ -55,8 +56,10 @@ typedef struct hsbd_config {
         uint64_t seed;
         int hard_core;
         int contact_rule;
-        int boundary;
+        int boundary; /* rods: enum hsbd_boundary, parsed from boundary_text */
+        char boundary_text[HSBD_PATH_MAX];
         /* spheres */
+        int walls[3]; /* per axis: 1 hard walls, 0 periodic (from boundary_text) */
         int64_t dimension;
         char box_text[HSBD_PATH_MAX], drift_text[HSBD_PATH_MAX];
         double packing_fraction, shell;
@@ -75,6 +78,7 @@ typedef struct hsbd_config {
         double amplitude, wavelength, force, stiffness, center;
         char table[HSBD_PATH_MAX];
         int table_kind; /* HSBD_TABLE_POTENTIAL or HSBD_TABLE_FORCE */
+        int axis;       /* spheres: the coordinate the field acts on (0 x, 1 y, 2 z) */
     } field;
     struct {
         int parameter; /* enum hsbd_drive_parameter */
@@ -94,6 +98,11 @@ typedef struct hsbd_config {
          * distribution (enum hsbd_size_distribution), and the law for D (enum hsbd_d_law) */
         double polydispersity;
         int distribution, d_law;
+        /* spheres: the field's factor per species (species.coupling, or 1), and its law
+         * (enum hsbd_coupling_law: volume scales it with (sigma_i / system.sigma)^d) */
+        char coupling_text[HSBD_PATH_MAX];
+        double coupling[HSBD_MAX_SPECIES];
+        int coupling_law;
     } species;
     struct {
         double dt, t_equil, t_total, dt_equil;

@@ -162,7 +162,8 @@ HSBD_API int hsbd_drift_get(const hsbd_drift *d, double t, const double *x, hsbd
 /* ---- disks / spheres: radial distribution per species pair, contact values ---- */
 typedef struct hsbd_gr hsbd_gr;
 /* Bins of width `width` up to r_max (<= half the shortest box length); contact values by
- * a quadratic fit of g over gaps in [0, fit_width). */
+ * a quadratic fit of g over gaps in [0, fit_width). A periodic box only (HSBD_EINPUT when
+ * an axis has walls: the ideal-gas reference would be wrong). */
 HSBD_API hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width,
                                 double fit_width, size_t nblocks, uint64_t nsamples_total,
                                 hsbd_error *err);
@@ -182,6 +183,29 @@ HSBD_API void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, doub
 /* C_ab of the virial route Z = 1 + sum over pairs C_ab g_ab(sigma_ab+): the sum over the
  * pairs of species a, b of S_d sigma_ij^d / (V d N), S_d = 4 pi (3D) or 2 pi (2D) */
 HSBD_API double hsbd_gr_contact_weight(const hsbd_gr *g, size_t pair);
+
+/* ---- disks / spheres between walls or in a field: profiles along one axis, wall contacts ---- */
+typedef struct hsbd_slab hsbd_slab;
+/* The number density along `axis` per species in bins of about bin_width (rounded so that
+ * they fill the period), folded into `period` (a divisor of the box length; the length
+ * between walls), and, when the axis has walls, the density of the gaps x - sigma_i/2 (and
+ * L - sigma_i/2 - x) in four sub-windows of [0, contact_window) for the contact density. */
+HSBD_API hsbd_slab *hsbd_slab_alloc(const hsbd_spheres_view *v, int axis, double period, double bin_width,
+                           double contact_window, size_t nblocks, uint64_t nsamples_total,
+                           hsbd_error *err);
+HSBD_API void hsbd_slab_free(hsbd_slab *p);
+HSBD_API void hsbd_slab_sample(hsbd_slab *p, const hsbd_spheres_view *v);
+HSBD_API size_t hsbd_slab_bins(const hsbd_slab *p);
+/* Bin centres, number density (per volume) of one species (or all: species < 0) and its
+ * block error. */
+HSBD_API void hsbd_slab_density(const hsbd_slab *p, int species, double *x, double *rho, double *err);
+/* Density of centres at contact with the wall at 0 (side 0) or at the box length (side
+ * 1): the gap density extrapolated linearly to zero gap from the four sub-windows, block
+ * by block; error from the blocks' scatter. NaN without walls on the axis. */
+HSBD_API void hsbd_slab_wall_contact(const hsbd_slab *p, int side, int species, double *value,
+                            double *err);
+/* the accumulators (checkpoints) */
+HSBD_API hsbd_blocks *hsbd_slab_blocks(hsbd_slab *p);
 
 /* ---- clusters: size histogram, mean size, merge events per step ---- */
 typedef struct hsbd_clusters hsbd_clusters;

@@ -18,6 +18,7 @@
 #include <stdint.h>
 
 #include "hsbd/error.h"
+#include "hsbd/field.h"
 
 typedef enum hsbd_spheres_event_order {
     HSBD_EVENTS_AUTO = 0,
@@ -63,6 +64,19 @@ typedef struct hsbd_spheres_params {
      * HSBD_SPHERES_GROUPS_MIN_N particles on, unless they grow too large to gain. */
     hsbd_spheres_event_order event_order;
     size_t groups_min_n; /* AUTO: groups from this N on; 0: HSBD_SPHERES_GROUPS_MIN_N */
+    /* Hard walls (docs/spheres.md, "Walls"): walls[a] = 1 puts planes at 0 and box[a]
+     * along axis a (else periodic); centres stay in [sigma_i/2, box[a] - sigma_i/2]. A wall
+     * is a body of infinite mass 1/D: a contact reflects the normal velocity. Walls act
+     * with hard_core = 0 too. The step is exact for an isolated particle at a wall with
+     * any drift (the Skorokhod reflection, design notes 7). */
+    int walls[3];
+    /* External field along axis field_axis (NULL: none; the caller keeps it alive): the
+     * drift v_i = (D_i / kT) coupling_i F(x_i) with F at the start-of-step position.
+     * coupling_i from particle_coupling (N values) or species_coupling (nspecies values)
+     * or 1. Particles with D_i = 0 do not move. */
+    const hsbd_field *field;
+    int field_axis;
+    const double *species_coupling, *particle_coupling;
 } hsbd_spheres_params;
 
 /* Collision statistics accumulated since the last reset. */
@@ -73,6 +87,8 @@ typedef struct hsbd_spheres_stats {
     /* sum over collisions of sigma_ij n . (impulse on j) / kT, in the units of length^2:
      * its mean per unit time gives the collisional virial (docs/spheres.md) */
     double virial;
+    uint64_t wall_collisions; /* wall events in the calendar (not the bridge pushes) */
+    uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */
 } hsbd_spheres_stats;
 
 /* Read-only view of the state for observers. Unwrapped position of particle i along axis
@@ -80,7 +96,8 @@ typedef struct hsbd_spheres_stats {
 typedef struct hsbd_spheres_view {
     size_t n;
     int dimension;
-    double box[3];
+    double box[3]; /* box lengths (between the walls along a walls axis) */
+    int walls[3];  /* 1: hard walls at 0 and box[a] (x in [sigma_i/2, box[a] - sigma_i/2]) */
     const double *x;      /* 3 N, wrapped into the box (z = 0 in 2D) */
     const int64_t *image; /* 3 N image counters */
     const double *sigma;  /* N diameters */
@@ -148,11 +165,17 @@ HSBD_API void hsbd_spheres_set_dt(hsbd_spheres *s, double dt);
 HSBD_API hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s);
 HSBD_API const hsbd_spheres_params *hsbd_spheres_get_params(const hsbd_spheres *s);
 HSBD_API hsbd_spheres_stats hsbd_spheres_get_stats(const hsbd_spheres *s);
+/* Wall impulses since the last reset_stats: out[(6 k + 2 a + side)] (species k, axis a,
+ * side 0 at 0, 1 at box[a]) = the sum over the wall's contacts with particles of species
+ * k of the displacement the wall caused over D_i: impulse / kT (time / length). Its mean
+ * per unit time and wall area is the contact density (contact theorem). out has
+ * 6 nspecies values. */
+HSBD_API void hsbd_spheres_wall_impulses(const hsbd_spheres *s, double *out);
 HSBD_API void hsbd_spheres_reset_stats(hsbd_spheres *s);
 HSBD_API double hsbd_spheres_shell(const hsbd_spheres *s);
 
-/* Smallest surface gap over all pairs within reach, relative to sigma_ij (negative:
- * overlap), and whether every coordinate is finite. Uses the neighbour lists: O(N) (when
+/* Smallest surface gap over all pairs within reach, relative to sigma_ij, and of every
+ * particle to the walls, relative to sigma_i (negative: overlap), and whether every coordinate is finite. Uses the neighbour lists: O(N) (when
  * memory ran out even for rebuilding them after a failed step, the pairs still listed). */
 HSBD_API double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite);
 

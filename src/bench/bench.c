@@ -122,22 +122,26 @@ typedef struct sphere_bench_case {
     const char *name;
     size_t n;
     double phi, dt;
+    int sediment; /* walls at z = 0 and L, gravity force -0.5 kT / sigma along z */
 } sphere_bench_case;
 
 static const sphere_bench_case sphere_bench_cases[] = {
-    {"spheres-N4000-phi0.3-dt1e-3", 4000, 0.3, 1e-3},
-    {"spheres-N4000-phi0.3-dt1e-4", 4000, 0.3, 1e-4},
-    {"spheres-N4000-phi0.5-dt1e-3", 4000, 0.5, 1e-3},
-    {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4},
-    {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3},
-    {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4},
-    {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3}, /* scaling in N; events by group */
+    {"spheres-N4000-phi0.3-dt1e-3", 4000, 0.3, 1e-3, 0},
+    {"spheres-N4000-phi0.3-dt1e-3-sediment", 4000, 0.3, 1e-3, 1},
+    {"spheres-N4000-phi0.3-dt1e-4", 4000, 0.3, 1e-4, 0},
+    {"spheres-N4000-phi0.5-dt1e-3", 4000, 0.5, 1e-3, 0},
+    {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4, 0},
+    {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3, 0},
+    {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4, 0},
+    {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3, 0}, /* scaling in N; events by group */
 };
 
 /* steps per second; *coll: collisions per step */
 static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, double seconds,
                                 double *coll) {
     const double side = cbrt((double)c->n * 3.14159265358979323846 / 6 / c->phi);
+    hsbd_field gravity = {0};
+    hsbd_field_add(&gravity, hsbd_field_tilt(-0.5));
     const hsbd_spheres_params p = {.n = c->n,
                                    .dimension = 3,
                                    .box = {side, side, side},
@@ -146,7 +150,10 @@ static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, doubl
                                    .kT = 1,
                                    .dt = c->dt,
                                    .seed = 1,
-                                   .hard_core = hard_core};
+                                   .hard_core = hard_core,
+                                   .walls = {0, 0, c->sediment},
+                                   .field = c->sediment ? &gravity : NULL,
+                                   .field_axis = 2};
     hsbd_error err;
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
     if (!s || hsbd_spheres_init_lattice(s, &err) != HSBD_OK) {
@@ -182,8 +189,9 @@ static void sphere_bench(const char *only, double seconds, FILE *out) {
         if (!header++)
             fprintf(out,
                     "# EDBD, 3D monodisperse spheres, D = sigma = 1, from an fcc lattice after 0.3 "
-                    "Brownian times of warm-up;\n# BT/s = Brownian times (sigma^2/D) simulated "
-                    "per CPU-second; free = hard core off\n"
+                    "Brownian times of warm-up;\n# sediment: walls at z = 0 and L, gravity -0.5 "
+                    "kT/sigma along z (phi 0.3 on average);\n# BT/s = Brownian times (sigma^2/D) "
+                    "simulated per CPU-second; free = hard core off\n"
                     "%-30s %7s %9s %9s %10s %9s %9s %7s\n",
                     "case", "N", "BT/s", "ns/p-step", "ns/coll", "coll/p-st", "free BT/s", "ratio");
         double coll = 0, coll_free = 0;

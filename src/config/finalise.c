@@ -369,6 +369,29 @@ static int check_run_keys(hsbd_config *cfg, hsbd_error *err) {
     return HSBD_OK;
 }
 
+/* system.boundary: one word (rods: dim 1) or one per axis, each periodic or walls, into
+ * walls[a]. */
+static int parse_boundary(hsbd_config *cfg, int dim, int *walls, hsbd_error *err) {
+    char buf[HSBD_PATH_MAX], *words[4];
+    snprintf(buf, sizeof buf, "%s", cfg->system.boundary_text);
+    const size_t got = split_list(buf, words, 3);
+    if (got != 1 && got != (size_t)dim)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: system.boundary has %zu values; allowed: %s", 
+                              config_origin_of(cfg, "system", "boundary"), got,
+                              dim == 1 ? "one (rods)" : "1 or one per axis (system.dimension)");
+    for (int a = 0; a < dim; ++a) {
+        const char *w = words[got == 1 ? 0 : a];
+        if (strcmp(w, "periodic") && strcmp(w, "walls"))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: system.boundary = '%.40s' is not known; allowed: periodic "
+                                  "or walls",
+                                  config_origin_of(cfg, "system", "boundary"), w);
+        walls[a] = !strcmp(w, "walls");
+    }
+    return HSBD_OK;
+}
+
 /* ---- rods ---------------------------------------------------------------------------- */
 
 /* ---- drives --------------------------------------------------------------------------- */
@@ -435,6 +458,9 @@ static int check_drive(const hsbd_config *cfg, hsbd_error *err) {
 }
 
 static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
+    int walls_rods = 0;
+    if (parse_boundary(cfg, 1, &walls_rods, err) != HSBD_OK) return err->status;
+    cfg->system.boundary = walls_rods ? HSBD_BOUNDARY_WALLS : HSBD_BOUNDARY_PERIODIC;
     if (parse_species(cfg, err) != HSBD_OK) return err->status;
     const double L = cfg->system.length, sigma = cfg->system.sigma;
     const double occupied = rods_length(cfg);
@@ -551,6 +577,98 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
 
 /* ---- spheres ------------------------------------------------------------------------- */
 
+/* Spheres between walls and in fields: the walls per axis (each at least sigma_max long),
+ * the field's axis, terms and defaults, the couplings per species, and what cannot move
+ * (no force, no drift on particles with D = 0). */
+static int finalise_spheres_walls_field(hsbd_config *cfg, double sigma_max, hsbd_error *err) {
+    const int dim = (int)cfg->system.dimension;
+    if (parse_boundary(cfg, dim, cfg->system.walls, err) != HSBD_OK) return err->status;
+    for (int a = 0; a < dim; ++a)
+        if (cfg->system.walls[a] && !(cfg->system.box[a] >= sigma_max))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: the box length %g along axis %c between walls is shorter "
+                                  "than the largest diameter %g; allowed: >= sigma_max",
+                                  config_origin_of(cfg, "system", "boundary"), cfg->system.box[a],
+                                  "xyz"[a], sigma_max);
+    if (config_is_default(cfg, "field", "type")) cfg->field.type = 0; /* spheres: none */
+    if (config_is_default(cfg, "field", "axis")) cfg->field.axis = dim - 1;
+    const int axis = cfg->field.axis;
+    if (axis >= dim)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: field.axis = %c is beyond system.dimension = %d; allowed: %s",
+                              config_origin_of(cfg, "field", "axis"), "xyz"[axis], dim,
+                              dim == 2 ? "x or y" : "x, y or z");
+    const double length = cfg->system.box[axis];
+    const int periodic = !cfg->system.walls[axis];
+    if ((cfg->field.type & HSBD_FIELD_COSINE) && periodic &&
+        !divides(cfg->field.wavelength, length))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: field.wavelength = %g must divide the periodic box length %g "
+                              "along field.axis = %c",
+                              config_origin_of(cfg, "field", "wavelength"), cfg->field.wavelength,
+                              length, "xyz"[axis]);
+    if ((cfg->field.type & HSBD_FIELD_TABLE) && !cfg->field.table[0])
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: field.type with table needs field.table = <file with 'x value' "
+                              "lines>",
+                              config_origin_of(cfg, "field", "type"));
+    if (isnan(cfg->field.center)) {
+        cfg->field.center = 0.5 * length;
+        config_set_origin(cfg, "field", "center", "default (half the box along field.axis)");
+    }
+    const size_t ns = cfg->species.n ? cfg->species.n : 1;
+    for (size_t k = 0; k < ns; ++k)
+        cfg->species.coupling[k] = 1.0;
+    if (cfg->species.coupling_text[0]) {
+        if (!cfg->species.n)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: species.coupling is set but species.names is empty; name "
+                                  "the species first",
+                                  config_origin_of(cfg, "species", "coupling"));
+        if (cfg->species.coupling_law == HSBD_COUPLING_VOLUME)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: species.coupling is set with species.coupling_law = volume "
+                                  "(which gives the couplings); allowed: one of them",
+                                  config_origin_of(cfg, "species", "coupling"));
+        if (parse_species_numbers(cfg, "coupling", cfg->species.coupling_text, -INFINITY, 1, 0,
+                                  cfg->species.coupling, err) != HSBD_OK)
+            return err->status;
+    }
+    for (size_t k = 0; k < ns; ++k) {
+        const double d = cfg->species.n ? cfg->species.diffusion[k] : cfg->system.diffusion;
+        if (d != 0) continue;
+        const int law = cfg->species.coupling_law == HSBD_COUPLING_VOLUME;
+        if (cfg->field.type && (law || cfg->species.coupling[k] != 0))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: a field acts on species %s, whose D = 0 cannot move; "
+                                  "allowed: species.coupling = 0 for it",
+                                  config_origin_of(cfg, "species", law ? "coupling_law" : "coupling"),
+                                  cfg->species.n ? cfg->species.name[k] : "(one)");
+        if (cfg->system.drift_text[0])
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: system.drift with species %s, whose D = 0 cannot move (not a "
+                                  "common drift); allowed: no drift",
+                                  config_origin_of(cfg, "system", "drift"),
+                                  cfg->species.n ? cfg->species.name[k] : "(one)");
+    }
+    if (config_is_default(cfg, "sample", "bin_width")) {
+        cfg->sample.bin_width = 0.05 * cfg->system.sigma;
+        config_set_origin(cfg, "sample", "bin_width", "default (spheres: sigma/20)");
+    }
+    const int folds = (cfg->field.type & HSBD_FIELD_COSINE) && periodic;
+    if (isnan(cfg->sample.period)) {
+        cfg->sample.period = folds ? cfg->field.wavelength : length;
+        config_set_origin(cfg, "sample", "period", "default (spheres: field.wavelength or the box)");
+    }
+    if (!divides(cfg->sample.period, length) || (!periodic && cfg->sample.period != length))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: sample.period = %g; allowed: a divisor of the periodic box "
+                              "length %g along field.axis (the box length between walls)",
+                              config_origin_of(cfg, "sample", "period"), cfg->sample.period,
+                              length);
+    return HSBD_OK;
+}
+
 static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
     const int dim = (int)cfg->system.dimension;
     if (config_is_default(cfg, "system", "sigma")) {
@@ -604,6 +722,7 @@ static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
     if (cfg->system.drift_text[0] &&
         parse_vector(cfg, "drift", cfg->system.drift_text, dim, 0, -INF, cfg->system.drift, err))
         return err->status;
+    if (finalise_spheres_walls_field(cfg, sigma_max, err) != HSBD_OK) return err->status;
     /* what each initial state reaches: RSI stalls near 0.38 / 0.547; the compression
      * was measured to reach 0.60 / 0.72 at N = 4000 (docs/spheres.md) */
     const double phi_random = dim == 3 ? 0.30 : 0.45, phi_compress = dim == 3 ? 0.58 : 0.72;

@@ -49,10 +49,11 @@ const key_spec config_schema[] = {
      "reflect: each gap's Brownian-bridge minimum is drawn first and a crossing reflects it "
      "(no O(sqrt(dt)) contact layer; validated, docs/validation.md); sticky: the paper's BCD "
      "as printed (inelastic mergers), needs ~100x smaller dt in dense systems"},
-    {"system", "boundary", RODS, K_ENUM, OFF(system.boundary), 0, 0, 0, "periodic",
-     "periodic|walls",
-     "periodic: a ring of length L; walls: hard walls at 0 and L (rod centres in [sigma/2, "
-     "L - sigma/2])"},
+    {"system", "boundary", ALL_MODELS, K_STRING, OFF(system.boundary_text), 0, 0, 0, "periodic", 0,
+     "periodic or walls. Rods: periodic, a ring of length L; walls: hard walls at 0 and L (rod "
+     "centres in [sigma/2, L - sigma/2]). Spheres: one value for every axis or one per axis "
+     "(e.g. periodic periodic walls): walls are planes at 0 and the box length with centres in "
+     "[sigma_i/2, box - sigma_i/2], acting also with hard_core = off"},
     {"contact", "gamma", RODS, K_DOUBLE, OFF(contact.gamma), 0, INF, OPEN_MAX, "0", 0,
      "Baxter stickiness gamma (Antonov Eqs. 29-30); 0: pure hard core"},
     {"contact", "order", RODS, K_DOUBLE, OFF(contact.order), 1, INF, OPEN_MIN | OPEN_MAX, "3", 0,
@@ -76,27 +77,31 @@ const key_spec config_schema[] = {
     {"pair", "table", RODS, K_STRING, OFF(pair.table), 0, 0, 0, "", 0,
      "pair.type = table: file with lines 'r f(r)' (force on the right rod, energy/length), r "
      "strictly increasing from <= sigma, f = 0 at the last r; natural cubic spline"},
-    {"field", "type", RODS, K_TERMS, OFF(field.type), 0, 0, 0, "cosine",
+    {"field", "type", ALL_MODELS, K_TERMS, OFF(field.type), 0, 0, 0, "cosine",
      "none|cosine|tilt|harmonic|table",
      "external field, a sum of terms joined by '+' (e.g. cosine+tilt): cosine U = (amplitude/2) "
      "cos(2 pi x/wavelength); tilt: constant force (linear potential U = -force x, gravity); "
      "harmonic: U = (stiffness/2)(x - center)^2 (nearest image on a ring); table: U(x) or f(x) "
-     "from field.table"},
-    {"field", "amplitude", RODS, K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX,
+     "from field.table (rods default cosine; spheres default none, the field acting along "
+     "field.axis)"},
+    {"field", "amplitude", ALL_MODELS, K_DOUBLE, OFF(field.amplitude), -INF, INF, OPEN_MIN | OPEN_MAX,
      "6", 0, "cosine amplitude U0 (energy, units of system.kT), Antonov Eq. 21"},
-    {"field", "wavelength", RODS, K_DOUBLE, OFF(field.wavelength), 0, INF, OPEN_MIN | OPEN_MAX, "1",
+    {"field", "wavelength", ALL_MODELS, K_DOUBLE, OFF(field.wavelength), 0, INF, OPEN_MIN | OPEN_MAX, "1",
      0, "cosine wavelength lambda; must divide L"},
-    {"field", "force", RODS, K_DOUBLE, OFF(field.force), -INF, INF, OPEN_MIN | OPEN_MAX, "0", 0,
+    {"field", "force", ALL_MODELS, K_DOUBLE, OFF(field.force), -INF, INF, OPEN_MIN | OPEN_MAX, "0", 0,
      "constant force f (energy/length) of the tilt term; f < 0 pushes rods towards x = 0"},
-    {"field", "stiffness", RODS, K_DOUBLE, OFF(field.stiffness), 0, INF, OPEN_MAX, "1", 0,
+    {"field", "stiffness", ALL_MODELS, K_DOUBLE, OFF(field.stiffness), 0, INF, OPEN_MAX, "1", 0,
      "harmonic trap stiffness k (energy/length^2)"},
-    {"field", "center", RODS, K_DOUBLE, OFF(field.center), -INF, INF, OPEN_MIN | OPEN_MAX, "", 0,
-     "harmonic trap centre (default: L/2)"},
-    {"field", "table", RODS, K_STRING, OFF(field.table), 0, 0, 0, "", 0,
+    {"field", "center", ALL_MODELS, K_DOUBLE, OFF(field.center), -INF, INF, OPEN_MIN | OPEN_MAX, "", 0,
+     "harmonic trap centre (default: L/2; spheres: half the box along field.axis)"},
+    {"field", "axis", SPHERES, K_ENUM, OFF(field.axis), 0, 0, 0, "z", "x|y|z",
+     "spheres: the coordinate the field acts on (default z in 3D, y in 2D); a cosine's "
+     "wavelength must divide a periodic box length there"},
+    {"field", "table", ALL_MODELS, K_STRING, OFF(field.table), 0, 0, 0, "", 0,
      "field.type with table: file with lines 'x value', x strictly increasing; on a ring x runs "
      "from 0 to L exactly, the values at 0 and L agree and the spline is periodic (the force is "
      "continuous across x = 0 = L); between walls x covers [0, L] and the spline is natural"},
-    {"field", "table_kind", RODS, K_ENUM, OFF(field.table_kind), 0, 0, 0, "potential",
+    {"field", "table_kind", ALL_MODELS, K_ENUM, OFF(field.table_kind), 0, 0, 0, "potential",
      "potential|force",
      "what field.table holds: potential U(x) (energy; force -U') or force f(x) (energy/length)"},
     {"drive", "parameter", RODS, K_ENUM, OFF(drive.parameter), 0, 0, 0, "none",
@@ -145,6 +150,14 @@ const key_spec config_schema[] = {
      "spheres: given: D of the species (or system.D) for every particle; stokes-einstein: "
      "D_i = D_0 sigma_0 / sigma_i with D_0 = system.D at sigma_0 = system.sigma (then no "
      "species.D)"},
+    {"species", "coupling", SPHERES, K_STRING, OFF(species.coupling_text), 0, 0, 0, "", 0,
+     "spheres: the field's factor on each species (finite numbers, buoyant mass or charge; the "
+     "force on particle i is coupling_i F(x)); empty: 1; 0 for immobile species (D = 0)"},
+    {"species", "coupling_law", SPHERES, K_ENUM, OFF(species.coupling_law), 0, 0, 0, "given",
+     "given|volume",
+     "spheres: given: species.coupling (or 1) for every particle; volume: coupling_i = "
+     "(sigma_i / system.sigma)^d, proportional to the particle's volume (buoyant mass of "
+     "polydisperse colloids; then no species.coupling)"},
     {"run", "dt", ALL_MODELS, K_DOUBLE, OFF(run.dt), 0, INF, OPEN_MIN | OPEN_MAX, "1e-4", 0,
      "time step"},
     {"run", "t_equil", ALL_MODELS, K_DOUBLE, OFF(run.t_equil), 0, INF, OPEN_MAX, "10", 0,
@@ -166,14 +179,18 @@ const key_spec config_schema[] = {
      "threads of one run (hsbd run --threads N); 0: the cores the process may use. Rods: the "
      "noise, field and contact pushes in parallel, results identical for every count; "
      "spheres: one thread for now (docs/scaling.md)"},
-    {"sample", "bin_width", RODS, K_DOUBLE, OFF(sample.bin_width), 0, INF, OPEN_MIN | OPEN_MAX,
-     "1e-2", 0, "density bin width Delta_x (Eq. 24); must divide sample.period"},
+    {"sample", "bin_width", ALL_MODELS, K_DOUBLE, OFF(sample.bin_width), 0, INF,
+     OPEN_MIN | OPEN_MAX, "1e-2", 0,
+     "density bin width Delta_x (Eq. 24); must divide sample.period (spheres: of the profiles "
+     "along the walls and field axes, default sigma/20, must divide their lengths)"},
     {"sample", "contact_width", RODS, K_DOUBLE, OFF(sample.contact_width), 0, INF, OPEN_MAX, "0", 0,
      "contact window Delta' (Eq. 26): gaps in [0, Delta'] count as contact (0: max(0.01, three "
      "rms relative steps 3 sqrt(4 D dt)), largest D; narrower windows bias rho2_extrap low, "
      "docs/observables.md)"},
-    {"sample", "period", RODS, K_DOUBLE, OFF(sample.period), 0, INF, OPEN_MIN | OPEN_MAX, "", 0,
-     "profiles are folded into one period (default: field.wavelength); must divide L"},
+    {"sample", "period", ALL_MODELS, K_DOUBLE, OFF(sample.period), 0, INF, OPEN_MIN | OPEN_MAX, "",
+     0,
+     "profiles are folded into one period (default: field.wavelength); must divide L (spheres: "
+     "the field axis's profile, folded when that axis is periodic with a cosine field)"},
     {"sample", "blocking", RODS, K_ENUM, OFF(sample.blocking), 0, 0, 0, "time",
      "time|space|replicas",
      "error bars of profiles and the MSD from blocks of time, or of space (segments of the "

@@ -31,9 +31,10 @@ void hsbd_xyz_write_spheres(FILE *f, const hsbd_spheres_view *v,
     fprintf(f, "%zu\n", v->n);
     const int three = v->dimension == 3;
     fprintf(f,
-            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T T %s\" Time=%.17g Step=%llu "
+            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"%c %c %c\" Time=%.17g Step=%llu "
             "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
-            v->box[0], v->box[1], three ? v->box[2] : 1.0, three ? "T" : "F", v->time,
+            v->box[0], v->box[1], three ? v->box[2] : 1.0, v->walls[0] ? 'F' : 'T',
+            v->walls[1] ? 'F' : 'T', three && !v->walls[2] ? 'T' : 'F', v->time,
             (unsigned long long)v->step);
     for (size_t i = 0; i < v->n; ++i)
         fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n",

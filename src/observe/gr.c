@@ -118,6 +118,11 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
                               "r_max <= half the shortest box length (%g), fit > 0",
                               r_max, width, fit_width, half_box),
                NULL;
+    for (int a = 0; a < v->dimension; ++a)
+        if (v->walls[a]) /* minimum images and the ideal-gas reference need a periodic box */
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "g(r): axis %d has walls; allowed: a periodic box", a),
+                   NULL;
     hsbd_gr *g = calloc(1, sizeof *g);
     if (!g) return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
     g->n = v->n;

@@ -109,62 +109,6 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
     return p;
 }
 
-/* The configuration's drive on `term` when drive.parameter is one of its parameters
- * (strength_key or position_key), else the term unchanged. */
-static hsbd_field_term driven(const hsbd_config *cfg, hsbd_field_term term, int strength_key,
-                              int position_key) {
-    const int p = cfg->drive.parameter;
-    if (p == HSBD_DRIVE_NONE || (p != strength_key && p != position_key)) return term;
-    const double omega = cfg->drive.period > 0 ? 2 * 3.141592653589793 / cfg->drive.period : 0;
-    hsbd_field_term_drive(&term, p == strength_key ? HSBD_DRIVE_STRENGTH : HSBD_DRIVE_POSITION,
-                          cfg->drive.wave, cfg->drive.amplitude, omega, cfg->drive.phase,
-                          cfg->drive.velocity);
-    return term;
-}
-
-/* Field terms from the configuration (field.type is a sum). A table is loaded; between
- * walls it must cover the box [0, L] (natural spline); on a ring it must span exactly one
- * period [0, L] with equal end values, and its spline is made periodic so that the force
- * stays continuous across x = 0 = L (BCD needs continuous forces). */
-static int build_field(const hsbd_config *cfg, hsbd_table **table, hsbd_field *field,
-                       hsbd_error *err) {
-    const int t = cfg->field.type;
-    const double L = cfg->system.length;
-    const double period = cfg->system.boundary == HSBD_BOUNDARY_PERIODIC ? L : 0.0;
-    if (t & HSBD_FIELD_COSINE)
-        hsbd_field_add(field,
-                       driven(cfg, hsbd_field_cosine(cfg->field.amplitude, cfg->field.wavelength),
-                              HSBD_DRIVE_AMPLITUDE, HSBD_DRIVE_SHIFT));
-    if (t & HSBD_FIELD_TILT)
-        hsbd_field_add(field, driven(cfg, hsbd_field_tilt(cfg->field.force), HSBD_DRIVE_FORCE, -1));
-    if (t & HSBD_FIELD_HARMONIC)
-        hsbd_field_add(
-            field, driven(cfg, hsbd_field_harmonic(cfg->field.stiffness, cfg->field.center, period),
-                          HSBD_DRIVE_STIFFNESS, HSBD_DRIVE_CENTER));
-    if (t & HSBD_FIELD_TABLE) {
-        *table = hsbd_table_load(cfg->field.table, err);
-        if (!*table) return err->status;
-        const double x0 = hsbd_table_x_min(*table), x1 = hsbd_table_x_max(*table);
-        if (period == 0 && (x0 > 0 || x1 < L))
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "%s (field.table): x runs from %g to %g and does not cover the "
-                                  "box; allowed: first x <= 0 and last x >= system.L = %g",
-                                  cfg->field.table, x0, x1, L);
-        if (period > 0 && (fabs(x0) > 1e-9 * L || fabs(x1 - L) > 1e-9 * L))
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "%s (field.table): x runs from %.17g to %.17g; on a ring "
-                                  "(system.boundary = periodic) the table spans one period: "
-                                  "allowed: first x = 0 and last x = system.L = %g",
-                                  cfg->field.table, x0, x1, L);
-        char what[HSBD_PATH_MAX + 64];
-        snprintf(what, sizeof what, "%s (field.table on a ring)", cfg->field.table);
-        if (period > 0 && hsbd_table_make_periodic(*table, what, err) != HSBD_OK)
-            return err->status;
-        hsbd_field_add(field, hsbd_field_table(*table, cfg->field.table_kind, period));
-    }
-    return HSBD_OK;
-}
-
 static double sum_unwrapped(const hsbd_rods *rods) {
     const hsbd_rods_view v = hsbd_rods_get_view(rods);
     double s = 0;
@@ -263,7 +207,9 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     hsbd_rods_params par = rods_params_from(cfg);
     if (cfg->species.n > 0 && arrange_species(cfg, m, &par, err) != HSBD_OK) return err->status;
-    int rc = build_field(cfg, &m->field_table, &par.field, err);
+    int rc = run_build_field(cfg, cfg->system.length,
+                             cfg->system.boundary == HSBD_BOUNDARY_PERIODIC, "system.L",
+                             &m->field_table, &par.field, err);
     if (rc == HSBD_OK) rc = build_pair(cfg, &m->pair_table, &par.pair, err);
     if (rc == HSBD_OK) rc = check_sticky_step(r, m, &par, err);
     if (rc != HSBD_OK) return rc;

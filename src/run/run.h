@@ -12,6 +12,7 @@
 #include "core/serial.h"
 #include "hsbd/config.h"
 #include "hsbd/error.h"
+#include "hsbd/field.h"
 #include "hsbd/io.h"
 #include "hsbd/run.h"
 #include "hsbd/sim.h"
@@ -121,6 +122,10 @@ uint64_t run_every(const hsbd_config *cfg, double period);
 
 /* Builders of the two models: fill r->model and r->m (called before the run directory is
  * touched: everything that can refuse the input happens here). */
+/* The field terms of field.type along a line of length L (periodic, or between walls),
+ * named length_key in messages; a table is loaded into *table (the caller frees it). */
+int run_build_field(const hsbd_config *cfg, double L, int periodic, const char *length_key,
+                    hsbd_table **table, hsbd_field *field, hsbd_error *err);
 int run_rods_build(run *r, hsbd_error *err);
 int run_spheres_build(run *r, hsbd_error *err);
 

@@ -9,10 +9,12 @@
 #include "hsbd/io.h"
 #include "hsbd/observe.h"
 #include "hsbd/spheres.h"
+#include "hsbd/table.h"
 #include "hsbd/theory.h"
 #include "io/tables.h"
 #include "observe/checkpoint.h"
 #include "run/run.h"
+#include "run/walls.h"
 #include "spheres/checkpoint.h"
 
 typedef struct spheres_model {
@@ -26,6 +28,10 @@ typedef struct spheres_model {
     hsbd_blocks *virial; /* collisional virial per sampled interval */
     double virial_last;
     run_stream *trajectory;
+    hsbd_field field;         /* field.type along field.axis (the engine reads it) */
+    hsbd_table *field_table;  /* a tabulated term's table */
+    double *coupling;         /* per particle: the field's factor */
+    walls_observers walls;    /* profiles and wall contacts (walls or a field) */
 } spheres_model;
 
 static spheres_model *model_of(const run *r) {
@@ -63,6 +69,46 @@ static int place_particles(const run *r, spheres_model *m, double *x, hsbd_error
     return rc;
 }
 
+/* Particles of an XYZ input must lie between the walls: the file's line of the first
+ * that does not (line i + 3 of particle i). */
+static int check_positions_walls(const hsbd_config *cfg, const double *x, const double *sigma,
+                                 hsbd_error *err) {
+    for (size_t i = 0; i < (size_t)cfg->system.n; ++i)
+        for (int a = 0; a < (int)cfg->system.dimension; ++a) {
+            const double half = 0.5 * sigma[i], top = cfg->system.box[a] - half, tol = 1e-9;
+            if (!cfg->system.walls[a] || (x[3 * i + a] >= half * (1 - tol) &&
+                                          x[3 * i + a] <= top + tol * cfg->system.box[a]))
+                continue;
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s:%zu: particle %zu at %c = %.9g is outside the walls "
+                                  "(system.boundary); allowed: sigma/2 = %.9g <= %c <= box - "
+                                  "sigma/2 = %.9g",
+                                  cfg->init.positions, i + 3, i + 1, "xyz"[a], x[3 * i + a], half,
+                                  "xyz"[a], top);
+        }
+    return HSBD_OK;
+}
+
+/* The field along field.axis and each particle's coupling: species.coupling, or
+ * (sigma_i / system.sigma)^d with coupling_law = volume. */
+static int build_field_couplings(const hsbd_config *cfg, spheres_model *m, const double *sigma,
+                                 hsbd_error *err) {
+    if (!cfg->field.type) return HSBD_OK;
+    const int axis = cfg->field.axis, dim = (int)cfg->system.dimension;
+    if (run_build_field(cfg, cfg->system.box[axis], !cfg->system.walls[axis],
+                        "the box length along field.axis", &m->field_table, &m->field,
+                        err) != HSBD_OK)
+        return err->status;
+    const size_t n = (size_t)cfg->system.n;
+    if (!(m->coupling = malloc(n * sizeof *m->coupling)))
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    for (size_t i = 0; i < n; ++i)
+        m->coupling[i] = cfg->species.coupling_law == HSBD_COUPLING_VOLUME
+                             ? pow(sigma[i] / cfg->system.sigma, dim)
+                             : cfg->species.coupling[m->species[i]];
+    return HSBD_OK;
+}
+
 static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     const size_t n = (size_t)cfg->system.n;
@@ -86,7 +132,11 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
             diffusion[i] = cfg->species.n ? cfg->species.diffusion[k] : cfg->system.diffusion;
             if (cfg->species.d_law == HSBD_D_STOKES_EINSTEIN) diffusion[i] *= sk / sigma[i];
         }
+        if (check_positions_walls(cfg, x, sigma, err) != HSBD_OK)
+            return free(x), free(sigma), err->status;
     }
+    if (build_field_couplings(cfg, m, sigma, err) != HSBD_OK)
+        return free(x), free(sigma), err->status;
     hsbd_spheres_params p = {.n = n,
                              .dimension = (int)cfg->system.dimension,
                              .sigma = cfg->system.sigma,
@@ -101,9 +151,13 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .species_sigma = cfg->species.sigma,
                              .species_diffusion = cfg->species.diffusion,
                              .particle_sigma = sigma,
-                             .particle_diffusion = diffusion};
+                             .particle_diffusion = diffusion,
+                             .field = cfg->field.type ? &m->field : NULL,
+                             .field_axis = cfg->field.axis,
+                             .particle_coupling = m->coupling};
     for (int a = 0; a < 3; ++a)
-        p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a];
+        p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a],
+        p.walls[a] = cfg->system.walls[a];
     m->sys = hsbd_spheres_alloc(&p, err);
     free(sigma);
     if (!m->sys) {
@@ -125,11 +179,15 @@ static int build_observers(const hsbd_config *cfg, spheres_model *m, hsbd_error 
     const size_t blocks = (size_t)cfg->sample.blocks, n = (size_t)cfg->system.n;
     const size_t d = (size_t)cfg->system.dimension;
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
-    if (cfg->system.hard_core) {
+    int walls = 0; /* g(r) counts pairs by minimum images of a homogeneous periodic box */
+    for (int a = 0; a < 3; ++a)
+        walls |= cfg->system.walls[a];
+    if (cfg->system.hard_core && !walls) {
         m->gr = hsbd_gr_alloc(&v, cfg->sample.gr_max, cfg->sample.gr_bin, cfg->sample.contact_fit,
                               blocks, steps / (uint64_t)cfg->sample.gr_every, err);
         if (!m->gr) return err->status;
     }
+    if (walls_observers_build(cfg, &v, &m->walls, err) != HSBD_OK) return err->status;
     m->virial = hsbd_blocks_alloc(1, blocks, steps / every);
     m->unwrapped = malloc(d * n * sizeof *m->unwrapped);
     if (!m->virial || !m->unwrapped) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
@@ -183,6 +241,7 @@ static int sample_virial_msd(run *r, void *ctx, hsbd_error *err) {
     hsbd_blocks_acc(m->virial)[0] += vir - m->virial_last;
     hsbd_blocks_end_sample(m->virial);
     m->virial_last = vir;
+    walls_observers_sample(&m->walls, m->sys);
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
     const size_t d = (size_t)v.dimension;
     for (size_t i = 0; i < v.n; ++i)
@@ -247,6 +306,7 @@ static void spheres_start_production(run *r) {
                            ((double)r->cfg->system.n * (double)r->equil_done));
     hsbd_spheres_reset_stats(m->sys);
     m->virial_last = 0;
+    walls_observers_restart(&m->walls);
 }
 
 /* ---- results ---- */
@@ -328,6 +388,7 @@ static int spheres_write_tables(run *r, hsbd_error *err) {
     int rc = m->gr ? write_gr(r, m, err) : HSBD_OK;
     if (rc == HSBD_OK) rc = write_time_table(r, m, "msd.tsv", 0, err);
     if (rc == HSBD_OK) rc = write_time_table(r, m, "fs.tsv", 1, err);
+    if (rc == HSBD_OK) rc = walls_observers_write_tables(r, &m->walls, err);
     return rc;
 }
 
@@ -443,11 +504,12 @@ static void spheres_write_summary(run *r, FILE *f) {
     double vm = NAN, ve = NAN;
     hsbd_blocks_result(m->virial, &vm, &ve);
     const double per = cfg->run.dt * (double)cfg->sample.every * (double)dim * n;
-    if (cfg->system.hard_core) {
+    if (m->gr) { /* a homogeneous periodic box (not between walls) */
         hsbd_json_number(f, "Z_virial", 1 + vm / per, 1);
         hsbd_json_number(f, "Z_virial_err", ve / per, 1);
         write_contacts_json(r, m, f);
     }
+    walls_observers_write_summary(r, &m->walls, f);
     double dl, dle;
     hsbd_msd_long_time_diffusion(m->msd, dim, &dl, &dle);
     hsbd_json_number(f, "D_long", dl, 1);
@@ -477,6 +539,7 @@ static void spheres_save(const run *r, hsbd_writer *w) {
     for (size_t k = 0; k < r->cfg->species.n && m->msd_species[k]; ++k)
         hsbd_msd_save(m->msd_species[k], w);
     if (m->gr) hsbd_gr_save(m->gr, w);
+    walls_observers_save(&m->walls, w);
 }
 
 static int spheres_load(run *r, hsbd_reader *rd) {
@@ -487,14 +550,18 @@ static int spheres_load(run *r, hsbd_reader *rd) {
         return -1;
     for (size_t k = 0; k < r->cfg->species.n && m->msd_species[k]; ++k)
         if (hsbd_msd_load(m->msd_species[k], rd)) return -1;
-    return m->gr ? hsbd_gr_load(m->gr, rd) : 0;
+    if (m->gr && hsbd_gr_load(m->gr, rd)) return -1;
+    return walls_observers_load(&m->walls, rd);
 }
 
 static void spheres_release(run *r) {
     spheres_model *m = model_of(r);
     if (!m) return;
     hsbd_spheres_free(m->sys);
+    hsbd_table_free(m->field_table);
+    free(m->coupling);
     hsbd_gr_free(m->gr);
+    walls_observers_free(&m->walls);
     hsbd_msd_free(m->msd);
     for (size_t k = 0; k < HSBD_MAX_SPECIES; ++k)
         hsbd_msd_free(m->msd_species[k]);

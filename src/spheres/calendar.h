@@ -11,7 +11,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-enum { SPH_EVENT_SHELL = -1 }; /* j of a shell-exit event */
+/* j of a shell-exit event; j = SPH_EVENT_WALL - w: i meets wall w = 2 axis + side */
+enum { SPH_EVENT_SHELL = -1, SPH_EVENT_WALL = -2 };
 
 typedef struct sph_event {
     double t;

@@ -49,6 +49,11 @@ void hsbd_spheres_save(const hsbd_spheres *s, hsbd_writer *w) {
     const uint64_t stats[6] = {s->stats.steps,        s->stats.collisions,   s->stats.shell_updates,
                                s->stats.stale_events, s->stats.group_reruns, sph_groups_pause(s)};
     hsbd_put_u64s(w, stats, 6);
+    if (s->any_walls) { /* only then: the periodic checkpoints keep their bytes */
+        hsbd_put_f64s(w, s->wall_sum, 6 * s->nspecies);
+        const uint64_t walls[2] = {s->stats.wall_collisions, s->stats.wall_pushes};
+        hsbd_put_u64s(w, walls, 2);
+    }
     free(tmp), free(itmp), free(label);
 }
 
@@ -125,6 +130,11 @@ int hsbd_spheres_load(hsbd_spheres *s, hsbd_reader *r) {
                                     .stale_events = stats[3],
                                     .group_reruns = stats[4],
                                     .virial = clock[4]};
+    uint64_t walls[2] = {0, 0};
+    if (s->any_walls && (get_doubles(r, s->wall_sum, 6 * s->nspecies) || hsbd_get_u64s(r, walls, 2)))
+        return -1;
+    s->stats.wall_collisions = walls[0];
+    s->stats.wall_pushes = walls[1];
     if (stats[5] > 1000) return hsbd_reader_fail(r, "spheres: an unknown event-order state");
     if (sph_groups_set_pause(s, (unsigned)stats[5])) return hsbd_reader_oom(r, "the event groups");
     if (sph_rebuild_rows(s) != HSBD_OK) return hsbd_reader_oom(r, "the neighbour lists");

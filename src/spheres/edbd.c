@@ -85,6 +85,21 @@ static int check_params(const hsbd_spheres_params *p, hsbd_error *err) {
                                       "spheres: a drift with immobile particles (D = 0, species "
                                       "%zu) is not a common drift; allowed: drift 0",
                                       k);
+    for (int a = 0; a < 3; ++a)
+        if (p->walls[a] != 0 && p->walls[a] != 1)
+            return hsbd_error_set(err, HSBD_EINPUT, "spheres: walls[%d] = %d; allowed: 0 or 1", a,
+                                  p->walls[a]);
+    if (p->field && (p->field_axis < 0 || p->field_axis >= p->dimension))
+        return hsbd_error_set(err, HSBD_EINPUT, "spheres: field axis %d; allowed: 0 .. %d",
+                              p->field_axis, p->dimension - 1);
+    for (size_t k = 0; p->field && p->species_coupling && k < (p->nspecies ? p->nspecies : 1); ++k)
+        if (!isfinite(p->species_coupling[k]))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "spheres: coupling of species %zu is not finite", k);
+    for (size_t i = 0; p->field && p->particle_coupling && i < p->n; ++i)
+        if (!isfinite(p->particle_coupling[i]))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "spheres: coupling of particle %zu is not finite", i);
     if (!(p->shell >= 0) || !isfinite(p->shell))
         return hsbd_error_set(err, HSBD_EINPUT, "spheres: shell = %g; allowed: >= 0", p->shell);
     if (p->event_order < HSBD_EVENTS_AUTO || p->event_order > HSBD_EVENTS_GROUPS)
@@ -134,6 +149,12 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->user_sigma);
     free(s->user_diffusion);
     free(s->user_species);
+    free(s->wall_step);
+    free(s->wall_sum);
+    free(s->wall_log);
+    free(s->drift_mu);
+    free(s->field_x);
+    free(s->field_f);
     hsbd_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
     sph_groups_free(s->groups);
@@ -146,6 +167,31 @@ static void set_noise_amplitudes(hsbd_spheres *s) {
         s->noise_amp[i] = sqrt(2.0 * s->diffusion[i] / s->dt); /* v = dr/dt, <dr^2> = 2 D dt */
 }
 
+/* The walls' impulse sums and log, the field's drift factors D_i coupling_i / kT and its
+ * buffers. Returns 0, or -1 when out of memory. */
+static int alloc_walls_and_field(hsbd_spheres *s) {
+    const hsbd_spheres_params *p = &s->par;
+    const size_t n = s->n;
+    if (s->any_walls) {
+        s->wall_step = calloc(6 * s->nspecies, sizeof *s->wall_step);
+        s->wall_sum = calloc(6 * s->nspecies, sizeof *s->wall_sum);
+        if (!s->wall_step || !s->wall_sum) return -1;
+    }
+    if (!p->field) return 0;
+    s->drift_mu = malloc(n * sizeof *s->drift_mu);
+    s->field_x = malloc(n * sizeof *s->field_x);
+    s->field_f = malloc(n * sizeof *s->field_f);
+    if (!s->drift_mu || !s->field_x || !s->field_f) return -1;
+    for (size_t i = 0; i < n; ++i) {
+        const double c = p->particle_coupling  ? p->particle_coupling[i]
+                         : p->species_coupling ? p->species_coupling[s->species[i]]
+                                               : 1.0;
+        s->drift_mu[i] = s->diffusion[i] / p->kT * c; /* mu_i = D_i / kT */
+    }
+    s->par.species_coupling = s->par.particle_coupling = NULL; /* drift_mu holds them */
+    return 0;
+}
+
 hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *err) {
     hsbd_error_clear(err);
     if (check_params(params, err) != HSBD_OK) return NULL;
@@ -156,10 +202,14 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->n = params->n;
     s->dt = params->dt;
     s->noise_stream = HSBD_STREAM_NOISE;
+    s->bridge_stream = HSBD_STREAM_CONTACT;
     const size_t n = s->n;
     for (int a = 0; a < 3; ++a) {
         s->box[a] = a < s->dim ? params->box[a] : 1.0;
-        s->inv_box[a] = 1.0 / s->box[a];
+        s->length[a] = s->box[a];
+        s->walls[a] = a < s->dim && params->walls[a];
+        s->any_walls |= s->walls[a];
+        s->par.walls[a] = s->walls[a];
         s->par.box[a] = s->box[a];
         if (a >= s->dim) s->par.drift[a] = 0;
     }
@@ -207,8 +257,21 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->diffusion_max = dmax;
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
     const double reach = s->sigma_max + 2 * s->shell;
+    for (int a = 0; a < s->dim; ++a) {
+        if (s->walls[a] && !(s->length[a] >= s->sigma_max)) {
+            hsbd_error_set(err, HSBD_EINPUT,
+                           "spheres: box[%d] = %g between walls is shorter than the largest "
+                           "diameter %g; allowed: >= sigma_max",
+                           a, s->length[a], s->sigma_max);
+            hsbd_spheres_free(s);
+            return NULL;
+        }
+        if (s->walls[a]) s->box[a] = 2 * s->length[a] + 3 * reach; /* never wraps: state.h */
+        s->inv_box[a] = 1.0 / s->box[a];
+    }
+    if (alloc_walls_and_field(s)) goto oom;
     for (int a = 0; a < s->dim; ++a)
-        if (params->hard_core && !(s->box[a] >= 2 * reach)) {
+        if (params->hard_core && !s->walls[a] && !(s->box[a] >= 2 * reach)) {
             hsbd_error_set(err, HSBD_EINPUT,
                            "spheres: box[%d] = %g is shorter than twice the interaction range "
                            "plus skin, 2 (sigma_max + 2 shell) = %g (sigma_max %g, shell %g); "
@@ -262,6 +325,66 @@ void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
 
 /* ---- the step ---- */
 
+/* The field's drift along its axis, v_i += (D_i coupling_i / kT) F(x_i) with F at the
+ * start-of-step position: exact for a constant force, else an Euler step (weak order 1:
+ * the stationary profile is off by O(dt) where F changes over a step's displacement). */
+static void add_field_drift(hsbd_spheres *s) {
+    const size_t n = s->n, a = (size_t)s->par.field_axis;
+    for (size_t i = 0; i < n; ++i)
+        s->field_x[i] = s->x[3 * i + a];
+    hsbd_field_force(s->par.field, n, s->field_x, s->field_f);
+    for (size_t i = 0; i < n; ++i)
+        s->v[3 * i + a] += s->drift_mu[i] * s->field_f[i];
+}
+
+/* The uniforms U in (0, 1) of src/core/rng.c have -ln U <= 54 ln 2 = 37.43: a bridge
+ * with g0 g1 >= BRIDGE_REACH D dt never reaches the wall, so it needs no draw. */
+#define BRIDGE_REACH 37.5
+
+/* The push off a wall of a particle whose Brownian path (diffusion D) goes from gap g0 >= 0
+ * to the free end gap g1 in the step: minus the minimum m of the Brownian bridge between
+ * them when m < 0, drawn as m = (g0 + g1 - sqrt((g1 - g0)^2 - 4 D dt ln U)) / 2 (design
+ * notes 7), else 0. The free end point plus this push is the end point of the path
+ * reflected at the wall (Skorokhod): exact for any drift that is constant in the step. */
+static double bridge_push(const hsbd_spheres *s, double g0, double g1, double d_dt,
+                          uint64_t index) {
+    if (g0 * g1 >= BRIDGE_REACH * d_dt) return 0;
+    double u;
+    hsbd_rng_uniforms(s->par.seed, s->bridge_stream, s->step, index, 1, &u);
+    const double m = 0.5 * (g0 + g1 - sqrt((g1 - g0) * (g1 - g0) - 4.0 * d_dt * log(u)));
+    return m < 0 ? -m : 0;
+}
+
+/* The walls' Skorokhod pushes, added to the fictive velocities before any event: a
+ * particle alone at a wall then ends where the reflected Brownian motion with its drift
+ * ends, and its straight path stays off the wall. Each wall's bridge is drawn from the
+ * free path (user index, axis, side), so in a slit narrower than a few sqrt(2 D dt) the
+ * two pushes are an approximation and the wall events fold what still crosses. The
+ * pushes' impulses go to this step's wall sums. */
+static void add_wall_pushes(hsbd_spheres *s) {
+    const double dt = s->dt;
+    for (int a = 0; a < s->dim; ++a) {
+        if (!s->walls[a]) continue;
+        for (size_t i = 0; i < s->n; ++i) {
+            const double d = s->diffusion[i], half = 0.5 * s->sigma[i];
+            double *x = s->x + 3 * i + a, *v = s->v + 3 * i + a;
+            const double dx = *v * dt, low = *x - half, high = s->length[a] - half - *x;
+            if (!(d > 0) || (low * (low + dx) >= BRIDGE_REACH * d * dt &&
+                             high * (high - dx) >= BRIDGE_REACH * d * dt))
+                continue; /* the common case: neither bridge can reach its wall */
+            const uint64_t index = 2 * (3 * (uint64_t)s->label[i] + (uint64_t)a);
+            const double up = bridge_push(s, low, low + dx, d * dt, index);
+            const double down = bridge_push(s, high, high - dx, d * dt, index + 1);
+            if (up == 0 && down == 0) continue;
+            *v += (up - down) / dt;
+            double *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
+            sum[0] += up / d; /* impulse / kT: the displacement the wall caused over D */
+            sum[1] += down / d;
+            s->stats.wall_pushes++;
+        }
+    }
+}
+
 static void draw_velocities(hsbd_spheres *s) {
     const size_t n = s->n, d = (size_t)s->dim;
     hsbd_rng_normals(s->par.seed, s->noise_stream, s->step, 0, d * n, s->normals);
@@ -273,12 +396,26 @@ static void draw_velocities(hsbd_spheres *s) {
         for (size_t a = 0; a < d; ++a)
             v[a] = amp * z[a] + (amp > 0 ? g[a] : 0.0);
     }
+    if (s->par.field) add_field_drift(s);
+    if (s->any_walls) add_wall_pushes(s);
 }
 
 /* A start-of-step event: into the calendar, or into the groups' hit list. Returns 0, or
  * -1 when out of memory. */
 static int start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_t j) {
     return grouped ? sph_groups_add_hit(s, t, i, j) : sph_push_event(s, t, i, j);
+}
+
+/* Whether i's straight path from its start leaves the room between the walls: only if
+ * its end point does (the room is convex); after the bridge pushes, rarely. */
+static int leaves_walls(const hsbd_spheres *s, size_t i) {
+    const double *x = s->x + 3 * i, *v = s->v + 3 * i, half = 0.5 * s->sigma[i];
+    int out = 0;
+    for (int a = 0; a < s->dim; ++a) {
+        const double end = x[a] + v[a] * s->dt;
+        out |= s->walls[a] & (end < half || end > s->length[a] - half);
+    }
+    return out;
 }
 
 /* Re-centre the shells of particles whose straight end point would leave them, then
@@ -297,6 +434,12 @@ static int start_step_events(hsbd_spheres *s, int grouped) {
             if (sph_recentre(s, (int32_t)i)) return -1;
             const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
             if (exit >= 0 && start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
+        }
+        if (s->any_walls && leaves_walls(s, i)) {
+            int wall = 0;
+            const double contact = sph_wall_time(s, (int32_t)i, 0.0, &wall);
+            if (contact >= 0 && start_event(s, grouped, contact, (int32_t)i, sph_wall_event(wall)))
+                return -1;
         }
     }
     const sph_scan_query q = {.x = s->x,
@@ -328,6 +471,60 @@ static int run_events(hsbd_spheres *s) {
     return rc < 0 ? -1 : rc == 1 ? sph_global_run(s) : 0;
 }
 
+static void forget_wall_step(hsbd_spheres *s) {
+    if (s->wall_step) memset(s->wall_step, 0, 6 * s->nspecies * sizeof *s->wall_step);
+    s->wall_log_len = 0;
+}
+
+/* The step's wall events join its pushes in the sums since the last reset. */
+static void commit_wall_step(hsbd_spheres *s) {
+    for (size_t k = 0; k < s->wall_log_len; ++k) {
+        const sph_wall_hit *h = &s->wall_log[k];
+        s->wall_step[6 * (size_t)s->species[h->particle] + (size_t)h->wall] += h->impulse;
+    }
+    s->stats.wall_collisions += s->wall_log_len;
+    for (size_t k = 0; k < 6 * s->nspecies; ++k)
+        s->wall_sum[k] += s->wall_step[k];
+    forget_wall_step(s);
+}
+
+/* A free particle's end point along a walls axis folded back between the planes: the
+ * specular reflections of its straight path, as the calendar's wall events give a
+ * particle that meets no other (hard_core = 0); the impulses go to the step's sums. */
+static void fold_between_walls(hsbd_spheres *s, size_t i, int a) {
+    double *x = s->x + 3 * i;
+    const double lo = 0.5 * s->sigma[i], hi = s->length[a] - lo, d = s->diffusion[i];
+    double *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
+    if (!(hi > lo)) { /* a slit as wide as the particle holds it */
+        x[a] = lo;
+        return;
+    }
+    while (x[a] < lo || x[a] > hi) {
+        const int side = x[a] > hi;
+        const double plane = side ? hi : lo;
+        sum[side] += 2.0 * fabs(x[a] - plane) / d; /* impulse / kT */
+        x[a] = 2 * plane - x[a];
+        s->stats.wall_collisions++;
+    }
+}
+
+/* Along the walls axes: free particles fold, hard ones (whose wall events kept them
+ * inside) lose the round-off of their last move. */
+static void keep_between_walls(hsbd_spheres *s) {
+    for (int a = 0; a < s->dim; ++a) {
+        if (!s->walls[a]) continue;
+        for (size_t i = 0; i < s->n; ++i) {
+            if (!s->par.hard_core) {
+                fold_between_walls(s, i, a);
+                continue;
+            }
+            double *x = s->x + 3 * i + a;
+            const double lo = 0.5 * s->sigma[i], hi = s->length[a] - lo;
+            *x = *x < lo ? lo : *x > hi ? hi : *x;
+        }
+    }
+}
+
 /* After an allocation failed inside a step: back to the state at its start (positions,
  * local times, statistics), the shells moved in it forgotten, and the neighbour lists
  * rebuilt from the start positions (at the next step if that fails too). */
@@ -335,6 +532,7 @@ static int fail_step(hsbd_spheres *s, const hsbd_spheres_stats *stats_at_start) 
     memcpy(s->x, s->x_start, 3 * s->n * sizeof *s->x);
     memset(s->t_local, 0, s->n * sizeof *s->t_local);
     s->stats = *stats_at_start;
+    forget_wall_step(s);
     sph_groups_abandon(s);
     sph_rebuild_neighbours(s); /* when it fails, nb_stale stays set */
     return HSBD_ENOMEM;
@@ -350,7 +548,9 @@ static void finish_step(hsbd_spheres *s) {
         s->t_local[i] = 0;
         for (int a = 0; a < s->dim; ++a) {
             x[a] += v[a] * h;
-            if (x[a] >= 0 && x[a] < s->box[a]) continue; /* the common case: no floor() */
+            /* the common case: no floor(); between walls free particles may end outside
+             * (folded back afterwards, never wrapped) */
+            if ((x[a] >= 0 && x[a] < s->box[a]) || s->walls[a]) continue;
             const double w = floor(x[a] * s->inv_box[a]);
             if (w != 0) {
                 x[a] -= w * s->box[a];
@@ -379,14 +579,18 @@ int hsbd_spheres_step(hsbd_spheres *s) {
         if (s->nb_stale && sph_rebuild_neighbours(s) != HSBD_OK) return HSBD_ENOMEM;
         if (keep_spatial_order(s)) return HSBD_ENOMEM;
     }
+    const hsbd_spheres_stats stats_at_start = s->stats; /* before the walls' pushes count */
     draw_velocities(s);
     if (s->par.hard_core) {
-        const hsbd_spheres_stats stats_at_start = s->stats;
         memcpy(s->x_start, s->x, 3 * s->n * sizeof *s->x);
         if (run_events(s)) return fail_step(s, &stats_at_start);
     }
     if (s->sort_enabled) s->sort_clock += s->diffusion_max * s->dt;
     finish_step(s);
+    if (s->any_walls) {
+        keep_between_walls(s);
+        commit_wall_step(s);
+    }
     s->step++;
     s->stats.steps++;
     s->time += s->dt;
@@ -398,6 +602,7 @@ int hsbd_spheres_step(hsbd_spheres *s) {
 hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s) {
     if (s->reordered) sph_fill_user_view(s);
     hsbd_spheres_view v = {.n = s->n,
+                           .walls = {s->walls[0], s->walls[1], s->walls[2]},
                            .dimension = s->dim,
                            .x = s->reordered ? s->user_x : s->x,
                            .image = s->reordered ? s->user_image : s->image,
@@ -411,7 +616,7 @@ hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s) {
                            .step = s->step,
                            .hard_core = s->par.hard_core};
     for (int a = 0; a < 3; ++a)
-        v.box[a] = s->box[a];
+        v.box[a] = s->length[a];
     return v;
 }
 
@@ -425,6 +630,12 @@ hsbd_spheres_stats hsbd_spheres_get_stats(const hsbd_spheres *s) {
 
 void hsbd_spheres_reset_stats(hsbd_spheres *s) {
     memset(&s->stats, 0, sizeof s->stats);
+    if (s->wall_sum) memset(s->wall_sum, 0, 6 * s->nspecies * sizeof *s->wall_sum);
+}
+
+void hsbd_spheres_wall_impulses(const hsbd_spheres *s, double *out) {
+    for (size_t k = 0; k < 6 * s->nspecies; ++k)
+        out[k] = s->wall_sum ? s->wall_sum[k] : 0.0;
 }
 
 double hsbd_spheres_shell(const hsbd_spheres *s) {
@@ -437,6 +648,13 @@ double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite) {
         finite &= isfinite(s->x[k]) != 0;
     if (all_finite) *all_finite = finite;
     double worst = INFINITY;
+    for (size_t i = 0; i < s->n && finite && s->any_walls; ++i)
+        for (int a = 0; a < s->dim; ++a) {
+            if (!s->walls[a]) continue;
+            const double x = s->x[3 * i + a], half = 0.5 * s->sigma[i];
+            const double gap = fmin(x - half, s->length[a] - half - x) / s->sigma[i];
+            if (gap < worst) worst = gap;
+        }
     if (!s->par.hard_core || !finite) return worst;
     for (size_t i = 0; i < s->n; ++i) {
         const int32_t *row = s->nb + i * s->nb_cap;

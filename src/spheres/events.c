@@ -4,6 +4,7 @@
 #include "spheres/events.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 /* ---- collision rule and contact time (exposed for tests) ---- */
 
@@ -78,4 +79,51 @@ int sph_collide_pair(hsbd_spheres *s, const sph_event *e, double *virial) {
     s->counter[i]++;
     s->counter[j]++;
     return 1;
+}
+
+/* ---- walls ---- */
+
+double sph_wall_time(const hsbd_spheres *s, int32_t i, double t, int *wall) {
+    double p[3], best = -1;
+    sph_position_at(s, i, t, p);
+    const double *v = s->v + 3 * (size_t)i, half = 0.5 * s->sigma[i];
+    for (int a = 0; a < s->dim; ++a) {
+        if (!s->walls[a] || v[a] == 0) continue;
+        const int side = v[a] > 0;
+        const double plane = side ? s->length[a] - half : half;
+        double h = (plane - p[a]) / v[a];
+        if (!(h >= 0)) h = 0; /* past the plane by round-off, moving outwards: now */
+        if (t + h < s->dt && (best < 0 || t + h < best)) {
+            best = t + h;
+            *wall = 2 * a + side;
+        }
+    }
+    return best;
+}
+
+int sph_log_wall_hit(hsbd_spheres *s, sph_wall_hit hit) {
+    if (s->wall_log_len == s->wall_log_cap) {
+        const size_t cap = s->wall_log_cap ? 2 * s->wall_log_cap : 256;
+        sph_wall_hit *log = realloc(s->wall_log, cap * sizeof *log);
+        if (!log) return -1;
+        s->wall_log = log;
+        s->wall_log_cap = cap;
+    }
+    s->wall_log[s->wall_log_len++] = hit;
+    return 0;
+}
+
+int sph_collide_wall(hsbd_spheres *s, const sph_event *e, int32_t group) {
+    const int32_t i = e->i;
+    const int w = sph_event_wall(e->j), a = w / 2, side = w % 2;
+    sph_advance(s, i, e->t);
+    double *x = s->x + 3 * (size_t)i, *v = s->v + 3 * (size_t)i;
+    if (side ? !(v[a] > 0) : !(v[a] < 0)) return 0;
+    const double half = 0.5 * s->sigma[i];
+    x[a] = side ? s->length[a] - half : half; /* on the plane, round-off removed */
+    /* the wall's impulse over kT: the displacement it causes, 2 |v| (dt - t), over D_i */
+    const double impulse = 2.0 * fabs(v[a]) * (s->dt - e->t) / s->diffusion[i];
+    v[a] = -v[a];
+    s->counter[i]++;
+    return sph_log_wall_hit(s, (sph_wall_hit){i, w, group, impulse}) ? -1 : 1;
 }

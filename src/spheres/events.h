@@ -17,6 +17,18 @@ uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t);
  * virial term when they approach, 0 (nothing changed but the positions) otherwise. */
 int sph_collide_pair(hsbd_spheres *s, const sph_event *e, double *virial);
 
+/* The first wall that i (at local time t, on its current segment) meets moving
+ * outwards inside [t, dt): its time (>= t), the wall 2 axis + side into *wall; -1 if none. */
+double sph_wall_time(const hsbd_spheres *s, int32_t i, double t, int *wall);
+/* Moves i to e->t at wall sph_event_wall(e->j) and reflects its normal velocity (the
+ * wall has infinite mass); logs the impulse for `group` (-1: the global calendar).
+ * Returns 1, 0 when i already moves away (nothing changed but its position), or -1
+ * when out of memory. */
+int sph_collide_wall(hsbd_spheres *s, const sph_event *e, int32_t group);
+
+/* Appends a wall event to the step's log. Returns 0, or -1 when out of memory. */
+int sph_log_wall_hit(hsbd_spheres *s, sph_wall_hit hit);
+
 /* An event predicted before one of its particles collided again: counted, to be dropped. */
 static inline int sph_event_stale(hsbd_spheres *s, const sph_event *e) {
     const int stale = s->counter[e->i] != e->ci || (e->j >= 0 && s->counter[e->j] != e->cj);

@@ -1,6 +1,7 @@
 /* The global calendar (internal to src/spheres): every event of the step in one
  * time-ordered calendar for the whole box; after a collision both partners' rows are
- * tested again, after a shell exit the particle's shell is re-centred. */
+ * tested again, after a shell exit the particle's shell is re-centred, after a wall
+ * contact the particle's row and walls are tested again. */
 #include "spheres/global.h"
 
 #include "spheres/events.h"
@@ -20,8 +21,15 @@ static int predict_shell_exit(hsbd_spheres *s, int32_t i, double t) {
     return exit >= 0 ? sph_push_event(s, exit, i, SPH_EVENT_SHELL) : 0;
 }
 
+/* When i (at local time t) would meet a wall before dt: schedule that. */
+static int predict_wall(hsbd_spheres *s, int32_t i, double t) {
+    int wall = 0;
+    const double when = s->any_walls ? sph_wall_time(s, i, t, &wall) : -1;
+    return when >= 0 ? sph_push_event(s, when, i, sph_wall_event(wall)) : 0;
+}
+
 static int predict_particle(hsbd_spheres *s, int32_t i, double t) {
-    return predict_row(s, i, t) || predict_shell_exit(s, i, t) ? -1 : 0;
+    return predict_row(s, i, t) || predict_shell_exit(s, i, t) || predict_wall(s, i, t) ? -1 : 0;
 }
 
 static int process_collision(hsbd_spheres *s, const sph_event *e) {
@@ -39,7 +47,13 @@ int sph_global_run(hsbd_spheres *s) {
         if (sph_event_stale(s, &e)) continue;
         if (e.j == SPH_EVENT_SHELL) {
             sph_advance(s, e.i, e.t);
-            if (sph_recentre(s, e.i) || predict_particle(s, e.i, e.t)) return -1;
+            /* the same path: its wall event stands */
+            if (sph_recentre(s, e.i) || predict_row(s, e.i, e.t) ||
+                predict_shell_exit(s, e.i, e.t))
+                return -1;
+        } else if (e.j <= SPH_EVENT_WALL) {
+            const int rc = sph_collide_wall(s, &e, -1);
+            if (rc < 0 || (rc && predict_particle(s, e.i, e.t))) return -1;
         } else if (process_collision(s, &e)) {
             return -1;
         }

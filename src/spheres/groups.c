@@ -295,6 +295,14 @@ static int log_start(hsbd_spheres *s, int32_t a, int32_t p) {
     return 0;
 }
 
+/* The wall events group a ran leave the step's log. */
+static void drop_wall_hits(hsbd_spheres *s, int32_t a) {
+    size_t kept = 0;
+    for (size_t k = 0; k < s->wall_log_len; ++k)
+        if (s->wall_log[k].group != a) s->wall_log[kept++] = s->wall_log[k];
+    s->wall_log_len = kept;
+}
+
 /* Puts every particle group a moved back on its start-of-step line. */
 static void rewind_group(hsbd_spheres *s, int32_t a) {
     sph_groups *g = s->groups;
@@ -310,6 +318,7 @@ static void rewind_group(hsbd_spheres *s, int32_t a) {
         if (!g->queued[p]) g->queued[p] = 1, g->rewound[g->nrewound++] = p;
     }
     g->first_segment[a] = -1;
+    drop_wall_hits(s, a);
 }
 
 static void forget_rewound(sph_groups *g) {
@@ -534,9 +543,10 @@ static int32_t rewound_hit(hsbd_spheres *s, int32_t a) {
 /* What predict_in_group and play_group return besides a group to join */
 enum { NO_JOIN = -1, OUT_OF_MEMORY = -2 };
 
-/* New predictions for i (on a new segment from time t) in group a. Returns NO_JOIN, the
- * group that i's segment reaches and that must join a with a re-run, or OUT_OF_MEMORY. */
-static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t) {
+/* New predictions for i (on a new segment from time t, or a new shell: then its wall
+ * event stands, new_path 0) in group a. Returns NO_JOIN, the group that i's segment
+ * reaches and that must join a with a re-run, or OUT_OF_MEMORY. */
+static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t, int new_path) {
     sph_groups *g = s->groups;
     const int32_t root_a = g->root[a];
     const uint32_t hits = sph_row_hits(s, i, t);
@@ -564,6 +574,9 @@ static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t)
     if (b >= 0) return b;
     const double exit = sph_shell_exit_time(s, i, t);
     if (exit >= 0 && sph_push_event(s, exit, i, SPH_EVENT_SHELL)) return OUT_OF_MEMORY;
+    int wall = 0;
+    const double contact = new_path && s->any_walls ? sph_wall_time(s, i, t, &wall) : -1;
+    if (contact >= 0 && sph_push_event(s, contact, i, sph_wall_event(wall))) return OUT_OF_MEMORY;
     return NO_JOIN;
 }
 
@@ -590,7 +603,13 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
         if (e.j == SPH_EVENT_SHELL) {
             sph_advance(s, e.i, e.t);
             if (recentre_adding(s, e.i)) return OUT_OF_MEMORY;
-            joined = predict_in_group(s, a, e.i, e.t);
+            joined = predict_in_group(s, a, e.i, e.t, 0);
+        } else if (e.j <= SPH_EVENT_WALL) {
+            const int rc = sph_collide_wall(s, &e, a);
+            if (rc < 0) return OUT_OF_MEMORY;
+            if (!rc) continue;
+            if (new_segment(s, e.i, e.t) < 0) return OUT_OF_MEMORY;
+            joined = predict_in_group(s, a, e.i, e.t, 1);
         } else {
             if (log_start(s, a, e.j)) return OUT_OF_MEMORY;
             double virial;
@@ -598,8 +617,8 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
             g->collisions[a]++;
             g->virial[a] += virial;
             if (new_segment(s, e.i, e.t) < 0 || new_segment(s, e.j, e.t) < 0) return OUT_OF_MEMORY;
-            joined = predict_in_group(s, a, e.i, e.t);
-            if (joined == NO_JOIN) joined = predict_in_group(s, a, e.j, e.t);
+            joined = predict_in_group(s, a, e.i, e.t, 1);
+            if (joined == NO_JOIN) joined = predict_in_group(s, a, e.j, e.t, 1);
         }
         if (joined == OUT_OF_MEMORY) return OUT_OF_MEMORY;
         if (joined >= 0) { /* the re-run starts a new calendar */

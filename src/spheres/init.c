@@ -86,7 +86,10 @@ int hsbd_spheres_init_random(hsbd_spheres *s, hsbd_error *err) {
             }
             hsbd_rng_uniforms(s->par.seed, HSBD_STREAM_INIT, INIT_COUNTER_RSI, 3 * draw, 3, u);
             ++draw;
-            double x[3] = {u[0] * s->box[0], u[1] * s->box[1], s->dim == 3 ? u[2] * s->box[2] : 0};
+            double x[3] = {0, 0, 0};
+            for (int a = 0; a < s->dim; ++a) /* between walls: centres in [sigma/2, L - sigma/2] */
+                x[a] = s->walls[a] ? 0.5 * s->sigma[i] + u[a] * (s->length[a] - s->sigma[i])
+                                   : u[a] * s->box[a];
             if (!overlaps_any(s, &grid, s->x, x, s->sigma[i], -1, NULL)) {
                 memcpy(s->x + 3 * i, x, sizeof x);
                 if (hsbd_cells_insert(&grid, (int32_t)i, x))
@@ -104,12 +107,18 @@ int hsbd_spheres_init_random(hsbd_spheres *s, hsbd_error *err) {
                : hsbd_error_set(err, HSBD_ENOMEM, "spheres: out of memory (neighbour lists)");
 }
 
+/* The length a lattice fills along axis a: the box, or between walls the room of the
+ * centres of the largest particles (the sites start at sigma_max / 2 there). */
+static double lattice_span(const hsbd_spheres *s, int a) {
+    return s->walls[a] ? s->length[a] - s->sigma_max : s->box[a];
+}
+
 /* Sites of a face-centred cubic (3D) or centred rectangular (2D) lattice with m[a] cells
  * per axis: the nearest-neighbour distance of that lattice in this box. */
 static double lattice_spacing(const hsbd_spheres *s, const int m[3]) {
     double c[3], best = INFINITY;
     for (int a = 0; a < s->dim; ++a)
-        c[a] = s->box[a] / m[a];
+        c[a] = lattice_span(s, a) / m[a];
     for (int a = 0; a < s->dim; ++a) {
         if (c[a] < best) best = c[a];
         for (int b = a + 1; b < s->dim; ++b) {
@@ -128,11 +137,11 @@ int hsbd_spheres_init_lattice(hsbd_spheres *s, hsbd_error *err) {
      * axis with the widest cells until there are enough sites */
     double vol = 1;
     for (int a = 0; a < s->dim; ++a)
-        vol *= s->box[a];
+        vol *= lattice_span(s, a);
     const double side = pow(vol * basis / (double)n, 1.0 / s->dim);
     int m[3] = {1, 1, 1};
     for (int a = 0; a < s->dim; ++a)
-        m[a] = (int)fmax(1.0, floor(s->box[a] / side));
+        m[a] = (int)fmax(1.0, floor(lattice_span(s, a) / side));
     for (;;) {
         size_t sites = (size_t)basis;
         for (int a = 0; a < s->dim; ++a)
@@ -140,7 +149,7 @@ int hsbd_spheres_init_lattice(hsbd_spheres *s, hsbd_error *err) {
         if (sites >= n) break;
         int widest = 0;
         for (int a = 1; a < s->dim; ++a)
-            if (s->box[a] / m[a] > s->box[widest] / m[widest]) widest = a;
+            if (lattice_span(s, a) / m[a] > lattice_span(s, widest) / m[widest]) widest = a;
         m[widest]++;
     }
     const double spacing = lattice_spacing(s, m);
@@ -183,7 +192,8 @@ int hsbd_spheres_init_lattice(hsbd_spheres *s, hsbd_error *err) {
             if (a < s->dim) {
                 const size_t cell = k % (size_t)m[a];
                 k /= (size_t)m[a];
-                x = ((double)cell + off[a] + 0.25) * s->box[a] / m[a];
+                x = ((double)cell + off[a] + 0.25) * lattice_span(s, a) / m[a] +
+                    (s->walls[a] ? 0.5 * s->sigma_max : 0.0);
             }
             s->x[3 * i + a] = x - s->box[a] * floor(x * s->inv_box[a]);
         }
@@ -210,6 +220,16 @@ int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err
                                       "spheres: position of particle %zu is not finite", i + 1);
             }
             pos[3 * i + a] = v - s->box[a] * floor(v * s->inv_box[a]);
+            const double half = 0.5 * s->sigma[i], tol = 1e-9 * s->sigma[i];
+            if (a < s->dim && s->walls[a] && !(v >= half - tol && v <= s->length[a] - half + tol)) {
+                free(pos);
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "spheres: particle %zu at %.9g on axis %d is outside the "
+                                      "walls; allowed: %.9g <= x <= %.9g (sigma/2 from 0 and "
+                                      "from the box length)",
+                                      i + 1, v, a, half, s->length[a] - half);
+            }
+            if (a < s->dim && s->walls[a]) pos[3 * i + a] = fmin(fmax(v, half), s->length[a] - half);
         }
     int rc = HSBD_OK;
     if (s->par.hard_core) {
@@ -271,6 +291,11 @@ static size_t grow_into_gaps(hsbd_spheres *s, const double *final, double fracti
             const double gap = sqrt(r2) - 0.5 * (s->sigma[i] + s->sigma[j]);
             if (gap < room) room = gap;
         }
+        for (int a = 0; a < s->dim; ++a) /* a wall does not grow: twice its gap */
+            if (s->walls[a]) {
+                const double x = s->x[3 * i + a], half = 0.5 * s->sigma[i];
+                room = fmin(room, 2 * fmin(x - half, s->length[a] - half - x));
+            }
         growth[i] = fmax(0.0, fraction * room);
     }
     for (size_t i = 0; i < s->n; ++i) {
@@ -293,7 +318,7 @@ double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t 
 }
 
 static double packing_fraction(const hsbd_spheres *s, const double *sigma) {
-    return hsbd_spheres_packing_fraction(s->dim, s->box, s->n, sigma);
+    return hsbd_spheres_packing_fraction(s->dim, s->length, s->n, sigma);
 }
 
 /* Brownian steps with growth until every diameter is final, or a stall (below). The
@@ -352,6 +377,7 @@ int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err) {
     memcpy(final, s->sigma, s->n * sizeof *final);
     const double dt = s->dt;
     s->noise_stream = HSBD_STREAM_COMPRESS;
+    s->bridge_stream = HSBD_STREAM_COMPRESS_CONTACT;
     const int sort_enabled = s->sort_enabled; /* final[] and growth[] use the user's order */
     s->sort_enabled = 0;
     int rc = s->par.hard_core ? compress_from_rsi(s, final, growth, err)
@@ -359,6 +385,7 @@ int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err) {
     memcpy(s->sigma, final, s->n * sizeof *final);
     free(final);
     s->noise_stream = HSBD_STREAM_NOISE;
+    s->bridge_stream = HSBD_STREAM_CONTACT;
     s->sort_enabled = sort_enabled;
     hsbd_spheres_set_dt(s, dt);
     reset_dynamics(s);

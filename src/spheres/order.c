@@ -69,7 +69,7 @@ typedef struct {
     size_t pad;   /* extra bytes at the end (vector loads past the last particle) */
 } per_particle;
 
-enum { PER_PARTICLE_ARRAYS = 11 }; /* entries of per_particle_table */
+enum { PER_PARTICLE_ARRAYS = 12 }; /* most entries of per_particle_table */
 
 static size_t per_particle_table(hsbd_spheres *s, per_particle *t) {
     size_t k = 0;
@@ -84,6 +84,7 @@ static size_t per_particle_table(hsbd_spheres *s, per_particle *t) {
     t[k++] = (per_particle){(void **)&s->centre, 3 * sizeof *s->centre, 0};
     t[k++] = (per_particle){(void **)&s->cells.cell_of, sizeof *s->cells.cell_of, 0};
     t[k++] = (per_particle){(void **)&s->cells.slot_of, sizeof *s->cells.slot_of, 0};
+    if (s->drift_mu) t[k++] = (per_particle){(void **)&s->drift_mu, sizeof *s->drift_mu, 0};
     return k;
 }
 

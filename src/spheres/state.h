@@ -15,6 +15,13 @@
 /* The state of the group scheduler (groups.c), allocated by it on first use. */
 typedef struct sph_groups sph_groups;
 
+/* A wall event of a step: particle, wall 2 axis + side, displacement / D, the group
+ * that ran it (-1: the global calendar). */
+typedef struct sph_wall_hit {
+    int32_t particle, wall, group;
+    double impulse;
+} sph_wall_hit;
+
 struct hsbd_spheres {
     hsbd_spheres_params par;
     int dim;
@@ -49,7 +56,8 @@ struct hsbd_spheres {
     int32_t *near;   /* points found around one particle */
     size_t near_cap;
     double *normals;       /* dim x n draws of a step */
-    uint32_t noise_stream; /* HSBD_STREAM_NOISE; the compression uses its own */
+    uint32_t noise_stream;  /* HSBD_STREAM_NOISE; the compression uses its own */
+    uint32_t bridge_stream; /* HSBD_STREAM_CONTACT (wall bridges); the compression's own */
     double dt, time;
     uint64_t step;
     /* spatial order (order.c): internal particle i is the user's particle label[i] */
@@ -63,6 +71,17 @@ struct hsbd_spheres {
     int64_t *user_image;
     int *user_species;
     sph_groups *groups; /* local event processing (groups.c); NULL until first used */
+    /* walls (edbd.c, docs/spheres.md "Walls"): along an axis with walls[a] the planes are
+     * at 0 and length[a], and box[a] is a period no pair reaches across (2 length + 3
+     * (sigma_max + 2 shell)), so minimum images, cells and wrapping never act there */
+    int walls[3], any_walls;
+    double length[3];
+    double *wall_step;  /* 6 nspecies: this step's wall impulses / kT (see wall_sum) */
+    double *wall_sum;   /* 6 nspecies: since the last reset (hsbd_spheres_wall_impulses) */
+    sph_wall_hit *wall_log; /* this step's wall events (a re-run group drops its own) */
+    size_t wall_log_len, wall_log_cap;
+    double *drift_mu; /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
+    double *field_x, *field_f; /* N: coordinates along the field axis, forces */
     hsbd_spheres_stats stats;
 };
 
@@ -103,6 +122,14 @@ static inline void sph_set_centre(hsbd_spheres *s, int32_t i) {
     double *c = s->centre + 3 * (size_t)i;
     for (int a = 0; a < 3; ++a)
         c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
+}
+
+/* Events of particle i with wall w (2 axis + side) have j = sph_wall_event(w). */
+static inline int32_t sph_wall_event(int w) {
+    return SPH_EVENT_WALL - w;
+}
+static inline int sph_event_wall(int32_t j) {
+    return SPH_EVENT_WALL - j;
 }
 
 #endif

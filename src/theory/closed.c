@@ -129,3 +129,31 @@ double hsbd_short_time_msd(double t, double rho_gap, double diffusion) {
     return 2.0 * diffusion * t *
            (1.0 - 4.0 / (3.0 * sqrt(2.0 * PI)) * rho_gap * sqrt(4.0 * diffusion * t));
 }
+
+/* ---- a reflecting wall with drift (Scala Eq. 9, corrected: design notes 10) ---- */
+
+double hsbd_reflected_drift_density(double x, double x0, double c, double diffusion, double t) {
+    const double pi = 3.14159265358979323846, four_dt = 4.0 * diffusion * t;
+    const double norm = 1.0 / sqrt(pi * four_dt);
+    const double free = norm * exp(-(x - x0 - c * t) * (x - x0 - c * t) / four_dt);
+    const double image = norm * exp(-c * x0 / diffusion - (x + x0 - c * t) * (x + x0 - c * t) /
+                                                              four_dt);
+    const double flux = -c / (2.0 * diffusion) * exp(c * x / diffusion) *
+                        erfc((x + x0 + c * t) / sqrt(four_dt));
+    return free + image + flux;
+}
+
+double hsbd_reflected_drift_moment(int k, double x0, double c, double diffusion, double t) {
+    /* Simpson's rule on [0, x_max], x_max beyond the free Gaussian and the barometric tail */
+    const double spread = sqrt(2.0 * diffusion * t);
+    double x_max = x0 + fabs(c) * t + 40.0 * spread;
+    if (c < 0 && 40.0 * diffusion / -c < x_max) x_max = fmax(x0 + 40.0 * spread, 40.0 * diffusion / -c);
+    const int m = 200000;
+    const double h = x_max / m;
+    double sum = 0;
+    for (int j = 0; j <= m; ++j) {
+        const double x = j * h, w = j == 0 || j == m ? 1 : j % 2 ? 4 : 2;
+        sum += w * pow(x, k) * hsbd_reflected_drift_density(x, x0, c, diffusion, t);
+    }
+    return sum * h / 3.0;
+}

@@ -393,7 +393,22 @@ bad_case memory-spheres "system.N = 2147483647: the run needs an estimated" "GiB
 bad_case memory-gr "sample.gr_bin = 1e-09" "g(r)'s bins" -- run box3.ini --set sample.gr_bin=1e-9
 bad_case spheres-fraction-sum "species.fraction sums to 0.9" -- run box3.ini --set "species.names=A B" --set "species.fraction=0.5 0.4" --set "species.sigma=1 1" --set "species.D=1 1"
 bad_case spheres-fraction-and-count "species.count and species.fraction" -- run box3.ini --set "species.names=A B" --set "species.fraction=0.5 0.5" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 1"
-bad_case spheres-rods-key "field.type applies to system.model = rods only" -- run box3.ini --set field.type=tilt
+bad_case spheres-rods-key "contact.gamma applies to system.model = rods only" -- run box3.ini --set contact.gamma=0.5
+# walls and fields of spheres
+printf '[system]\nmodel = spheres\ndimension = 2\nN = 2\nbox = 12 0.8\nboundary = periodic walls\n[run]\ndt = 1e-3\nt_equil = 0.01\nt_total = 0.1\n[sample]\nblocks = 4\n' >slitthin.ini
+bad_case walls-narrow "slitthin.ini:6:" "between walls is shorter than the largest diameter 1" -- run slitthin.ini
+bad_case boundary-word "command line (--set) system.boundary" "system.boundary = 'wall' is not known; allowed: periodic or walls" -- run box3.ini --set system.boundary=wall
+bad_case boundary-count "system.boundary has 2 values; allowed: 1 or one per axis" -- run box3.ini --set "system.boundary=walls walls"
+bad_case field-axis-2d "field.axis = z is beyond system.dimension = 2" -- run sph.ini --set field.type=tilt --set field.axis=z
+bad_case field-cosine-period "field.wavelength = 5 must divide the periodic box length 12 along field.axis = z" -- run box3.ini --set field.type=cosine --set field.wavelength=5
+bad_case coupling-count "species.coupling has 1 entries for 2 species.names" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 1" --set species.coupling=1 --set field.type=tilt
+bad_case coupling-and-law "species.coupling is set with species.coupling_law = volume" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 1" --set "species.coupling=1 2" --set species.coupling_law=volume --set field.type=tilt
+bad_case coupling-no-species "species.coupling is set but species.names is empty" -- run box3.ini --set species.coupling=2 --set field.type=tilt
+bad_case force-immobile "a field acts on species B, whose D = 0 cannot move" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set field.type=tilt
+bad_case drift-immobile "system.drift with species B, whose D = 0 cannot move" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set "system.drift=1 0 0"
+printf '2\nLattice="12 0 0 0 12 0 0 0 12" Properties=species:S:1:pos:R:3\nS 1 1 1\nS 5 5 0.2\n' >wallpos.xyz
+bad_case memory-profiles "sample.bin_width = 1e-09" "the density profiles' bins" -- run box3.ini --set system.boundary=walls --set sample.bin_width=1e-9
+bad_case xyz-outside-walls "wallpos.xyz:4: particle 2 at z = 0.2 is outside the walls" "allowed: sigma/2 = 0.5 <= z" -- run box3.ini --set system.N=2 --set system.boundary=walls --set init.positions=wallpos.xyz
 
 # ---- the command line ----
 : >plainfile

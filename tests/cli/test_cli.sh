@@ -344,7 +344,7 @@ expect_fail sph-random "init.method = random reaches" -- run sph.ini --set syste
 expect_fail sph-sigma "system.sigma = 0" "sigma > 0" -- run sph.ini --set system.sigma=0
 expect_fail sph-dneg "species.D entry 2" -- run disk.ini --set "species.D=1 -1"
 expect_fail sph-box "twice the interaction range" "system.packing_fraction" -- run sph.ini --set system.packing_fraction=0.2 --set system.N=4
-expect_fail sph-rods-key "field.type applies to system.model = rods only" -- run sph.ini --set field.type=tilt
+expect_fail sph-rods-key "contact.gamma applies to system.model = rods only" -- run sph.ini --set contact.gamma=0.5
 expect_fail sph-both "exactly one of system.box and system.packing_fraction" -- run sph.ini --set system.box=20
 expect_fail sph-lattice-dense "init.method = lattice" "spacing" -- run disk.ini --set system.packing_fraction=0.85 --set init.method=lattice
 # continuous polydispersity with Stokes-Einstein D, compressed to a dense fluid; its frame

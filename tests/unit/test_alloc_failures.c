@@ -189,7 +189,7 @@ static int sphere_run(const sphere_case *c) {
         rc = hsbd_spheres_step(s);
         if (reported(c->name, before, rc == HSBD_OK, "hsbd_spheres_step")) {
             CHECK(rc == HSBD_ENOMEM, "%s: step returned %d", c->name, rc);
-            CHECK(view_hash(s) == at_start, "%s: a failed step changed the state", c->name);
+            CHECK(view_hash(s) == at_start, "%s: a failed step changed the state (allocation %" PRIu64 " of the run failing, step %d)", c->name, fail_at - run_start, k);
             step_failed = 1;
             --k; /* the same step again: later allocations do not fail */
         }
@@ -338,6 +338,12 @@ int main(void) {
     if (s) memcpy(lattice, hsbd_spheres_get_view(s).x, 3 * mono.n * sizeof *lattice);
     hsbd_spheres_free(s);
 
+    static hsbd_field gravity; /* a mixture between walls on z in gravity */
+    hsbd_field_add(&gravity, hsbd_field_tilt(-2.0));
+    static const double coupling[3] = {1.0, 2.0, 0.0};
+    hsbd_spheres_params walled = mix;
+    walled.walls[2] = 1, walled.field = &gravity, walled.field_axis = 2;
+    walled.species_coupling = coupling;
     hsbd_spheres_params groups = mono;
     groups.event_order = HSBD_EVENTS_GROUPS;
     groups.dt = 2e-3; /* at 5e-3 the groups percolate and re-run: 5 times the time */
@@ -348,6 +354,7 @@ int main(void) {
         {"mixture with an obstacle, groups, random insertion", mix, INIT_RANDOM, 50, 1, NULL, 0},
         {"disks phi 0.6, auto with groups", disks, INIT_LATTICE, 50, 0, NULL, 0},
         {"spheres compressed to phi 0.5", dense, INIT_COMPRESS, 20, 0, NULL, 0},
+        {"mixture between walls in gravity, groups", walled, INIT_RANDOM, 50, 0, NULL, 0},
     };
     for (size_t k = 0; k < sizeof spheres / sizeof spheres[0]; ++k)
         swept += sweep_spheres(&spheres[k]);
