@@ -2,7 +2,8 @@
 # Particle current of hard rods in a tilted cosine potential against the rod length
 # (docs/validation.md, section 17, "Current against rod length"). U(x) = (U0/2)
 # cos(2 pi x / lambda) - F x with U0 = 6 kT, lambda = 1, F = 8 (critical tilt
-# pi U0 / lambda = 18.85), D = kT = 1, density N/L = 0.4, dt 1e-4, t = 100 after 10 of
+# pi U0 / lambda = 18.85), D = kT = 1, N = 160, L = 400 (density 0.4; N=, L= in the
+# environment change them), dt 1e-4, t = 100 after 10 of
 # equilibration, 20 time blocks, seed 1. Prints one row per rod length:
 #   sigma N L J J_err v v_err J/J_single (v - v_single)/v_err
 # where v_single is the exact one-particle drift (hsbd theory washboard). For sigma a
