@@ -142,6 +142,30 @@ HSBD_API double hsbd_hs_contact_bmcsl(size_t ns, const double *x, const double *
 HSBD_API double hsbd_hs_z_from_contacts(int dim, size_t ns, const double *x, const double *sigma,
                                         double rho, const double *contact);
 
+/* ---- dynamics of Brownian hard disks / spheres without hydrodynamic interactions ----
+ * A mixture at given number densities; a collision of a and b is elastic with masses 1/D
+ * (Scala Sec. III): it shares the change of their normal relative displacement in the
+ * proportion D_a / (D_a + D_b). Derivations in docs/theory.md. */
+typedef struct hsbd_hs_mixture {
+    int dimension;           /* 2 (disks) or 3 (spheres) */
+    size_t nspecies;
+    const double *density;   /* number density of each species */
+    const double *sigma;     /* diameters */
+    const double *diffusion; /* D of each species (>= 0; 0: immobile obstacles) */
+    const double *contact;   /* nspecies x nspecies contact values g_ab(sigma_ab+) (NULL: 1) */
+} hsbd_hs_mixture;
+/* Short times: MSD_a(t) = 2 d D_a t - c_a t^(3/2) + O(t^2); returns c_a (length^2 /
+ * time^(3/2)), exact at any density from the contact densities rho_b g_ab(sigma_ab+).
+ * share < 0: the collision rule of masses 1/D; share in [0, 1]: a rule that gives a the
+ * fixed share `share` of every change of the relative displacement (0.5: equal masses),
+ * the alternative the data must exclude. */
+HSBD_API double hsbd_hs_msd_deficit(const hsbd_hs_mixture *m, size_t a, double share);
+/* Long times, first order in the densities: D_L,a / D_a = 1 - sum_b rho_b v_d sigma_ab^d
+ * D_a / ((d - 1)(D_a + D_b)), v_d the volume of the unit ball (equal D and sizes in 3D:
+ * 1 - 2 phi; D_b = 0: Maxwell's dilute obstacles, 1 - phi_excluded / (d - 1)). The
+ * contact values are not used (they enter at second order). NaN for D_a = 0. */
+HSBD_API double hsbd_hs_long_time_ratio(const hsbd_hs_mixture *m, size_t a);
+
 /* ---- one overdamped Brownian particle in a tilted periodic potential (washboard) ----
  * dx = mu F(x) dt + sqrt(2 D dt) N, mu = D / kT, F = -V', V(x) = U(x) - f x with U periodic
  * (period lambda). Exact stationary results from nested integrals over one period

@@ -89,3 +89,44 @@ double hsbd_hs_z_from_contacts(int dim, size_t ns, const double *x, const double
         }
     return 1.0 + (dim == 3 ? 2.0 * PI / 3.0 : PI / 2.0) * rho * sum;
 }
+
+/* ---- dynamics without hydrodynamic interactions (docs/theory.md, "Brownian hard spheres:
+ * mixture dynamics") ---- */
+
+static double contact_value(const hsbd_hs_mixture *m, size_t a, size_t b) {
+    return m->contact ? m->contact[a * m->nspecies + b] : 1.0;
+}
+
+/* the contact surface S_d sigma^(d-1): 4 pi sigma^2 (3D), 2 pi sigma (2D) */
+static double contact_surface(int dim, double sigma) {
+    return dim == 3 ? 4 * PI * sigma * sigma : 2 * PI * sigma;
+}
+
+/* c_a = sum_b rho_b g_ab S_d sigma_ab^(d-1) K(2 (D_a + D_b))^(3/2) s (3 s* - 2 s), with
+ * K = 4 / (3 sqrt(2 pi)) the first-collision integral of one reflected coordinate, s* =
+ * D_a / (D_a + D_b) and s the share a takes (s = s*: s*^2) */
+double hsbd_hs_msd_deficit(const hsbd_hs_mixture *m, size_t a, double share) {
+    const double k = 4.0 / (3.0 * sqrt(2.0 * PI)), da = m->diffusion[a];
+    double c = 0;
+    for (size_t b = 0; b < m->nspecies; ++b) {
+        const double drel = da + m->diffusion[b];
+        if (!(drel > 0)) continue;
+        const double natural = da / drel, s = share < 0 ? natural : share;
+        const double sab = 0.5 * (m->sigma[a] + m->sigma[b]);
+        c += m->density[b] * contact_value(m, a, b) * contact_surface(m->dimension, sab) * k *
+             pow(2 * drel, 1.5) * s * (3 * natural - 2 * s);
+    }
+    return c;
+}
+
+double hsbd_hs_long_time_ratio(const hsbd_hs_mixture *m, size_t a) {
+    const double da = m->diffusion[a], d = m->dimension;
+    if (!(da > 0)) return NAN;
+    const double ball = d == 3 ? 4.0 / 3.0 * PI : PI;
+    double sum = 0;
+    for (size_t b = 0; b < m->nspecies; ++b) {
+        const double sab = 0.5 * (m->sigma[a] + m->sigma[b]);
+        sum += m->density[b] * ball * pow(sab, d) * da / (da + m->diffusion[b]);
+    }
+    return 1 - sum / (d - 1);
+}

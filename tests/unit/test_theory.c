@@ -462,7 +462,61 @@ static void test_hard_disk_virial(void) {
            hsbd_hd_z_henderson(0.4), 100 * (hsbd_hd_z_henderson(0.4) / z4 - 1));
 }
 
+/* Mixture dynamics of Brownian hard spheres (docs/theory.md): the first-collision integrals
+ * of one reflected coordinate by quadrature, the closed forms of the one-species and the
+ * obstacle limits, and the share rule. */
+static double normal_pdf(double w) {
+    return exp(-0.5 * w * w) / sqrt(2 * 3.14159265358979323846);
+}
+
+static void test_mixture_dynamics(void) {
+    const double pi = 3.14159265358979323846, k = 4 / (3 * sqrt(2 * pi));
+    /* unit variance: z = |z0 + W|, delta = z - z0 - W = 2 (z0 + W)^-; the integrals over
+     * z0 > 0 of E[delta^2], E[W delta] and of the deficit 1 - E (z - z0)^2 are 2 K, -3/2 K
+     * and K (midpoint rule in z0 and in W) */
+    double d2 = 0, wd = 0, deficit = 0;
+    const double h = 2e-3;
+    for (double z0 = 0.5 * h; z0 < 9; z0 += h) {
+        double e_d2 = 0, e_wd = 0, e_sq = 0;
+        for (double w = -9 + 0.5 * h; w < 9; w += h) {
+            const double x = z0 + w, delta = x < 0 ? -2 * x : 0, dz = fabs(x) - z0;
+            e_d2 += h * normal_pdf(w) * delta * delta;
+            e_wd += h * normal_pdf(w) * w * delta;
+            e_sq += h * normal_pdf(w) * dz * dz;
+        }
+        d2 += h * e_d2, wd += h * e_wd, deficit += h * (1 - e_sq);
+    }
+    CHECK_CLOSE(d2, 2 * k, 1e-5);
+    CHECK_CLOSE(wd, -1.5 * k, 1e-5);
+    CHECK_CLOSE(deficit, k, 1e-5);
+    /* one species, 3D: c = 64 phi g D^(3/2) / (sqrt(2 pi) sigma); D_L = 1 - 2 phi */
+    const double phi = 0.3, g = hsbd_hs_contact_klm(phi), rho = 6 * phi / pi, sig = 1.3;
+    const double dens = rho / (sig * sig * sig), dif = 0.7;
+    const hsbd_hs_mixture one = {3, 1, &dens, &sig, &dif, &g};
+    CHECK_CLOSE(hsbd_hs_msd_deficit(&one, 0, -1),
+                64 * phi * g * pow(dif, 1.5) / (sqrt(2 * pi) * sig), 1e-12);
+    CHECK_CLOSE(hsbd_hs_msd_deficit(&one, 0, 0.5), hsbd_hs_msd_deficit(&one, 0, -1), 1e-12);
+    CHECK_CLOSE(hsbd_hs_long_time_ratio(&one, 0), 1 - 2 * phi, 1e-14);
+    const double dens2 = 4 * phi / (pi * sig * sig); /* disks: also 1 - 2 phi */
+    const hsbd_hs_mixture disks = {2, 1, &dens2, &sig, &dif, NULL};
+    CHECK_CLOSE(hsbd_hs_long_time_ratio(&disks, 0), 1 - 2 * phi, 1e-14);
+    /* tracers (species 0, dilute) among immobile obstacles: the share is 1, and D_L is
+     * Maxwell's dilute limit 1 - phi_excluded / (d - 1), phi_excluded the obstacles'
+     * volume fraction of excluded spheres of radius sigma_ab */
+    const double dn[2] = {0, 0.05}, sg[2] = {0.5, 1}, df[2] = {1, 0}, gc[4] = {1, 1.1, 1.1, 1};
+    const hsbd_hs_mixture obst = {3, 2, dn, sg, df, gc};
+    const double sab = 0.75, excluded = dn[1] * 4 * pi / 3 * sab * sab * sab;
+    CHECK_CLOSE(hsbd_hs_long_time_ratio(&obst, 0), 1 - excluded / 2, 1e-14);
+    CHECK(isnan(hsbd_hs_long_time_ratio(&obst, 1)), "immobile species: NaN");
+    CHECK_CLOSE(hsbd_hs_msd_deficit(&obst, 0, -1),
+                dn[1] * 1.1 * 4 * pi * sab * sab * k * pow(2.0, 1.5), 1e-12);
+    CHECK_CLOSE(hsbd_hs_msd_deficit(&obst, 1, -1), 0, 0);
+    printf("mixture dynamics: K = %.8f (quadrature %.8f), one species phi 0.3 c = %.4f\n", k,
+           deficit, hsbd_hs_msd_deficit(&one, 0, -1));
+}
+
 int main(void) {
+    test_mixture_dynamics();
     test_hard_disk_virial();
     test_uniform_is_tonks();
     test_point_particles_are_boltzmann();
