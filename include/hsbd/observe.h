@@ -248,6 +248,9 @@ HSBD_API int hsbd_scheme_check_warnings(const hsbd_scheme_check *c, char (*msg)[
  * NaN when there are too few lags. */
 HSBD_API void hsbd_msd_long_time_diffusion(const hsbd_msd *m, int dimension, double *dl,
                                            double *err);
+/* the two lags t0 < t1 of that slope (NaN when there are too few lags): the first order in
+ * density of what it measures at finite lags is hsbd_hs_msd_slope_ratio */
+HSBD_API void hsbd_msd_long_time_lags(const hsbd_msd *m, double *t0, double *t1);
 
 /* Size classes: per species HSBD_SIZE_CLASSES bins of its diameters (one class when
  * monodisperse), each with its members' mean diameter and number fraction of all

@@ -165,6 +165,14 @@ HSBD_API double hsbd_hs_msd_deficit(const hsbd_hs_mixture *m, size_t a, double s
  * 1 - 2 phi; D_b = 0: Maxwell's dilute obstacles, 1 - phi_excluded / (d - 1)). The
  * contact values are not used (they enter at second order). NaN for D_a = 0. */
 HSBD_API double hsbd_hs_long_time_ratio(const hsbd_hs_mixture *m, size_t a);
+/* All times, 3D, first order in the densities: what the MSD slope between lags t0 < t1,
+ * (MSD_a(t1) - MSD_a(t0)) / (2 d D_a (t1 - t0)), measures (the two-body problem solved at
+ * every time, Hanna, Hess and Klein 1982); -> hsbd_hs_long_time_ratio as t0 -> infinity.
+ * NaN in 2D, for D_a = 0 or t1 <= t0. */
+HSBD_API double hsbd_hs_msd_slope_ratio(const hsbd_hs_mixture *m, size_t a, double t0, double t1);
+/* Gamma(tau) of that solution (docs/theory.md): (4/3) tau^(3/2) / sqrt(pi) at short times,
+ * tau/2 - 1/4 + O(tau^(-1/2)) at long ones */
+HSBD_API double hsbd_hs_excluded_sphere_gamma(double tau);
 
 /* ---- one overdamped Brownian particle in a tilted periodic potential (washboard) ----
  * dx = mu F(x) dt + sqrt(2 D dt) N, mu = D / kT, F = -V', V(x) = U(x) - f x with U periodic

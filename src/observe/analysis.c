@@ -53,13 +53,10 @@ int hsbd_scheme_check_warnings(const hsbd_scheme_check *c, char (*msg)[HSBD_WARN
     return n;
 }
 
-/* D_L from the MSD: slope between the largest lag with two origins and the first lag of at
- * least a tenth of it, over 2 d (the MSD of coordinates times d); the two errors combined
- * in quadrature (they are positively correlated: conservative). */
-void hsbd_msd_long_time_diffusion(const hsbd_msd *m, int dimension, double *dl, double *err) {
-    *dl = *err = NAN;
+/* The lags of the D_L estimate: the largest with at least two origins (k1) and the first
+ * at or beyond a tenth of it (k0); 0 when there are too few lags. */
+static int long_time_lags(const hsbd_msd *m, size_t *k0, size_t *k1) {
     const size_t nl = hsbd_msd_lags(m);
-    const double d = (double)dimension;
     double t1, m1, e1;
     size_t o1, last = nl;
     for (size_t k = nl; k-- > 0;) {
@@ -69,17 +66,41 @@ void hsbd_msd_long_time_diffusion(const hsbd_msd *m, int dimension, double *dl, 
             break;
         }
     }
-    if (last == nl) return;
+    if (last == nl) return 0;
     for (size_t k = 0; k < last; ++k) {
         double t0, m0, e0;
         size_t o0;
         hsbd_msd_result(m, k, &t0, &m0, &e0, &o0);
         if (t0 >= 0.1 * t1) {
-            *dl = d * (m1 - m0) / (2 * d * (t1 - t0));
-            *err = d * sqrt(e1 * e1 + e0 * e0) / (2 * d * (t1 - t0));
-            return;
+            *k0 = k, *k1 = last;
+            return 1;
         }
     }
+    return 0;
+}
+
+/* D_L from the MSD: slope between the largest lag with two origins and the first lag of at
+ * least a tenth of it, over 2 d (the MSD of coordinates times d); the two errors combined
+ * in quadrature (they are positively correlated: conservative). */
+void hsbd_msd_long_time_diffusion(const hsbd_msd *m, int dimension, double *dl, double *err) {
+    *dl = *err = NAN;
+    size_t k0, k1, o;
+    if (!long_time_lags(m, &k0, &k1)) return;
+    const double d = (double)dimension;
+    double t0, m0, e0, t1, m1, e1;
+    hsbd_msd_result(m, k0, &t0, &m0, &e0, &o);
+    hsbd_msd_result(m, k1, &t1, &m1, &e1, &o);
+    *dl = d * (m1 - m0) / (2 * d * (t1 - t0));
+    *err = d * sqrt(e1 * e1 + e0 * e0) / (2 * d * (t1 - t0));
+}
+
+void hsbd_msd_long_time_lags(const hsbd_msd *m, double *t0, double *t1) {
+    *t0 = *t1 = NAN;
+    size_t k0, k1, o;
+    double v, e;
+    if (!long_time_lags(m, &k0, &k1)) return;
+    hsbd_msd_result(m, k0, t0, &v, &e, &o);
+    hsbd_msd_result(m, k1, t1, &v, &e, &o);
 }
 
 void hsbd_size_classes_build(const hsbd_spheres_view *v, size_t nspecies, hsbd_size_classes *c) {

@@ -22,13 +22,26 @@
 #include "validate/report.h"
 
 enum family { FAMILY_PERCUS, FAMILY_STICKY, FAMILY_TONKS, FAMILY_SINGLE_FILE, FAMILY_SPHERES };
-/* spheres cases: one size, a binary (1 / 1.4, D ~ 1/sigma), Gaussian polydispersity 0.1 */
-enum sphere_kind { SPHERES_ONE, SPHERES_BINARY, SPHERES_POLY, SPHERES_DISKS };
+/* spheres cases: one size, a binary (1 / 1.4, D ~ 1/sigma), Gaussian polydispersity 0.1,
+ * disks; and for D_L per species: equal sizes with D 1 / 0.25 (half and half), and tracers
+ * (D 1, 40 %) among immobile obstacles (D 0) */
+enum sphere_kind {
+    SPHERES_ONE,
+    SPHERES_BINARY,
+    SPHERES_POLY,
+    SPHERES_DISKS,
+    SPHERES_UNEQUAL_D,
+    SPHERES_OBSTACLES
+};
+/* the two species of the D_L cases: number fractions and D */
+static const double UNEQUAL_D_FRACTION[2] = {0.5, 0.5}, UNEQUAL_D[2] = {1, 0.25};
+static const double OBSTACLES_FRACTION[2] = {0.4, 0.6}, OBSTACLES_D[2] = {1, 0};
 /* sticky contact representation of the paper's Fig. 6: p = 3, epsilon = 0.05 */
 static const double STICKY_ORDER = 3, STICKY_EPSILON = 0.05;
 /* contact window of the extrapolated estimator under the reflect rule */
 static const double REFLECT_CONTACT_WIDTH = 0.02;
 enum { MAX_CASES = 64, MAX_ROWS = 200000 };
+static const double PI = 3.14159265358979323846;
 /* contact.tsv: x, then value and error of rho2 (default), theorem, window, extrapolated */
 enum { CONTACT_COLUMNS = 9, COL_THEOREM = 3, COL_WINDOW = 5, COL_EXTRAP = 7 };
 
@@ -102,7 +115,10 @@ static double cell(const table *t, size_t r, size_t c) {
  * the 0.26 % deficit of Carnahan-Starling, several error bars at this length), and D_L at
  * phi 0.02 and 0.05 against 1 - 2 phi (the O(phi^2) term is below the error there). N 4000,
  * dt 1e-3, 20 time units (quick: N 1000, 8 units); D_L at dt 5e-4 (it is 0.6 % low at
- * 1e-3), N 4000, 100 units (quick 40).
+ * 1e-3), N 4000, 100 units (quick 40). D_L per species, against the first order in density
+ * at the run's lags (hsbd_hs_msd_slope_ratio; the long-time limit as information): equal
+ * spheres with D 1 / 0.25 at phi 0.05 (N 4000), and tracers among immobile obstacles, phi
+ * 0.01 + 0.015 (N 6000), dt 5e-4, 100 units (quick 40).
  * dt_scan: the phi 0.3 case at dt 4e-3 .. 2.5e-4. */
 static size_t make_sphere_cases(const hsbd_validate_options *opt, vcase *cases) {
     const int q = opt->quick;
@@ -138,6 +154,24 @@ static size_t make_sphere_cases(const hsbd_validate_options *opt, vcase *cases) 
                      .t_equil = 1,
                      .blocks = 10};
         snprintf(c->name, sizeof c->name, "spheres-dilute-phi%g", dilute[d]);
+    }
+    /* D_L per species against the first order in density at the estimator's lags: D 1 /
+     * 0.25 at phi 0.05, and tracers among immobile obstacles (phi 0.01 + 0.015) */
+    static const char *const mixed[] = {"spheres-D1-0.25-phi0.05", "spheres-obstacles-phi0.025"};
+    static const int mixed_kinds[] = {SPHERES_UNEQUAL_D, SPHERES_OBSTACLES};
+    static const double mixed_phi[] = {0.05, 0.025};
+    static const long mixed_n[] = {4000, 6000};
+    for (int d = 0; d < 2; ++d) {
+        vcase *c = &cases[k++];
+        *c = (vcase){.family = FAMILY_SPHERES,
+                     .n = mixed_n[d],
+                     .phi = mixed_phi[d],
+                     .dt = 5e-4,
+                     .t_total = q ? 40 : 100,
+                     .t_equil = 1,
+                     .blocks = 10,
+                     .kind = mixed_kinds[d]};
+        snprintf(c->name, sizeof c->name, "%s", mixed[d]);
     }
     /* 2D disks at phi 0.4 against the virial series to B10 (Henderson is 0.14 % high
      * there); blocks of 10 units outlast the box's slow density modes (seeds of 8-unit
@@ -320,7 +354,7 @@ static int case_config(const vcase *c, int reflect, unsigned seed_offset, const 
 static int sphere_case_config(const vcase *c, unsigned seed_offset, const char *dir,
                               hsbd_config *cfg, hsbd_error *err) {
     hsbd_config_defaults(cfg);
-    char sets[16][HSBD_PATH_MAX + 64];
+    char sets[20][HSBD_PATH_MAX + 64];
     int k = 0;
     snprintf(sets[k++], sizeof sets[0], "system.model=spheres");
     if (c->kind == SPHERES_DISKS) snprintf(sets[k++], sizeof sets[0], "system.dimension=2");
@@ -343,6 +377,16 @@ static int sphere_case_config(const vcase *c, unsigned seed_offset, const char *
     } else if (c->kind == SPHERES_POLY) {
         snprintf(sets[k++], sizeof sets[0], "species.polydispersity=0.1");
         snprintf(sets[k++], sizeof sets[0], "species.D_law=stokes-einstein");
+    } else if (c->kind == SPHERES_UNEQUAL_D || c->kind == SPHERES_OBSTACLES) {
+        const int obst = c->kind == SPHERES_OBSTACLES;
+        const double *x = obst ? OBSTACLES_FRACTION : UNEQUAL_D_FRACTION;
+        const double *dif = obst ? OBSTACLES_D : UNEQUAL_D;
+        snprintf(sets[k++], sizeof sets[0], "species.names=A B");
+        snprintf(sets[k++], sizeof sets[0], "species.fraction=%.17g %.17g", x[0], x[1]);
+        snprintf(sets[k++], sizeof sets[0], "species.sigma=1 1");
+        snprintf(sets[k++], sizeof sets[0], "species.D=%.17g %.17g", dif[0], dif[1]);
+        snprintf(sets[k++], sizeof sets[0], "init.method=random"); /* obstacles cannot compress */
+        snprintf(sets[k++], sizeof sets[0], "sample.gr_every=1000");
     }
     for (int i = 0; i < k; ++i)
         if (hsbd_config_set(cfg, sets[i], "validate", err) != HSBD_OK) return err->status;
@@ -841,6 +885,71 @@ static void judge_value(verdict *v, const char *what, double sim, double err, do
     if (informative) v->pass = -1;
 }
 
+/* "name": [value, error] of a summary's "D_long_species" */
+static void json_pair(const char *text, const char *name, double *value, double *err) {
+    char pattern[80];
+    snprintf(pattern, sizeof pattern, "\"%s\": [", name);
+    const char *p = strstr(text, "\"D_long_species\"");
+    p = p ? strstr(p, pattern) : NULL;
+    *value = *err = NAN;
+    if (!p) return;
+    char *end;
+    *value = strtod(p + strlen(pattern), &end);
+    *err = strtod(end + 1, NULL);
+}
+
+/* The lags t0 < t1 of the run's D_L slope (hsbd_msd_long_time_lags) from msd.tsv: the
+ * largest lag with two origins and the first at a tenth of it or beyond. */
+static int msd_lags(const char *dir, double *t0, double *t1, hsbd_error *err) {
+    char path[HSBD_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/msd.tsv", dir);
+    table t;
+    if (read_table(path, 4, &t, err) != HSBD_OK) return err->status;
+    size_t last = t.rows;
+    for (size_t r = t.rows; r-- > 0;)
+        if (cell(&t, r, 3) >= 2) {
+            last = r;
+            break;
+        }
+    *t0 = *t1 = NAN;
+    for (size_t r = 0; last < t.rows && r < last; ++r)
+        if (cell(&t, r, 0) >= 0.1 * cell(&t, last, 0)) {
+            *t0 = cell(&t, r, 0), *t1 = cell(&t, last, 0);
+            break;
+        }
+    free(t.v);
+    return isnan(*t0) ? hsbd_error_set(err, HSBD_ENUMERIC, "validate: too few MSD lags in %s", path)
+                      : HSBD_OK;
+}
+
+/* D_L of each mobile species against the first order in density at the run's lags (judged)
+ * and its long-time limit (information) */
+static int compare_species_dl(const vcase *c, const char *dir, const char *text, verdict *v,
+                              int *nv, hsbd_error *err) {
+    const int obst = c->kind == SPHERES_OBSTACLES;
+    const double *x = obst ? OBSTACLES_FRACTION : UNEQUAL_D_FRACTION;
+    const double *dif = obst ? OBSTACLES_D : UNEQUAL_D;
+    const double rho = 6 * c->phi / PI, dens[2] = {x[0] * rho, x[1] * rho},
+                 sig[2] = {1, 1};
+    const hsbd_hs_mixture mix = {3, 2, dens, sig, dif, NULL};
+    double t0 = NAN, t1 = NAN;
+    if (msd_lags(dir, &t0, &t1, err) != HSBD_OK) return err->status;
+    static const char *const name[2] = {"A", "B"};
+    for (size_t a = 0; a < 2; ++a) {
+        if (!(dif[a] > 0)) continue;
+        double dl, e;
+        json_pair(text, name[a], &dl, &e);
+        char what[64];
+        snprintf(what, sizeof what, "D_L,%s/D O(phi), lags", name[a]);
+        judge_value(&v[(*nv)++], what, dl / dif[a], e / dif[a],
+                    hsbd_hs_msd_slope_ratio(&mix, a, t0, t1), 0);
+        snprintf(what, sizeof what, "D_L,%s/D O(phi), t->inf", name[a]);
+        judge_value(&v[(*nv)++], what, dl / dif[a], e / dif[a], hsbd_hs_long_time_ratio(&mix, a),
+                    1);
+    }
+    return HSBD_OK;
+}
+
 static int compare_spheres(const hsbd_validate_options *opt, const vcase *c, verdict *v, int *nv,
                            hsbd_error *err) {
     char dir[HSBD_PATH_MAX], path[HSBD_PATH_MAX + 32];
@@ -851,6 +960,8 @@ static int compare_spheres(const hsbd_validate_options *opt, const vcase *c, ver
     static char text[1 << 20];
     text[fread(text, 1, sizeof text - 1, f)] = 0;
     fclose(f);
+    if (c->kind == SPHERES_UNEQUAL_D || c->kind == SPHERES_OBSTACLES)
+        return compare_species_dl(c, dir, text, v, nv, err);
     if (c->phi < 0.1) { /* D_L -> D_0 (1 - 2 phi) */
         judge_value(&v[(*nv)++], "D_L vs 1 - 2 phi", json_value(text, "D_long", 0),
                     json_value(text, "D_long_err", 0), 1 - 2 * c->phi, 0);

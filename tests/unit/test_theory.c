@@ -511,6 +511,17 @@ static void test_mixture_dynamics(void) {
     CHECK_CLOSE(hsbd_hs_msd_deficit(&obst, 0, -1),
                 dn[1] * 1.1 * 4 * pi * sab * sab * k * pow(2.0, 1.5), 1e-12);
     CHECK_CLOSE(hsbd_hs_msd_deficit(&obst, 1, -1), 0, 0);
+    /* the two-body problem at all times: Gamma's short- and long-time forms, and the slope
+     * ratio approaching the long-time one */
+    const double tiny = 1e-6, huge = 1e6;
+    CHECK_CLOSE(hsbd_hs_excluded_sphere_gamma(tiny) / (4 / (3 * sqrt(pi)) * pow(tiny, 1.5)), 1,
+                2 * sqrt(tiny));
+    CHECK_CLOSE(hsbd_hs_excluded_sphere_gamma(huge), huge / 2 - 0.25, 1 / sqrt(huge));
+    CHECK_CLOSE(hsbd_hs_msd_slope_ratio(&obst, 0, 1e5, 1e6), hsbd_hs_long_time_ratio(&obst, 0),
+                1e-4);
+    CHECK(hsbd_hs_msd_slope_ratio(&obst, 0, 0.4, 4) > hsbd_hs_long_time_ratio(&obst, 0),
+          "finite lags see less of the obstacles");
+    CHECK(isnan(hsbd_hs_msd_slope_ratio(&disks, 0, 1, 10)), "2D: not built");
     printf("mixture dynamics: K = %.8f (quadrature %.8f), one species phi 0.3 c = %.4f\n", k,
            deficit, hsbd_hs_msd_deficit(&one, 0, -1));
 }
