@@ -161,16 +161,23 @@ HSBD_API int hsbd_drift_get(const hsbd_drift *d, double t, const double *x, hsbd
 
 /* ---- disks / spheres: radial distribution per species pair, contact values ---- */
 typedef struct hsbd_gr hsbd_gr;
-/* Bins of width `width` up to r_max (<= half the shortest box length); contact values by
- * a quadratic fit of g over gaps in [0, fit_width). A periodic box only (HSBD_EINPUT when
- * an axis has walls: the ideal-gas reference would be wrong). */
+/* Bins of width `width` up to r_max (<= half the shortest periodic box length); contact
+ * values by a quadratic fit of g over gaps in [0, fit_width). A periodic box, or walls on
+ * one axis (a slab): the ideal-gas reference then follows the density sampled along that
+ * axis (src/observe/gr.c), so ideal particles give g = 1 in any field; contact values need
+ * one size per species there (NaN otherwise). HSBD_EINPUT with walls on more axes. */
 HSBD_API hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width,
                                 double fit_width, size_t nblocks, uint64_t nsamples_total,
                                 hsbd_error *err);
 HSBD_API void hsbd_gr_free(hsbd_gr *g);
+/* A slab only, before the first sample: count only pairs with both centres in [lo, hi)
+ * along the walls axis (rounded to the reference's z bins), e.g. the middle of a slit. */
+HSBD_API int hsbd_gr_set_window(hsbd_gr *g, double lo, double hi, hsbd_error *err);
 /* Returns HSBD_OK, or HSBD_ENOMEM (the sample is then not taken). */
 HSBD_API int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v);
 HSBD_API size_t hsbd_gr_bins(const hsbd_gr *g);
+/* 1 between walls (the profile-weighted reference), 0 in a periodic box */
+HSBD_API int hsbd_gr_is_slab(const hsbd_gr *g);
 /* unordered species pairs a <= b: nspecies (nspecies + 1) / 2 */
 HSBD_API size_t hsbd_gr_pairs(const hsbd_gr *g);
 HSBD_API void hsbd_gr_pair_species(const hsbd_gr *g, size_t pair, size_t *a, size_t *b);

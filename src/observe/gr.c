@@ -7,7 +7,23 @@
  * mean of the pairs' contact values weighted by sigma_ij^d. Errors from block averages
  * (time blocks); the extrapolation is linear in the counts, so it is applied to every
  * block's histogram and the blocks' scatter gives its error. Pairs are found with a cell
- * grid of width >= r_max. */
+ * grid of width >= r_max.
+ *
+ * Between walls (one walls axis z, the others periodic: a slab) the density varies along z
+ * and the ideal-gas reference follows it: the particles of each species are counted in
+ * thin bins along z (the sampled profile, block by block), and the expected number of
+ * pairs in an r bin is the sum over pairs of bins (k, k + dk) of <n_a(k)> <n_b(k + dk)>
+ * (times (N_a - 1) / N_a for a = b, the canonical count of distinct pairs) times the chance
+ * that two independent particles, uniform in their bins and over the periodic area A, are
+ * that far apart: W(dk, r bin) / A, W the area of the transverse annulus averaged over the
+ * triangular law of the z difference. This is the exact pair count of independent
+ * particles with that profile (up to the density's variation inside a z bin, second order
+ * in its width): g = 1 for ideal particles between walls in any field, and for a fluid
+ * g(r1, r2) = rho2 / (rho(z1) rho(z2)) averaged over the pairs. (The pairs of each sample's
+ * own z coordinates would not do: hard spheres close in z are rarely close across, and that
+ * reference is then short by O(sigma^2 / A), 3 % in a 6 x 6 slit.) Pairs and reference are
+ * summed per block and g is their ratio. Optionally only pairs with both centres in a
+ * window along z count (hsbd_gr_set_window), e.g. the middle of a slit. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,7 +33,7 @@
 #include "hsbd/observe.h"
 #include "observe/checkpoint.h"
 
-enum { GR_FIT_BINS = 10 };
+enum { GR_FIT_BINS = 10, GR_Z_BINS_PER_R_BIN = 2 };
 static const double HSBD_PI = 3.14159265358979323846;
 
 struct hsbd_gr {
@@ -32,6 +48,18 @@ struct hsbd_gr {
     double *acc;       /* counts of the current sample */
     double *results;   /* 2 nv: the blocks' means and errors (results allocate nothing) */
     double *per_block; /* nblocks x nv: each block's means */
+    /* a slab (zaxis >= 0): the counts per species and z bin follow the pair counts in the
+     * blocks; shift_weight (npairs x nshift x row) turns the products of two profiles at
+     * z-bin distance dk into the reference of each bin */
+    int zaxis;
+    double wrap[3]; /* minimum images over these lengths (infinite along z) */
+    size_t nz, nshift, zlo, zhi, nv;
+    double hz, area;
+    int contact_ok; /* one size per species: the gap bins' reference is exact */
+    double members[64];   /* N_a */
+    double *shift_weight; /* npairs x nshift x row */
+    double *products;     /* nshift: one block's profile products per z-bin distance */
+    double *reference;    /* row: one block's reference (results allocate nothing) */
 };
 
 static size_t pair_index(size_t ns, size_t a, size_t b) {
@@ -59,6 +87,9 @@ static double shell_volume(int dim, double r0, double r1) {
 
 void hsbd_gr_free(hsbd_gr *g) {
     if (!g) return;
+    free(g->products);
+    free(g->shift_weight);
+    free(g->reference);
     free(g->weight);
     free(g->expected);
     free(g->acc);
@@ -107,22 +138,116 @@ static void expect_pairs(hsbd_gr *g, size_t a, size_t b, const double *pa, const
         surface * sm[g->dim] / ((double)g->dim * (double)g->n);
 }
 
+/* Transverse measure (3D: area, 2D: length) of the points at distance in [lo, hi) from a
+ * point at height difference u: the annulus between the circles of radius
+ * sqrt(lo^2 - u^2) and sqrt(hi^2 - u^2) */
+static double transverse_measure(int dim, double u, double lo, double hi) {
+    const double a = fmax(0.0, hi * hi - u * u), b = fmax(0.0, lo * lo - u * u);
+    return dim == 3 ? HSBD_PI * (a - b) : 2 * (sqrt(a) - sqrt(b));
+}
+
+/* The transverse measure averaged over the z difference of two points uniform in bins dk
+ * apart (width h): a triangle of half-width h about dk h. Gauss-Legendre (8 nodes) between
+ * the kinks (the triangle's ends and peak, +-lo, +-hi): exact for the 3D polynomials. */
+static double shift_average(int dim, size_t dk, double h, double lo, double hi) {
+    static const double x8[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                 0.9602898564975363};
+    static const double w8[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                 0.1012285362903763};
+    const double c = (double)dk * h;
+    double cut[7] = {c - h, c, c + h, lo, hi, -lo, -hi};
+    int n = 0;
+    double pts[7];
+    for (int k = 0; k < 7; ++k)
+        if (cut[k] >= c - h && cut[k] <= c + h) pts[n++] = cut[k];
+    for (int i = 1; i < n; ++i) /* insertion sort of at most 7 points */
+        for (int j = i; j > 0 && pts[j - 1] > pts[j]; --j) {
+            const double t = pts[j];
+            pts[j] = pts[j - 1], pts[j - 1] = t;
+        }
+    double sum = 0;
+    for (int p = 0; p + 1 < n; ++p) {
+        const double m = 0.5 * (pts[p] + pts[p + 1]), half = 0.5 * (pts[p + 1] - pts[p]);
+        for (int q = 0; q < 8; ++q) {
+            const double u = m + (q < 4 ? -1 : 1) * half * x8[q % 4];
+            const double tri = (1 - fabs(u - c) / h) / h;
+            sum += half * w8[q % 4] * tri * transverse_measure(dim, u, lo, hi);
+        }
+    }
+    return sum;
+}
+
+/* The slab's weights: shift_weight[pair][dk][k] = W(dk, bin k) / A, the gap bins of pair
+ * (a, b) at their contact distance sigma_ab and weighted by it as the counts are. */
+static int slab_setup(hsbd_gr *g, const hsbd_spheres_view *v, int zaxis) {
+    const size_t row = g->bins + GR_FIT_BINS;
+    g->zaxis = zaxis;
+    g->nz = (size_t)ceil(GR_Z_BINS_PER_R_BIN * v->box[zaxis] / g->width - 1e-9);
+    g->hz = v->box[zaxis] / (double)g->nz;
+    g->zlo = 0, g->zhi = g->nz;
+    g->area = 1;
+    for (int a = 0; a < g->dim; ++a)
+        if (a != zaxis) g->area *= v->box[a];
+    g->wrap[zaxis] = INFINITY;
+    double smax = 0, sig[64];
+    g->contact_ok = 1;
+    for (size_t k = 0; k < g->nspecies; ++k)
+        sig[k] = NAN;
+    for (size_t i = 0; i < v->n; ++i) {
+        const size_t k = (size_t)v->species[i];
+        g->members[k] += 1;
+        if (isnan(sig[k])) sig[k] = v->sigma[i];
+        g->contact_ok &= sig[k] == v->sigma[i];
+        smax = fmax(smax, v->sigma[i]);
+    }
+    const double reach = fmax(g->r_max, smax + g->fit_width);
+    g->nshift = (size_t)ceil(reach / g->hz) + 2;
+    if (g->nshift > g->nz) g->nshift = g->nz;
+    g->products = malloc(g->nshift * sizeof *g->products);
+    g->shift_weight = calloc(g->npairs * g->nshift * row, sizeof *g->shift_weight);
+    g->reference = malloc(row * sizeof *g->reference);
+    if (!g->products || !g->shift_weight || !g->reference) return -1;
+    const double h = g->fit_width / GR_FIT_BINS;
+    for (size_t a = 0; a < g->nspecies; ++a)
+        for (size_t b = a; b < g->nspecies; ++b) {
+            double *w = g->shift_weight + pair_index(g->nspecies, a, b) * g->nshift * row;
+            const double sab = 0.5 * (sig[a] + sig[b]);
+            for (size_t dk = 0; dk < g->nshift; ++dk) {
+                for (size_t k = 0; k < g->bins; ++k)
+                    w[dk * row + k] = shift_average(g->dim, dk, g->hz, (double)k * g->width,
+                                                    (double)(k + 1) * g->width) /
+                                      g->area;
+                for (size_t k = 0; k < GR_FIT_BINS && isfinite(sab); ++k)
+                    w[dk * row + g->bins + k] =
+                        sab *
+                        shift_average(g->dim, dk, g->hz, sab + (double)k * h,
+                                      sab + (double)(k + 1) * h) /
+                        g->area;
+            }
+        }
+    return 0;
+}
+
 hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, double fit_width,
                        size_t nblocks, uint64_t nsamples_total, hsbd_error *err) {
     double half_box = INFINITY;
-    for (int a = 0; a < v->dimension; ++a)
-        half_box = fmin(half_box, 0.5 * v->box[a]);
+    int zaxis = -1, nwalls = 0;
+    for (int a = 0; a < v->dimension; ++a) {
+        if (v->walls[a]) zaxis = a, ++nwalls;
+        else half_box = fmin(half_box, 0.5 * v->box[a]);
+    }
+    if (nwalls > 1) /* the reference would need the density over a plane */
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "g(r): walls on %d axes; allowed: a periodic box or walls on one "
+                              "axis",
+                              nwalls),
+               NULL;
     if (!(r_max > 0) || r_max > half_box || !(width > 0) || width > r_max || !(fit_width > 0))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "g(r): r_max = %g, bin %g, contact fit %g; allowed: 0 < bin <= "
-                              "r_max <= half the shortest box length (%g), fit > 0",
+                              "r_max <= half the shortest periodic box length (%g), fit > 0",
                               r_max, width, fit_width, half_box),
                NULL;
-    for (int a = 0; a < v->dimension; ++a)
-        if (v->walls[a]) /* minimum images and the ideal-gas reference need a periodic box */
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "g(r): axis %d has walls; allowed: a periodic box", a),
-                   NULL;
     hsbd_gr *g = calloc(1, sizeof *g);
     if (!g) return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
     g->n = v->n;
@@ -135,24 +260,30 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
     if (g->r_max > half_box) g->bins--, g->r_max -= width;
     g->fit_width = fit_width;
     g->volume = 1;
+    g->zaxis = -1;
     for (int a = 0; a < 3; ++a)
-        g->box[a] = v->box[a], g->volume *= a < g->dim ? v->box[a] : 1.0;
+        g->box[a] = g->wrap[a] = v->box[a], g->volume *= a < g->dim ? v->box[a] : 1.0;
     const size_t row = g->bins + GR_FIT_BINS;
+    if (g->nspecies > 64) {
+        hsbd_gr_free(g);
+        return hsbd_error_set(err, HSBD_EINPUT, "g(r): at most 64 species"), NULL;
+    }
+    if (zaxis >= 0 && slab_setup(g, v, zaxis)) {
+        hsbd_gr_free(g);
+        return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
+    }
+    g->nv = g->npairs * row + (zaxis >= 0 ? g->nspecies * g->nz : 0);
     g->weight = calloc(g->npairs, sizeof *g->weight);
     g->expected = calloc(g->npairs * row, sizeof *g->expected);
-    g->acc = calloc(g->npairs * row, sizeof *g->acc);
-    g->results = malloc(2 * g->npairs * row * sizeof *g->results);
-    g->per_block = malloc(nblocks * g->npairs * row * sizeof *g->per_block);
-    g->blocks = hsbd_blocks_alloc(g->npairs * row, nblocks, nsamples_total);
+    g->acc = calloc(g->nv, sizeof *g->acc);
+    g->results = malloc(2 * g->nv * sizeof *g->results);
+    g->per_block = malloc(nblocks * g->nv * sizeof *g->per_block);
+    g->blocks = hsbd_blocks_alloc(g->nv, nblocks, nsamples_total);
     g->nblocks = nblocks;
     if (!g->weight || !g->expected || !g->acc || !g->results || !g->per_block || !g->blocks ||
         hsbd_cells_init(&g->cells, g->dim, g->box, g->r_max, g->n)) {
         hsbd_gr_free(g);
         return hsbd_error_set(err, HSBD_ENOMEM, "g(r): out of memory"), NULL;
-    }
-    if (g->nspecies > 64) {
-        hsbd_gr_free(g);
-        return hsbd_error_set(err, HSBD_EINPUT, "g(r): at most 64 species"), NULL;
     }
     double power[64][4] = {{0}}; /* sum over the members of sigma^m, m = 0..3 */
     for (size_t i = 0; i < v->n; ++i)
@@ -164,12 +295,32 @@ hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width, d
     return g;
 }
 
+int hsbd_gr_set_window(hsbd_gr *g, double lo, double hi, hsbd_error *err) {
+    if (g->zaxis < 0 || hsbd_blocks_samples(g->blocks) > 0 || !(lo >= 0) ||
+        !(hi <= (double)g->nz * g->hz) || !(hi - lo >= g->hz))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "g(r) window [%g, %g]: allowed between walls, before sampling, "
+                              "0 <= lo < hi <= %g",
+                              lo, hi, (double)g->nz * g->hz);
+    g->zlo = (size_t)llround(lo / g->hz);
+    g->zhi = (size_t)llround(hi / g->hz);
+    return HSBD_OK;
+}
+
+/* the z bin of a centre, or nz when outside the window */
+static size_t z_bin(const hsbd_gr *g, double z) {
+    const long k = (long)floor(z / g->hz);
+    return k >= (long)g->zlo && k < (long)g->zhi ? (size_t)k : g->nz;
+}
+
 int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
     const size_t row = g->bins + GR_FIT_BINS;
-    memset(g->acc, 0, g->npairs * row * sizeof *g->acc);
+    memset(g->acc, 0, g->nv * sizeof *g->acc);
     hsbd_cells_clear(&g->cells);
     for (size_t i = 0; i < g->n; ++i)
-        if (hsbd_cells_insert(&g->cells, (int32_t)i, v->x + 3 * i)) return HSBD_ENOMEM;
+        if ((g->zaxis < 0 || z_bin(g, v->x[3 * i + g->zaxis]) < g->nz) &&
+            hsbd_cells_insert(&g->cells, (int32_t)i, v->x + 3 * i))
+            return HSBD_ENOMEM;
     const double rmax2 = g->r_max * g->r_max, inv_w = 1.0 / g->width;
     const double h_inv = GR_FIT_BINS / g->fit_width;
     /* cell by cell: the cells around are the same for all of a cell's points, and the
@@ -196,7 +347,7 @@ int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
                     if (j <= i) continue;
                     double r2 = 0;
                     for (int a = 0; a < g->dim; ++a) {
-                        const double d = hsbd_wrap_delta(xj[3 * (size_t)u + a] - xi[a], g->box[a]);
+                        const double d = hsbd_wrap_delta(xj[3 * (size_t)u + a] - xi[a], g->wrap[a]);
                         r2 += d * d;
                     }
                     if (r2 >= rmax2) continue;
@@ -214,11 +365,19 @@ int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
             }
         }
     }
+    for (size_t i = 0; i < g->n && g->zaxis >= 0; ++i) { /* the profile of each species */
+        const size_t k = z_bin(g, v->x[3 * i + g->zaxis]);
+        if (k < g->nz) g->acc[g->npairs * row + (size_t)v->species[i] * g->nz + k] += 1;
+    }
     double *b = hsbd_blocks_acc(g->blocks);
-    for (size_t k = 0; k < g->npairs * row; ++k)
+    for (size_t k = 0; k < g->nv; ++k)
         b[k] += g->acc[k];
     hsbd_blocks_end_sample(g->blocks);
     return HSBD_OK;
+}
+
+int hsbd_gr_is_slab(const hsbd_gr *g) {
+    return g->zaxis >= 0;
 }
 
 size_t hsbd_gr_bins(const hsbd_gr *g) {
@@ -253,13 +412,70 @@ static double fit_contact(const hsbd_gr *g, const double *counts, const double *
     return m[0][3] / m[0][0];
 }
 
+/* One block's reference row of a pair in a slab: the products of its mean profiles at each
+ * z-bin distance (each pair of bins once; distinct pairs for a = b) times the weights */
+static void slab_reference(const hsbd_gr *g, const double *block, size_t pair, double *ref) {
+    const size_t row = g->bins + GR_FIT_BINS;
+    size_t a = 0, b = 0;
+    hsbd_gr_pair_species(g, pair, &a, &b);
+    const double *na = block + g->npairs * row + a * g->nz, *nb = block + g->npairs * row + b * g->nz;
+    const double same = a == b ? (g->members[a] - 1) / g->members[a] : 0;
+    double *c = g->products;
+    for (size_t dk = 0; dk < g->nshift; ++dk)
+        c[dk] = 0;
+    for (size_t k = g->zlo; k < g->zhi; ++k) {
+        if (na[k] == 0 && nb[k] == 0) continue;
+        c[0] += a == b ? 0.5 * same * na[k] * na[k] : na[k] * nb[k];
+        for (size_t dk = 1; dk < g->nshift && k + dk < g->zhi; ++dk)
+            c[dk] += a == b ? same * na[k] * na[k + dk] : na[k] * nb[k + dk] + nb[k] * na[k + dk];
+    }
+    const double *w = g->shift_weight + pair * g->nshift * row;
+    for (size_t k = 0; k < row; ++k)
+        ref[k] = 0;
+    for (size_t dk = 0; dk < g->nshift; ++dk)
+        for (size_t k = 0; k < row && c[dk] != 0; ++k)
+            ref[k] += c[dk] * w[dk * row + k];
+}
+
+/* Slab: g = the blocks' pairs over their references, the error from the blocks' ratios */
+static void slab_result(const hsbd_gr *g, size_t pair, double *gr, double *err) {
+    const size_t row = g->bins + GR_FIT_BINS;
+    double *pairs = g->results, *refs = g->results + g->bins, *all = g->per_block;
+    hsbd_blocks_block_means(g->blocks, 0, all);
+    for (size_t k = 0; k < g->bins; ++k)
+        pairs[k] = refs[k] = gr[k] = err[k] = 0;
+    size_t used = 0;
+    for (size_t b = 0; b < g->nblocks; ++b) {
+        const double *block = all + b * g->nv, *c = block + pair * row;
+        if (isnan(c[0])) continue;
+        slab_reference(g, block, pair, g->reference);
+        for (size_t k = 0; k < g->bins; ++k) {
+            const double ratio = g->reference[k] > 0 ? c[k] / g->reference[k] : 0;
+            pairs[k] += c[k], refs[k] += g->reference[k];
+            gr[k] += ratio, err[k] += ratio * ratio; /* sums of the blocks' ratios */
+        }
+        ++used;
+    }
+    for (size_t k = 0; k < g->bins; ++k) {
+        const double m = used ? gr[k] / (double)used : NAN;
+        const double var = used >= 2 ? (err[k] / (double)used - m * m) / (double)(used - 1) : NAN;
+        gr[k] = refs[k] > 0 ? pairs[k] / refs[k] : NAN;
+        err[k] = refs[k] > 0 ? sqrt(fmax(0.0, var)) : NAN;
+    }
+}
+
 void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double *err) {
-    const size_t row = g->bins + GR_FIT_BINS, nv = g->npairs * row;
+    const size_t row = g->bins + GR_FIT_BINS, nv = g->nv;
+    for (size_t k = 0; k < g->bins; ++k)
+        r[k] = ((double)k + 0.5) * g->width;
+    if (g->zaxis >= 0) {
+        slab_result(g, pair, gr, err);
+        return;
+    }
     double *mean = g->results, *e = g->results + nv;
     hsbd_blocks_result(g->blocks, mean, e);
     const double *ex = g->expected + pair * row;
     for (size_t k = 0; k < g->bins; ++k) {
-        r[k] = ((double)k + 0.5) * g->width;
         gr[k] = ex[k] > 0 ? mean[pair * row + k] / ex[k] : NAN;
         err[k] = ex[k] > 0 ? e[pair * row + k] / ex[k] : NAN;
     }
@@ -267,8 +483,8 @@ void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *gr, double
 
 void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) {
     *value = *err = NAN;
-    const size_t row = g->bins + GR_FIT_BINS, nv = g->npairs * row;
-    if (g->expected[pair * row + g->bins] <= 0) return;
+    const size_t row = g->bins + GR_FIT_BINS, nv = g->nv;
+    if (g->zaxis >= 0 ? !g->contact_ok : g->expected[pair * row + g->bins] <= 0) return;
     double *all = g->per_block;
     hsbd_blocks_block_means(g->blocks, 0, all);
     /* the value from all samples (block means weighted by their samples: equal blocks),
@@ -279,6 +495,11 @@ void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) 
     for (size_t b = 0; b < g->nblocks; ++b) {
         const double *c = all + b * nv + pair * row + g->bins;
         if (isnan(c[0])) continue;
+        if (g->zaxis >= 0) { /* the block's own reference */
+            slab_reference(g, all + b * nv, pair, g->reference);
+            ex = g->reference + g->bins;
+            if (!(ex[0] > 0)) continue;
+        }
         const double val = fit_contact(g, c, ex);
         sum += val, sum2 += val * val, ++used;
     }
@@ -314,7 +535,7 @@ int hsbd_gr_load(hsbd_gr *g, hsbd_reader *r) {
         return -1;
     const size_t nblocks = hsbd_blocks_count(g->blocks); /* more after an extension */
     if (nblocks > g->nblocks) {
-        double *pb = realloc(g->per_block, nblocks * g->npairs * row * sizeof *pb);
+        double *pb = realloc(g->per_block, nblocks * g->nv * sizeof *pb);
         if (!pb) return hsbd_reader_oom(r, "g(r) blocks");
         g->per_block = pb;
     }

@@ -179,10 +179,11 @@ static int build_observers(const hsbd_config *cfg, spheres_model *m, hsbd_error 
     const size_t blocks = (size_t)cfg->sample.blocks, n = (size_t)cfg->system.n;
     const size_t d = (size_t)cfg->system.dimension;
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
-    int walls = 0; /* g(r) counts pairs by minimum images of a homogeneous periodic box */
-    for (int a = 0; a < 3; ++a)
-        walls |= cfg->system.walls[a];
-    if (cfg->system.hard_core && !walls) {
+    /* g(r): a periodic box of hard particles, or a slab (walls on one axis; ideal particles
+     * too, whose g = 1 checks the profile-weighted reference); not between walls on more
+     * axes (the reference would need the density over a plane) */
+    const int walls = (int)(cfg->system.walls[0] + cfg->system.walls[1] + cfg->system.walls[2]);
+    if ((cfg->system.hard_core && !walls) || walls == 1) {
         m->gr = hsbd_gr_alloc(&v, cfg->sample.gr_max, cfg->sample.gr_bin, cfg->sample.contact_fit,
                               blocks, steps / (uint64_t)cfg->sample.gr_every, err);
         if (!m->gr) return err->status;
@@ -328,8 +329,14 @@ static int write_gr(const run *r, const spheres_model *m, hsbd_error *err) {
         hsbd_gr_result(m->gr, p, x, val + 2 * p * nb, val + (2 * p + 1) * nb);
     }
     const int rc = hsbd_write_columns_table(r->cfg->output.dir, "gr.tsv", r->cfg,
-                                            "radial distribution function per species pair (bin "
-                                            "centres); errors from time blocks",
+                                            hsbd_gr_is_slab(m->gr)
+                                                ? "radial distribution function per species "
+                                                  "pair (bin centres) between walls, over the "
+                                                  "pairs of independent particles with the "
+                                                  "sampled density profile; errors from time "
+                                                  "blocks"
+                                                : "radial distribution function per species pair "
+                                                  "(bin centres); errors from time blocks",
                                             columns, nb, x, np, val, err);
     free(x), free(val);
     return rc;
@@ -441,6 +448,23 @@ static void write_contacts_json(const run *r, const spheres_model *m, FILE *f) {
     }
 }
 
+/* "contacts" between walls: g_ab(sigma_ab+) over all pairs of the slab, against the
+ * profile-weighted reference; no equation of state (the density varies) */
+static void write_slab_contacts_json(const run *r, const spheres_model *m, FILE *f) {
+    fprintf(f, "  \"contacts\": [");
+    for (size_t p = 0; p < hsbd_gr_pairs(m->gr); ++p) {
+        size_t a, b;
+        hsbd_gr_pair_species(m->gr, p, &a, &b);
+        double val, err;
+        hsbd_gr_contact(m->gr, p, &val, &err);
+        fprintf(f, "%s\n    {\"a\": \"%s\", \"b\": \"%s\", \"g_contact\": %.10g, "
+                   "\"g_contact_err\": %.4g, \"reference\": \"profile\"}",
+                p ? "," : "", species_name(r, a), species_name(r, b), isfinite(val) ? val : 0,
+                isfinite(err) ? err : 0);
+    }
+    fprintf(f, "\n  ],\n");
+}
+
 /* "sizes": the diameters as simulated (drawn, or read with the positions) */
 static void write_sizes_json(const run *r, const spheres_model *m, FILE *f) {
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
@@ -504,10 +528,12 @@ static void spheres_write_summary(run *r, FILE *f) {
     double vm = NAN, ve = NAN;
     hsbd_blocks_result(m->virial, &vm, &ve);
     const double per = cfg->run.dt * (double)cfg->sample.every * (double)dim * n;
-    if (m->gr) { /* a homogeneous periodic box (not between walls) */
+    if (m->gr && !hsbd_gr_is_slab(m->gr)) { /* a homogeneous periodic box */
         hsbd_json_number(f, "Z_virial", 1 + vm / per, 1);
         hsbd_json_number(f, "Z_virial_err", ve / per, 1);
         write_contacts_json(r, m, f);
+    } else if (m->gr && cfg->system.hard_core) {
+        write_slab_contacts_json(r, m, f);
     }
     walls_observers_write_summary(r, &m->walls, f);
     double dl, dle;

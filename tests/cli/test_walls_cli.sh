@@ -9,8 +9,11 @@
 #   bars off).
 # - species.coupling_law = volume with polydisperse diameters: the wall theorem with the
 #   drawn sizes (4 error bars).
-# - The sedimentation and slit examples run (shortened) and report density.tsv per species
-#   and the walls in summary.json; the trajectory marks the walls axes non-periodic.
+# - The sedimentation and slit examples run (shortened) and report density.tsv per species,
+#   the walls and g(sigma+) in summary.json and gr.tsv; the trajectory marks the walls axes
+#   non-periodic.
+# - Ideal particles (hard_core = off, two species, couplings 1 / 2) in gravity between
+#   walls: every bin of gr.tsv (profile-weighted reference) is 1 within 4.5 error bars.
 set -u
 HSBD=${1:?usage: test_walls_cli.sh path/to/hsbd}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -69,6 +72,44 @@ grep -q 'rho_A_err' sed/density.tsv && ok || bad "sedimentation: density.tsv per
 "$HSBD" run "$SRC/examples/spheres-slit.ini" --set run.t_equil=0.2 --set run.t_total=0.4 \
     --out slit --quiet 2>/dev/null || bad "slit example"
 grep -q '"contact_density"' slit/summary.json && ok || bad "slit: contact densities"
+[ -s slit/gr.tsv ] && grep -q '"g_contact"' slit/summary.json && ok || bad "slit: g(r) between walls"
+
+cat >ideal.ini <<'INI'
+[system]
+model = spheres
+N = 300
+box = 4 4 6
+boundary = periodic periodic walls
+hard_core = off
+seed = 11
+[species]
+names = A B
+fraction = 0.5 0.5
+sigma = 0.1 0.14
+D = 1 1
+coupling = 1 2
+[field]
+type = tilt
+force = -1
+[run]
+dt = 0.05
+t_equil = 10
+t_total = 300
+[sample]
+gr_every = 10
+gr_max = 2
+gr_bin = 0.1
+INI
+if "$HSBD" run ideal.ini --out ideal --quiet 2>/dev/null; then
+    line=$(grep -v '^#' ideal/gr.tsv | awk 'NR > 1 { for (c = 2; c < NF; c += 2) if ($(c + 1) > 0) {
+            d = ($c - 1) / $(c + 1); chi += d * d; n++; if (d * d > w) w = d * d } }
+        END { printf "%d %.1f %.2f\n", n, chi, sqrt(w) }')
+    read -r bins chi2 worst <<<"$line"
+    echo "ideal particles in gravity between walls: g(r) = 1 over $bins bins, chi^2 $chi2, largest deviation $worst error bars"
+    awk -v n="$bins" -v w="$worst" 'BEGIN { exit !(n > 30 && w < 4.5) }' && ok || bad "ideal g(r) between walls: $line"
+else
+    bad "ideal particles between walls run"
+fi
 
 # species.coupling_law = volume with polydisperse sizes: the wall theorem with the drawn
 # diameters, kT (rho_low - rho_high) = sum_i (sigma_i / sigma)^3 |F| / A (the radii from

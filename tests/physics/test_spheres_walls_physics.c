@@ -6,7 +6,9 @@
  *     barometric profile of each species, exact at any dt (the isolated particle's
  *     Skorokhod step): chi^2 of the profile bins below 5 sigma from the floor within
  *     bins + 4 sqrt(2 bins), and the contact densities from the walls' impulses at both
- *     walls.
+ *     walls; and g(r) of each species pair (profile-weighted reference, bins of 0.1 up to
+ *     2) = 1: chi^2 over the 20 bins within 20 + 4 sqrt(40), every bin within 4.5 error
+ *     bars.
  *   - Free particles in a slit whose room (0.3) is shorter than a step (dt 0.05): the wall
  *     theorem below, exact at any dt (end points beyond both walls fold back).
  *   - Hard spheres (3D), disks (2D) and a binary mixture (3D, couplings 1 and 2.744) in
@@ -19,7 +21,8 @@
  *     contact density at each wall against beta P(rho_mid) from the Kolafa-Labik-
  *     Malijevsky equation of state at the density measured in the middle 4 sigma of the
  *     slit; allowance: 4 error bars of the contact density plus the pressure change of 4
- *     error bars of rho_mid.
+ *     error bars of rho_mid. And g(sigma+) of the pairs with both centres in those middle
+ *     4 sigma against KLM's contact value at rho_mid, with the same kind of allowance.
  *   - A common drift v of a hard-sphere mixture (D 1 and 0.5) in a periodic box: against
  *     the same run without drift, sum_i dr_i / D_i differs by exactly t v sum_i 1 / D_i
  *     (relative 1e-9: round-off), each row of Scala's C_Brown summing to 1.
@@ -48,11 +51,14 @@ typedef struct sampled {
     hsbd_slab *slab;
     hsbd_blocks *impulse; /* 6 ns increments per sample */
     size_t ns;
+    hsbd_gr *gr; /* g(r) up to 2, bins of 0.1, contact fit over 0.1 (when asked) */
 } sampled;
 
-/* Runs t_equil, then samples the profile along `axis` and the wall impulses for t_total. */
+/* Runs t_equil, then samples the profile along `axis` and the wall impulses for t_total;
+ * g(r) too when gr_window is given: between walls with both centres in [gr_window[0],
+ * gr_window[1]) along the walls axis (gr_window[0] < 0: the whole slab). */
 static sampled run_sampled(hsbd_spheres *s, int axis, double t_equil, double t_total,
-                           double bin) {
+                           double bin, const double *gr_window) {
     sampled out = {0};
     hsbd_error err;
     const double dt = hsbd_spheres_get_params(s)->dt;
@@ -64,6 +70,12 @@ static sampled run_sampled(hsbd_spheres *s, int axis, double t_equil, double t_t
     out.slab = hsbd_slab_alloc(&v, axis, v.box[axis], bin, 0.1, BLOCKS, steps / EVERY, &err);
     out.impulse = hsbd_blocks_alloc(6 * out.ns, BLOCKS, steps / EVERY);
     CHECK(out.slab && out.impulse, "observers: %s", err.message);
+    if (gr_window) {
+        out.gr = hsbd_gr_alloc(&v, 2.0, 0.1, 0.1, BLOCKS, steps / EVERY, &err);
+        CHECK(out.gr && (gr_window[0] < 0 ||
+                         hsbd_gr_set_window(out.gr, gr_window[0], gr_window[1], &err) == HSBD_OK),
+              "g(r): %s", err.message);
+    }
     double last[6 * 4] = {0}, now[6 * 4];
     hsbd_spheres_reset_stats(s);
     for (uint64_t k = 1; k <= steps; ++k) {
@@ -71,6 +83,7 @@ static sampled run_sampled(hsbd_spheres *s, int axis, double t_equil, double t_t
         if (k % EVERY) continue;
         v = hsbd_spheres_get_view(s);
         hsbd_slab_sample(out.slab, &v);
+        if (out.gr) CHECK(hsbd_gr_sample(out.gr, &v) == HSBD_OK, "g(r) sample");
         hsbd_spheres_wall_impulses(s, now);
         double *acc = hsbd_blocks_acc(out.impulse);
         for (size_t q = 0; q < 6 * out.ns; ++q)
@@ -83,6 +96,7 @@ static sampled run_sampled(hsbd_spheres *s, int axis, double t_equil, double t_t
 static void sampled_free(sampled *o) {
     hsbd_slab_free(o->slab);
     hsbd_blocks_free(o->impulse);
+    hsbd_gr_free(o->gr);
 }
 
 /* Contact densities from the impulses: value q (6 k + 2 axis + side), or the sum over the
@@ -150,7 +164,8 @@ static void test_barometric(void) {
     CHECK(s && hsbd_spheres_set_positions(s, pos, &err) == HSBD_OK, "init: %s", err.message);
     free(pos);
     if (!s) return;
-    sampled o = run_sampled(s, 2, 20, sampled_time(1000), 0.1);
+    const double whole[2] = {-1, 0};
+    sampled o = run_sampled(s, 2, 20, sampled_time(1000), 0.1, whole);
     const double area = box[0] * box[1];
     const size_t nb = hsbd_slab_bins(o.slab);
     double x[128], rho[128], e[128];
@@ -179,6 +194,22 @@ static void test_barometric(void) {
         CHECK(fabs(c_low - th_low) <= 4 * c_low_err, "species %d: low contact", k);
         CHECK(fabs(c_high - th_high) <= 4 * c_high_err, "species %d: high contact", k);
     }
+    /* g(r) against the profile-weighted ideal reference: 1 in every bin of every pair */
+    for (size_t q = 0; q < hsbd_gr_pairs(o.gr); ++q) {
+        double r[32], g[32], ge[32], chi2 = 0, worst = 0;
+        const size_t nr = hsbd_gr_bins(o.gr);
+        hsbd_gr_result(o.gr, q, r, g, ge);
+        for (size_t k = 0; k < nr; ++k) {
+            const double d = (g[k] - 1) / ge[k];
+            chi2 += d * d, worst = fmax(worst, fabs(d));
+            if (getenv("HSBD_VERBOSE")) printf("    r %.2f g %.5f +- %.5f (%+.2f)\n", r[k], g[k], ge[k], d);
+        }
+        printf("barometric, g(r) of pair %zu between walls in gravity: chi^2 %.1f over %zu bins "
+               "(r %.2f .. %.2f), largest deviation %.2f error bars, g(%.2f) = %.4f +- %.4f\n",
+               q, chi2, nr, r[0], r[nr - 1], worst, r[nr - 1], g[nr - 1], ge[nr - 1]);
+        CHECK(chi2 < (double)nr + 4 * sqrt(2.0 * (double)nr) && worst < 4.5,
+              "pair %zu: g(r) of ideal particles is not 1", q);
+    }
     sampled_free(&o);
     hsbd_spheres_free(s);
 }
@@ -198,7 +229,7 @@ static void test_narrow_slit(void) {
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
     CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "init: %s", err.message);
     if (!s) return;
-    sampled o = run_sampled(s, 2, 2, sampled_time(200), 0.01);
+    sampled o = run_sampled(s, 2, 2, sampled_time(200), 0.01, NULL);
     double diff, diff_err;
     contact_from_impulses(&o, -1, 2, 0, 1, p.dt * EVERY * 16, &diff, &diff_err);
     printf("narrow slit (room 0.3, dt 0.05), free particles: rho_low - rho_high %.4f +- %.4f, "
@@ -221,7 +252,7 @@ static void wall_theorem_case(const char *name, hsbd_spheres_params p, double fo
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
     CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "%s: init: %s", name, err.message);
     if (!s) return;
-    sampled o = run_sampled(s, axis, t_equil, sampled_time(t_total), 0.1);
+    sampled o = run_sampled(s, axis, t_equil, sampled_time(t_total), 0.1, NULL);
     double area = 1, weight = 0;
     for (int a = 0; a < axis; ++a)
         area *= p.box[a];
@@ -288,7 +319,8 @@ static void test_slit_klm(void) {
     CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "init: %s", err.message);
     if (!s) return;
     const double t_total = 60;
-    sampled o = run_sampled(s, 2, 5, sampled_time(t_total), 0.5);
+    const double middle[2] = {0.5 * height - 2, 0.5 * height + 2};
+    sampled o = run_sampled(s, 2, 5, sampled_time(t_total), 0.5, middle);
     double x[64], rho[64], e[64], mid = 0, mid_var = 0;
     hsbd_slab_density(o.slab, -1, x, rho, e);
     int in = 0;
@@ -308,6 +340,15 @@ static void test_slit_klm(void) {
                (c - beta_p) / sqrt(c_err * c_err + p_err * p_err));
         CHECK(fabs(c - beta_p) <= 4 * (c_err + p_err), "slit wall %d", side_k);
     }
+    double g_mid, g_mid_err;
+    hsbd_gr_contact(o.gr, 0, &g_mid, &g_mid_err);
+    const double g_klm = hsbd_hs_contact_klm(phi);
+    const double dg = hsbd_hs_contact_klm(phi + 1e-4) - g_klm, g_klm_err = dg / 1e-4 * mid_err * PI / 6;
+    printf("slit H = %g, pairs in the middle 4 sigma: g(sigma+) %.4f +- %.4f, KLM at rho_mid "
+           "%.4f +- %.4f (%+.2f combined error bars)\n",
+           height, g_mid, g_mid_err, g_klm, g_klm_err,
+           (g_mid - g_klm) / sqrt(g_mid_err * g_mid_err + g_klm_err * g_klm_err));
+    CHECK(fabs(g_mid - g_klm) <= 4 * (g_mid_err + g_klm_err), "slit: g(sigma+) in the middle");
     sampled_free(&o);
     hsbd_spheres_free(s);
 }

@@ -237,23 +237,75 @@ static void test_event_orders_with_walls(void) {
                        HSBD_EVENTS_GROUPS);
 }
 
-/* g(r) refuses a box with walls (its ideal-gas reference is that of a periodic box) */
-static void test_gr_refuses_walls(void) {
+/* g(r) between walls: refused with walls on two axes (its reference would need the density
+ * over a plane); on one axis the profile-weighted reference makes g = 1 for independent
+ * particles from any profile. Here 200 particles per sample, uniform across a 6 x 6 area,
+ * exponential in z (decay length 3, cut at the walls), 5000 independent samples (xorshift64*,
+ * seed 5), 20 blocks: chi^2 of the 50 bins within 50 + 4 sqrt(100), every bin within 4.5
+ * error bars, over the whole slab and for pairs in the window [4, 8). */
+static double uniform01(uint64_t *state) { /* xorshift64*: [0, 1) */
+    *state ^= *state >> 12, *state ^= *state << 25, *state ^= *state >> 27;
+    return (double)((*state * 0x2545F4914F6CDD1Dull) >> 11) * 0x1.0p-53;
+}
+
+static void test_gr_between_walls(void) {
     hsbd_spheres_params p = {.n = 10, .dimension = 3, .box = {8, 8, 8}, .sigma = 1,
                              .diffusion = 1, .kT = 1, .dt = 1e-3, .seed = 1, .hard_core = 1,
-                             .walls = {0, 1, 0}};
+                             .walls = {0, 1, 1}};
     hsbd_error err;
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
     CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "init: %s", err.message);
     if (!s) return;
-    const hsbd_spheres_view v = hsbd_spheres_get_view(s);
+    hsbd_spheres_view v = hsbd_spheres_get_view(s);
     CHECK(hsbd_gr_alloc(&v, 2, 0.1, 0.1, 4, 100, &err) == NULL && err.status == HSBD_EINPUT,
-          "g(r) between walls");
+          "g(r) between walls on two axes");
     hsbd_spheres_free(s);
+    enum { N = 200, SAMPLES = 5000 };
+    static double x[3 * N], sigma[N], dif[N];
+    static int64_t image[3 * N];
+    static int species[N];
+    for (size_t i = 0; i < N; ++i)
+        sigma[i] = dif[i] = 1;
+    v = (hsbd_spheres_view){.n = N, .dimension = 3, .box = {6, 6, 12}, .walls = {0, 0, 1},
+                            .x = x, .image = image, .sigma = sigma, .diffusion = dif,
+                            .species = species, .nspecies = 1, .kT = 1, .dt = 1};
+    for (int windowed = 0; windowed < 2; ++windowed) {
+        hsbd_gr *g = hsbd_gr_alloc(&v, 2.5, 0.05, 0.1, 20, SAMPLES, &err);
+        CHECK(g && (!windowed || hsbd_gr_set_window(g, 4, 8, &err) == HSBD_OK), "g(r): %s",
+              err.message);
+        if (!g) return;
+        CHECK(hsbd_gr_is_slab(g), "a slab");
+        uint64_t rng = 5;
+        int sampled = 1;
+        for (int k = 0; k < SAMPLES; ++k) {
+            for (size_t i = 0; i < N; ++i) {
+                double z;
+                do
+                    z = 0.5 - 3 * log(1 - uniform01(&rng));
+                while (z > 11.5);
+                x[3 * i] = 6 * uniform01(&rng), x[3 * i + 1] = 6 * uniform01(&rng), x[3 * i + 2] = z;
+            }
+            sampled &= hsbd_gr_sample(g, &v) == HSBD_OK;
+        }
+        CHECK(sampled, "sample");
+        CHECK(hsbd_gr_set_window(g, 4, 8, &err) == HSBD_EINPUT, "window after sampling");
+        double r[64], gr[64], ge[64], chi2 = 0, worst = 0;
+        const size_t nb = hsbd_gr_bins(g);
+        hsbd_gr_result(g, 0, r, gr, ge);
+        for (size_t k = 0; k < nb; ++k) {
+            const double d = (gr[k] - 1) / ge[k];
+            chi2 += d * d, worst = fmax(worst, fabs(d));
+        }
+        printf("g(r) of independent particles in a slab%s: chi^2 %.1f over %zu bins, largest "
+               "deviation %.2f error bars\n",
+               windowed ? ", window [4, 8)" : "", chi2, nb, worst);
+        CHECK(nb == 50 && chi2 < 90 && worst < 4.5, "g(r) of independent particles is not 1");
+        hsbd_gr_free(g);
+    }
 }
 
 int main(void) {
-    test_gr_refuses_walls();
+    test_gr_between_walls();
     test_exact_wall_step();
     test_event_orders_with_walls();
     return test_finish("test_spheres_walls");
