@@ -400,8 +400,11 @@ static int spheres_write_tables(run *r, hsbd_error *err) {
 }
 
 /* "contacts": g_ab(sigma_ab+) per pair with the equation of state's value; Z from them by
- * the virial route, Z = 1 + sum_ab C_ab g_ab, beside the equation of state's Z */
+ * the virial route, Z = 1 + sum_ab C_ab g_ab, beside the equation of state's Z. Between
+ * walls the values over all pairs of the slab against the profile-weighted reference, and
+ * neither an equation of state nor Z (the density varies). */
 static void write_contacts_json(const run *r, const spheres_model *m, FILE *f) {
+    const int slab = hsbd_gr_is_slab(m->gr);
     const hsbd_config *cfg = r->cfg;
     const int dim = (int)cfg->system.dimension;
     double vol = 1;
@@ -421,6 +424,14 @@ static void write_contacts_json(const run *r, const spheres_model *m, FILE *f) {
         hsbd_gr_pair_species(m->gr, p, &a, &b);
         double val, err;
         hsbd_gr_contact(m->gr, p, &val, &err);
+        if (slab) {
+            fprintf(f,
+                    "%s\n    {\"a\": \"%s\", \"b\": \"%s\", \"g_contact\": %.10g, "
+                    "\"g_contact_err\": %.4g, \"reference\": \"profile\"}",
+                    p ? "," : "", species_name(r, a), species_name(r, b), isfinite(val) ? val : 0,
+                    isfinite(err) ? err : 0);
+            continue;
+        }
         const double weight = hsbd_gr_contact_weight(m->gr, p);
         z += weight * val, var += weight * weight * err * err;
         double theory = NAN;
@@ -437,6 +448,7 @@ static void write_contacts_json(const run *r, const spheres_model *m, FILE *f) {
                 isfinite(theory) ? theory : 0, eos, weight);
     }
     fprintf(f, "\n  ],\n");
+    if (slab) return;
     hsbd_json_number(f, "Z_contact", z, 1);
     hsbd_json_number(f, "Z_contact_err", sqrt(var), 1); /* pairs treated as independent */
     hsbd_json_number(f, "Z_theory", z_theory, 1);
@@ -446,23 +458,6 @@ static void write_contacts_json(const run *r, const spheres_model *m, FILE *f) {
         hsbd_json_number(f, "g_contact_theory_klm",
                          hsbd_hs_contact_klm(cfg->system.packing_fraction), 1);
     }
-}
-
-/* "contacts" between walls: g_ab(sigma_ab+) over all pairs of the slab, against the
- * profile-weighted reference; no equation of state (the density varies) */
-static void write_slab_contacts_json(const run *r, const spheres_model *m, FILE *f) {
-    fprintf(f, "  \"contacts\": [");
-    for (size_t p = 0; p < hsbd_gr_pairs(m->gr); ++p) {
-        size_t a, b;
-        hsbd_gr_pair_species(m->gr, p, &a, &b);
-        double val, err;
-        hsbd_gr_contact(m->gr, p, &val, &err);
-        fprintf(f, "%s\n    {\"a\": \"%s\", \"b\": \"%s\", \"g_contact\": %.10g, "
-                   "\"g_contact_err\": %.4g, \"reference\": \"profile\"}",
-                p ? "," : "", species_name(r, a), species_name(r, b), isfinite(val) ? val : 0,
-                isfinite(err) ? err : 0);
-    }
-    fprintf(f, "\n  ],\n");
 }
 
 /* "sizes": the diameters as simulated (drawn, or read with the positions) */
@@ -531,10 +526,8 @@ static void spheres_write_summary(run *r, FILE *f) {
     if (m->gr && !hsbd_gr_is_slab(m->gr)) { /* a homogeneous periodic box */
         hsbd_json_number(f, "Z_virial", 1 + vm / per, 1);
         hsbd_json_number(f, "Z_virial_err", ve / per, 1);
-        write_contacts_json(r, m, f);
-    } else if (m->gr && cfg->system.hard_core) {
-        write_slab_contacts_json(r, m, f);
     }
+    if (m->gr && cfg->system.hard_core) write_contacts_json(r, m, f);
     walls_observers_write_summary(r, &m->walls, f);
     double dl, dle;
     hsbd_msd_long_time_diffusion(m->msd, dim, &dl, &dle);
