@@ -169,15 +169,22 @@ typedef struct hsbd_gr hsbd_gr;
 HSBD_API hsbd_gr *hsbd_gr_alloc(const hsbd_spheres_view *v, double r_max, double width,
                                 double fit_width, size_t nblocks, uint64_t nsamples_total,
                                 hsbd_error *err);
+/* The same with the ideal-gas reference following the density sampled along `axis` (-1:
+ * none, a homogeneous periodic box): a walls axis (the only one) or a periodic axis along
+ * which a field modulates the density (minimum images; the reference is exact for r below
+ * half the box length minus width / 2). hsbd_gr_alloc takes the walls axis, if any. */
+HSBD_API hsbd_gr *hsbd_gr_alloc_profile(const hsbd_spheres_view *v, int axis, double r_max,
+                                        double width, double fit_width, size_t nblocks,
+                                        uint64_t nsamples_total, hsbd_error *err);
 HSBD_API void hsbd_gr_free(hsbd_gr *g);
-/* A slab only, before the first sample: count only pairs with both centres in [lo, hi)
+/* Between walls only, before the first sample: count only pairs with both centres in [lo, hi)
  * along the walls axis (rounded to the reference's z bins), e.g. the middle of a slit. */
 HSBD_API int hsbd_gr_set_window(hsbd_gr *g, double lo, double hi, hsbd_error *err);
 /* Returns HSBD_OK, or HSBD_ENOMEM (the sample is then not taken). */
 HSBD_API int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v);
 HSBD_API size_t hsbd_gr_bins(const hsbd_gr *g);
-/* 1 between walls (the profile-weighted reference), 0 in a periodic box */
-HSBD_API int hsbd_gr_is_slab(const hsbd_gr *g);
+/* the axis of the profile-weighted reference, or -1 (a homogeneous periodic box) */
+HSBD_API int hsbd_gr_profile_axis(const hsbd_gr *g);
 /* unordered species pairs a <= b: nspecies (nspecies + 1) / 2 */
 HSBD_API size_t hsbd_gr_pairs(const hsbd_gr *g);
 HSBD_API void hsbd_gr_pair_species(const hsbd_gr *g, size_t pair, size_t *a, size_t *b);

@@ -179,13 +179,17 @@ static int build_observers(const hsbd_config *cfg, spheres_model *m, hsbd_error 
     const size_t blocks = (size_t)cfg->sample.blocks, n = (size_t)cfg->system.n;
     const size_t d = (size_t)cfg->system.dimension;
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
-    /* g(r): a periodic box of hard particles, or a slab (walls on one axis; ideal particles
-     * too, whose g = 1 checks the profile-weighted reference); not between walls on more
-     * axes (the reference would need the density over a plane) */
-    const int walls = (int)(cfg->system.walls[0] + cfg->system.walls[1] + cfg->system.walls[2]);
-    if ((cfg->system.hard_core && !walls) || walls == 1) {
-        m->gr = hsbd_gr_alloc(&v, cfg->sample.gr_max, cfg->sample.gr_bin, cfg->sample.contact_fit,
-                              blocks, steps / (uint64_t)cfg->sample.gr_every, err);
+    /* g(r) with a profile-weighted reference along the walls axis or the field's axis (ideal
+     * particles too, whose g = 1 checks it), the homogeneous one in a periodic box without a
+     * field; none between walls on more axes or with a field across the walls axis (the
+     * reference would need the density over a plane) */
+    int walls = 0, axis = cfg->field.type ? cfg->field.axis : -1;
+    for (int a = 0; a < 3; ++a)
+        if (cfg->system.walls[a]) walls++, axis = axis < 0 || axis == a ? a : 3;
+    if (axis < 3 && walls <= 1 && (cfg->system.hard_core || axis >= 0)) {
+        m->gr = hsbd_gr_alloc_profile(&v, axis, cfg->sample.gr_max, cfg->sample.gr_bin,
+                                      cfg->sample.contact_fit, blocks,
+                                      steps / (uint64_t)cfg->sample.gr_every, err);
         if (!m->gr) return err->status;
     }
     if (walls_observers_build(cfg, &v, &m->walls, err) != HSBD_OK) return err->status;
@@ -329,12 +333,12 @@ static int write_gr(const run *r, const spheres_model *m, hsbd_error *err) {
         hsbd_gr_result(m->gr, p, x, val + 2 * p * nb, val + (2 * p + 1) * nb);
     }
     const int rc = hsbd_write_columns_table(r->cfg->output.dir, "gr.tsv", r->cfg,
-                                            hsbd_gr_is_slab(m->gr)
+                                            hsbd_gr_profile_axis(m->gr) >= 0
                                                 ? "radial distribution function per species "
-                                                  "pair (bin centres) between walls, over the "
-                                                  "pairs of independent particles with the "
-                                                  "sampled density profile; errors from time "
-                                                  "blocks"
+                                                  "pair (bin centres) over the pairs of "
+                                                  "independent particles with the density "
+                                                  "profile sampled along the walls or field "
+                                                  "axis; errors from time blocks"
                                                 : "radial distribution function per species pair "
                                                   "(bin centres); errors from time blocks",
                                             columns, nb, x, np, val, err);
@@ -401,10 +405,10 @@ static int spheres_write_tables(run *r, hsbd_error *err) {
 
 /* "contacts": g_ab(sigma_ab+) per pair with the equation of state's value; Z from them by
  * the virial route, Z = 1 + sum_ab C_ab g_ab, beside the equation of state's Z. Between
- * walls the values over all pairs of the slab against the profile-weighted reference, and
+ * walls or in a field the values over all pairs against the profile-weighted reference, and
  * neither an equation of state nor Z (the density varies). */
 static void write_contacts_json(const run *r, const spheres_model *m, FILE *f) {
-    const int slab = hsbd_gr_is_slab(m->gr);
+    const int slab = hsbd_gr_profile_axis(m->gr) >= 0;
     const hsbd_config *cfg = r->cfg;
     const int dim = (int)cfg->system.dimension;
     double vol = 1;
@@ -523,7 +527,7 @@ static void spheres_write_summary(run *r, FILE *f) {
     double vm = NAN, ve = NAN;
     hsbd_blocks_result(m->virial, &vm, &ve);
     const double per = cfg->run.dt * (double)cfg->sample.every * (double)dim * n;
-    if (m->gr && !hsbd_gr_is_slab(m->gr)) { /* a homogeneous periodic box */
+    if (m->gr && hsbd_gr_profile_axis(m->gr) < 0) { /* a homogeneous periodic box */
         hsbd_json_number(f, "Z_virial", 1 + vm / per, 1);
         hsbd_json_number(f, "Z_virial_err", ve / per, 1);
     }

@@ -13,7 +13,8 @@
 #   the walls and g(sigma+) in summary.json and gr.tsv; the trajectory marks the walls axes
 #   non-periodic.
 # - Ideal particles (hard_core = off, two species, couplings 1 / 2) in gravity between
-#   walls: every bin of gr.tsv (profile-weighted reference) is 1 within 4.5 error bars.
+#   walls, and in a cosine field (U0 1, wavelength 3) along z of a periodic box: every bin
+#   of gr.tsv (profile-weighted reference) is 1 within 4.5 error bars.
 set -u
 HSBD=${1:?usage: test_walls_cli.sh path/to/hsbd}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -100,15 +101,27 @@ gr_every = 10
 gr_max = 2
 gr_bin = 0.1
 INI
-if "$HSBD" run ideal.ini --out ideal --quiet 2>/dev/null; then
-    line=$(grep -v '^#' ideal/gr.tsv | awk 'NR > 1 { for (c = 2; c < NF; c += 2) if ($(c + 1) > 0) {
+# every bin of DIR/gr.tsv within 4.5 error bars of 1 (more than 30 bins)
+gr_is_one() {
+    local line bins chi2 worst
+    line=$(grep -v '^#' "$1/gr.tsv" | awk 'NR > 1 { for (c = 2; c < NF; c += 2) if ($(c + 1) > 0) {
             d = ($c - 1) / $(c + 1); chi += d * d; n++; if (d * d > w) w = d * d } }
         END { printf "%d %.1f %.2f\n", n, chi, sqrt(w) }')
     read -r bins chi2 worst <<<"$line"
-    echo "ideal particles in gravity between walls: g(r) = 1 over $bins bins, chi^2 $chi2, largest deviation $worst error bars"
-    awk -v n="$bins" -v w="$worst" 'BEGIN { exit !(n > 30 && w < 4.5) }' && ok || bad "ideal g(r) between walls: $line"
+    echo "$2: g(r) = 1 over $bins bins, chi^2 $chi2, largest deviation $worst error bars"
+    awk -v n="$bins" -v w="$worst" 'BEGIN { exit !(n > 30 && w < 4.5) }' && ok || bad "$2: g(r) $line"
+}
+if "$HSBD" run ideal.ini --out ideal --quiet 2>/dev/null; then
+    gr_is_one ideal "ideal particles in gravity between walls"
 else
     bad "ideal particles between walls run"
+fi
+sed -e 's/^boundary = .*/boundary = periodic/' -e 's/^type = tilt/type = cosine/' \
+    -e 's/^force = -1/amplitude = 1\nwavelength = 3/' ideal.ini >cosine.ini
+if "$HSBD" run cosine.ini --out cosine --quiet 2>/dev/null; then
+    gr_is_one cosine "ideal particles in a cosine field, periodic box"
+else
+    bad "ideal particles in a cosine field run"
 fi
 
 # species.coupling_law = volume with polydisperse sizes: the wall theorem with the drawn

@@ -242,7 +242,9 @@ static void test_event_orders_with_walls(void) {
  * particles from any profile. Here 200 particles per sample, uniform across a 6 x 6 area,
  * exponential in z (decay length 3, cut at the walls), 5000 independent samples (xorshift64*,
  * seed 5), 20 blocks: chi^2 of the 50 bins within 50 + 4 sqrt(100), every bin within 4.5
- * error bars, over the whole slab and for pairs in the window [4, 8). */
+ * error bars, over the whole slab and for pairs in the window [4, 8); and along a periodic z
+ * (no walls) with the density exp(-2 cos(2 pi z / 12)) of a cosine field (rejection
+ * sampling), minimum images in z. */
 static double uniform01(uint64_t *state) { /* xorshift64*: [0, 1) */
     *state ^= *state >> 12, *state ^= *state << 25, *state ^= *state >> 27;
     return (double)((*state * 0x2545F4914F6CDD1Dull) >> 11) * 0x1.0p-53;
@@ -269,20 +271,27 @@ static void test_gr_between_walls(void) {
     v = (hsbd_spheres_view){.n = N, .dimension = 3, .box = {6, 6, 12}, .walls = {0, 0, 1},
                             .x = x, .image = image, .sigma = sigma, .diffusion = dif,
                             .species = species, .nspecies = 1, .kT = 1, .dt = 1};
-    for (int windowed = 0; windowed < 2; ++windowed) {
-        hsbd_gr *g = hsbd_gr_alloc(&v, 2.5, 0.05, 0.1, 20, SAMPLES, &err);
+    for (int variant = 0; variant < 3; ++variant) {
+        const int windowed = variant == 1, periodic = variant == 2;
+        v.walls[2] = !periodic;
+        hsbd_gr *g = hsbd_gr_alloc_profile(&v, 2, 2.5, 0.05, 0.1, 20, SAMPLES, &err);
         CHECK(g && (!windowed || hsbd_gr_set_window(g, 4, 8, &err) == HSBD_OK), "g(r): %s",
               err.message);
         if (!g) return;
-        CHECK(hsbd_gr_is_slab(g), "a slab");
+        CHECK(hsbd_gr_profile_axis(g) == 2, "a profile along z");
         uint64_t rng = 5;
         int sampled = 1;
         for (int k = 0; k < SAMPLES; ++k) {
             for (size_t i = 0; i < N; ++i) {
                 double z;
-                do
-                    z = 0.5 - 3 * log(1 - uniform01(&rng));
-                while (z > 11.5);
+                if (periodic)
+                    do
+                        z = 12 * uniform01(&rng);
+                    while (uniform01(&rng) > exp(-2 * cos(2 * PI * z / 12) - 2));
+                else
+                    do
+                        z = 0.5 - 3 * log(1 - uniform01(&rng));
+                    while (z > 11.5);
                 x[3 * i] = 6 * uniform01(&rng), x[3 * i + 1] = 6 * uniform01(&rng), x[3 * i + 2] = z;
             }
             sampled &= hsbd_gr_sample(g, &v) == HSBD_OK;
@@ -296,9 +305,11 @@ static void test_gr_between_walls(void) {
             const double d = (gr[k] - 1) / ge[k];
             chi2 += d * d, worst = fmax(worst, fabs(d));
         }
-        printf("g(r) of independent particles in a slab%s: chi^2 %.1f over %zu bins, largest "
+        printf("g(r) of independent particles %s: chi^2 %.1f over %zu bins, largest "
                "deviation %.2f error bars\n",
-               windowed ? ", window [4, 8)" : "", chi2, nb, worst);
+               periodic ? "in a periodic cosine profile"
+                        : windowed ? "in a slab, window [4, 8)" : "in a slab",
+               chi2, nb, worst);
         CHECK(nb == 50 && chi2 < 90 && worst < 4.5, "g(r) of independent particles is not 1");
         hsbd_gr_free(g);
     }
