@@ -195,7 +195,8 @@ HSBD_API void hsbd_gr_result(const hsbd_gr *g, size_t pair, double *r, double *g
  * sigma_ij^d (exact for the pressure) */
 HSBD_API void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err);
 /* C_ab of the virial route Z = 1 + sum over pairs C_ab g_ab(sigma_ab+): the sum over the
- * pairs of species a, b of S_d sigma_ij^d / (V d N), S_d = 4 pi (3D) or 2 pi (2D) */
+ * pairs of species a, b of S_d sigma_ij^d / (V d N), S_d = 4 pi (3D) or 2 pi (2D); NaN
+ * along a profile axis (no homogeneous pressure) */
 HSBD_API double hsbd_gr_contact_weight(const hsbd_gr *g, size_t pair);
 
 /* ---- disks / spheres between walls or in a field: profiles along one axis, wall contacts ---- */

@@ -561,7 +561,7 @@ void hsbd_gr_contact(const hsbd_gr *g, size_t pair, double *value, double *err) 
 }
 
 double hsbd_gr_contact_weight(const hsbd_gr *g, size_t pair) {
-    return g->weight[pair];
+    return g->zaxis >= 0 ? NAN : g->weight[pair]; /* Z needs a homogeneous box */
 }
 
 /* ---- checkpoints: the blocks, and the ideal-gas references of the sizes simulated ---- */
