@@ -6,9 +6,10 @@
  * of masses 1/D gives particle a. Each case equilibrates at dt 1e-3 from a lattice, then
  * steps at the small dt and records, at every step, the squared displacements over lags of
  * 1 .. LAGS steps. The run is cut into BLOCKS time blocks; in each block the deficit
- * y(t) = (2 d D_a t - MSD_a(t)) / t^(3/2) is fitted by c + e t^(1/2) over the lags, weighted by t (the
- * variance of y falls as 1/t; the e term takes up the next order), and c's error is the scatter of the blocks' fits over
- * sqrt(BLOCKS) (the lags of one block are correlated, the blocks nearly not). Checks:
+ * y(t) = (2 d D_a t - MSD_a(t)) / t^(3/2) is fitted by c + e t^(1/2) over the lags,
+ * weighted by t (the variance of y falls as 1/t; the e term takes up the next order), and
+ * c's error is the scatter of the blocks' fits over sqrt(BLOCKS) (the lags of one block are
+ * correlated, the blocks nearly not). Checks:
  *   - one size, phi 0.3, dt 1e-4 (lags 1e-4 .. 1e-3): c within 3 error bars of
  *     64 phi g D^(3/2) / (sqrt(2 pi) sigma);
  *   - binary, sizes 1 / 1.4, D 1 / 0.25 (D_A/D_B = 4), phi 0.3, dt 1e-4: each species' c
@@ -76,6 +77,8 @@ static fit measure(const hsbd_spheres_params *p, double t_equil, long steps) {
     hsbd_spheres_set_dt(s, p->dt);
     const size_t n = p->n, d = (size_t)p->dimension;
     double *hist = malloc((LAGS + 1) * 3 * n * sizeof *hist); /* ring of unwrapped positions */
+    CHECK(hist != NULL, "out of memory");
+    if (!hist) return hsbd_spheres_free(s), out;
     static double sum[BLOCKS][NS][LAGS];
     static double count[BLOCKS][NS];
     memset(sum, 0, sizeof sum), memset(count, 0, sizeof count);
