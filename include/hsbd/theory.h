@@ -147,7 +147,7 @@ HSBD_API double hsbd_hs_z_from_contacts(int dim, size_t ns, const double *x, con
  * (Scala Sec. III): it shares the change of their normal relative displacement in the
  * proportion D_a / (D_a + D_b). Derivations in docs/theory.md. */
 typedef struct hsbd_hs_mixture {
-    int dimension;           /* 2 (disks) or 3 (spheres) */
+    int dimension; /* 2 (disks) or 3 (spheres) */
     size_t nspecies;
     const double *density;   /* number density of each species */
     const double *sigma;     /* diameters */

@@ -63,7 +63,7 @@ struct hsbd_gr {
     double wrap[3]; /* minimum images over these lengths (infinite along a walls axis) */
     size_t nz, nshift, zlo, zhi, nv;
     double hz, area;
-    int contact_ok; /* one size per species: the gap bins' reference is exact */
+    int contact_ok;       /* one size per species: the gap bins' reference is exact */
     double members[64];   /* N_a */
     double *shift_weight; /* npairs x nshift x row */
     double *products;     /* nshift: one block's profile products per z-bin distance */
@@ -432,13 +432,14 @@ static double fit_contact(const hsbd_gr *g, const double *counts, const double *
     return m[0][3] / m[0][0];
 }
 
-/* One block's reference row of a pair along a profile axis: the products of its mean profiles at each
- * z-bin distance (each pair of bins once; distinct pairs for a = b) times the weights */
+/* One block's reference row of a pair along a profile axis: the products of its mean profiles at
+ * each z-bin distance (each pair of bins once; distinct pairs for a = b) times the weights */
 static void slab_reference(const hsbd_gr *g, const double *block, size_t pair, double *ref) {
     const size_t row = g->bins + GR_FIT_BINS;
     size_t a = 0, b = 0;
     hsbd_gr_pair_species(g, pair, &a, &b);
-    const double *na = block + g->npairs * row + a * g->nz, *nb = block + g->npairs * row + b * g->nz;
+    const double *na = block + g->npairs * row + a * g->nz,
+                 *nb = block + g->npairs * row + b * g->nz;
     const double same = a == b ? (g->members[a] - 1) / g->members[a] : 0;
     double *c = g->products;
     for (size_t dk = 0; dk < g->nshift; ++dk)

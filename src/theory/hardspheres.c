@@ -165,8 +165,9 @@ double hsbd_hs_msd_slope_ratio(const hsbd_hs_mixture *m, size_t a, double t0, do
     for (size_t b = 0; b < m->nspecies; ++b) {
         const double sab = 0.5 * (m->sigma[a] + m->sigma[b]), drel = da + m->diffusion[b];
         const double u0 = drel * t0 / (sab * sab), u1 = drel * t1 / (sab * sab);
-        const double ratio = (hsbd_hs_excluded_sphere_gamma(u1) - hsbd_hs_excluded_sphere_gamma(u0)) /
-                             (0.5 * (u1 - u0));
+        const double ratio =
+            (hsbd_hs_excluded_sphere_gamma(u1) - hsbd_hs_excluded_sphere_gamma(u0)) /
+            (0.5 * (u1 - u0));
         sum += m->density[b] * 4.0 / 3.0 * PI * sab * sab * sab * da / drel * ratio;
     }
     return 1 - sum / 2;

@@ -929,8 +929,7 @@ static int compare_species_dl(const vcase *c, const char *dir, const char *text,
     const int obst = c->kind == SPHERES_OBSTACLES;
     const double *x = obst ? OBSTACLES_FRACTION : UNEQUAL_D_FRACTION;
     const double *dif = obst ? OBSTACLES_D : UNEQUAL_D;
-    const double rho = 6 * c->phi / PI, dens[2] = {x[0] * rho, x[1] * rho},
-                 sig[2] = {1, 1};
+    const double rho = 6 * c->phi / PI, dens[2] = {x[0] * rho, x[1] * rho}, sig[2] = {1, 1};
     const hsbd_hs_mixture mix = {3, 2, dens, sig, dif, NULL};
     double t0 = NAN, t1 = NAN;
     if (msd_lags(dir, &t0, &t1, err) != HSBD_OK) return err->status;

@@ -267,8 +267,8 @@ static void test_long_time(void) {
         check_c(name[a], dl / dif[a], e / dif[a], slope, 3);
         printf("  %-44s %9.4f: %+.1f error bars\n", "  the long-time limit D_L,a / D_a", limit,
                (dl / dif[a] - limit) / (e / dif[a]));
-        printf("  %-44s %9.4f: %+.1f error bars\n", "  1 - 2 phi (equal D) would give",
-               1 - 2 * phi, (dl / dif[a] - (1 - 2 * phi)) / (e / dif[a]));
+        printf("  %-44s %9.4f: %+.1f error bars\n", "  1 - 2 phi (equal D) would give", 1 - 2 * phi,
+               (dl / dif[a] - (1 - 2 * phi)) / (e / dif[a]));
         hsbd_msd_free(msd[a]);
     }
     hsbd_spheres_free(s);

@@ -57,8 +57,8 @@ typedef struct sampled {
 /* Runs t_equil, then samples the profile along `axis` and the wall impulses for t_total;
  * g(r) too when gr_window is given: between walls with both centres in [gr_window[0],
  * gr_window[1]) along the walls axis (gr_window[0] < 0: the whole slab). */
-static sampled run_sampled(hsbd_spheres *s, int axis, double t_equil, double t_total,
-                           double bin, const double *gr_window) {
+static sampled run_sampled(hsbd_spheres *s, int axis, double t_equil, double t_total, double bin,
+                           const double *gr_window) {
     sampled out = {0};
     hsbd_error err;
     const double dt = hsbd_spheres_get_params(s)->dt;
@@ -202,7 +202,8 @@ static void test_barometric(void) {
         for (size_t k = 0; k < nr; ++k) {
             const double d = (g[k] - 1) / ge[k];
             chi2 += d * d, worst = fmax(worst, fabs(d));
-            if (getenv("HSBD_VERBOSE")) printf("    r %.2f g %.5f +- %.5f (%+.2f)\n", r[k], g[k], ge[k], d);
+            if (getenv("HSBD_VERBOSE"))
+                printf("    r %.2f g %.5f +- %.5f (%+.2f)\n", r[k], g[k], ge[k], d);
         }
         printf("barometric, g(r) of pair %zu between walls in gravity: chi^2 %.1f over %zu bins "
                "(r %.2f .. %.2f), largest deviation %.2f error bars, g(%.2f) = %.4f +- %.4f\n",
@@ -343,7 +344,8 @@ static void test_slit_klm(void) {
     double g_mid, g_mid_err;
     hsbd_gr_contact(o.gr, 0, &g_mid, &g_mid_err);
     const double g_klm = hsbd_hs_contact_klm(phi);
-    const double dg = hsbd_hs_contact_klm(phi + 1e-4) - g_klm, g_klm_err = dg / 1e-4 * mid_err * PI / 6;
+    const double dg = hsbd_hs_contact_klm(phi + 1e-4) - g_klm,
+                 g_klm_err = dg / 1e-4 * mid_err * PI / 6;
     printf("slit H = %g, pairs in the middle 4 sigma: g(sigma+) %.4f +- %.4f, KLM at rho_mid "
            "%.4f +- %.4f (%+.2f combined error bars)\n",
            height, g_mid, g_mid_err, g_klm, g_klm_err,

@@ -251,8 +251,15 @@ static double uniform01(uint64_t *state) { /* xorshift64*: [0, 1) */
 }
 
 static void test_gr_between_walls(void) {
-    hsbd_spheres_params p = {.n = 10, .dimension = 3, .box = {8, 8, 8}, .sigma = 1,
-                             .diffusion = 1, .kT = 1, .dt = 1e-3, .seed = 1, .hard_core = 1,
+    hsbd_spheres_params p = {.n = 10,
+                             .dimension = 3,
+                             .box = {8, 8, 8},
+                             .sigma = 1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = 1e-3,
+                             .seed = 1,
+                             .hard_core = 1,
                              .walls = {0, 1, 1}};
     hsbd_error err;
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
@@ -268,9 +275,18 @@ static void test_gr_between_walls(void) {
     static int species[N];
     for (size_t i = 0; i < N; ++i)
         sigma[i] = dif[i] = 1;
-    v = (hsbd_spheres_view){.n = N, .dimension = 3, .box = {6, 6, 12}, .walls = {0, 0, 1},
-                            .x = x, .image = image, .sigma = sigma, .diffusion = dif,
-                            .species = species, .nspecies = 1, .kT = 1, .dt = 1};
+    v = (hsbd_spheres_view){.n = N,
+                            .dimension = 3,
+                            .box = {6, 6, 12},
+                            .walls = {0, 0, 1},
+                            .x = x,
+                            .image = image,
+                            .sigma = sigma,
+                            .diffusion = dif,
+                            .species = species,
+                            .nspecies = 1,
+                            .kT = 1,
+                            .dt = 1};
     for (int variant = 0; variant < 3; ++variant) {
         const int windowed = variant == 1, periodic = variant == 2;
         v.walls[2] = !periodic;
@@ -284,15 +300,15 @@ static void test_gr_between_walls(void) {
         for (int k = 0; k < SAMPLES; ++k) {
             for (size_t i = 0; i < N; ++i) {
                 double z;
-                if (periodic)
-                    do
+                if (periodic) do
                         z = 12 * uniform01(&rng);
                     while (uniform01(&rng) > exp(-2 * cos(2 * PI * z / 12) - 2));
                 else
                     do
                         z = 0.5 - 3 * log(1 - uniform01(&rng));
                     while (z > 11.5);
-                x[3 * i] = 6 * uniform01(&rng), x[3 * i + 1] = 6 * uniform01(&rng), x[3 * i + 2] = z;
+                x[3 * i] = 6 * uniform01(&rng), x[3 * i + 1] = 6 * uniform01(&rng),
+                      x[3 * i + 2] = z;
             }
             sampled &= hsbd_gr_sample(g, &v) == HSBD_OK;
         }
@@ -307,8 +323,9 @@ static void test_gr_between_walls(void) {
         }
         printf("g(r) of independent particles %s: chi^2 %.1f over %zu bins, largest "
                "deviation %.2f error bars\n",
-               periodic ? "in a periodic cosine profile"
-                        : windowed ? "in a slab, window [4, 8)" : "in a slab",
+               periodic   ? "in a periodic cosine profile"
+               : windowed ? "in a slab, window [4, 8)"
+                          : "in a slab",
                chi2, nb, worst);
         CHECK(nb == 50 && chi2 < 90 && worst < 4.5, "g(r) of independent particles is not 1");
         hsbd_gr_free(g);
