@@ -165,6 +165,9 @@ HSBD_API double hsbd_spheres_packing_fraction(int dimension, const double box[3]
  * an uninterrupted run to round-off, not bit for bit). */
 HSBD_API int hsbd_spheres_step(hsbd_spheres *s);
 HSBD_API void hsbd_spheres_set_dt(hsbd_spheres *s, double dt);
+/* Threads for the following steps (as the parameter `threads`; the results do not depend
+ * on it). */
+HSBD_API void hsbd_spheres_set_threads(hsbd_spheres *s, int threads);
 
 HSBD_API hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s);
 HSBD_API const hsbd_spheres_params *hsbd_spheres_get_params(const hsbd_spheres *s);

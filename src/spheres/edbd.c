@@ -331,6 +331,11 @@ void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
     set_noise_amplitudes(s);
 }
 
+void hsbd_spheres_set_threads(hsbd_spheres *s, int threads) {
+    s->threads = threads > 1 ? threads : 1;
+    s->par.threads = s->threads;
+}
+
 /* ---- the step ---- */
 
 /* The field's drift along its axis, v_i += (D_i coupling_i / kT) F(x_i) with F at the
