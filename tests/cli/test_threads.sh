@@ -135,21 +135,25 @@ t_total = 0.1
 blocks = 4
 bin_width = 0.5
 INI
-for name in spheres spheres-walls; do
+# runs config $2 as case $1 on 1, 2 and 4 threads and compares the tables and summary.json
+same_on_threads() {
+    local name=$1 cfg=$2 t f same
     for t in 1 2 4; do
-        "$HSBD" run "$name.ini" --threads $t --quiet --out "$name-$t" ||
-            bad "$name: --threads $t failed"
+        "$HSBD" run "$cfg" --threads $t --quiet --out "$name-$t" || bad "$name: --threads $t failed"
     done
     for t in 2 4; do
         same=1
         for f in "$name-1"/*.tsv; do
             cmp -s "$f" "$name-$t/$(basename "$f")" || { same=0; bad "$name: $(basename "$f") differs on $t threads"; }
         done
-        phys() { grep -v -E 'second|"threads"|"dir"' "$1/summary.json"; }
-        diff <(phys "$name-1") <(phys "$name-$t") >/dev/null || { same=0; bad "$name: summary.json differs on $t threads"; }
+        diff <(grep -v -E 'second|"threads"|"dir"' "$name-1/summary.json") \
+            <(grep -v -E 'second|"threads"|"dir"' "$name-$t/summary.json") >/dev/null ||
+            { same=0; bad "$name: summary.json differs on $t threads"; }
         [ $same -eq 1 ] && ok
     done
-done
+}
+same_on_threads spheres spheres.ini
+same_on_threads spheres-walls spheres-walls.ini
 
 echo "test_threads: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
