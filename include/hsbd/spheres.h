@@ -77,6 +77,10 @@ typedef struct hsbd_spheres_params {
     const hsbd_field *field;
     int field_axis;
     const double *species_coupling, *particle_coupling;
+    /* threads for the step's loops over all particles (noise, the start-of-step scan, the
+     * final move; the events run on one); <= 1: one. The results do not depend on it
+     * (docs/spheres.md, "Threads") */
+    int threads;
 } hsbd_spheres_params;
 
 /* Collision statistics accumulated since the last reset. */
@@ -96,8 +100,8 @@ typedef struct hsbd_spheres_stats {
 typedef struct hsbd_spheres_view {
     size_t n;
     int dimension;
-    double box[3]; /* box lengths (between the walls along a walls axis) */
-    int walls[3];  /* 1: hard walls at 0 and box[a] (x in [sigma_i/2, box[a] - sigma_i/2]) */
+    double box[3];        /* box lengths (between the walls along a walls axis) */
+    int walls[3];         /* 1: hard walls at 0 and box[a] (x in [sigma_i/2, box[a] - sigma_i/2]) */
     const double *x;      /* 3 N, wrapped into the box (z = 0 in 2D) */
     const int64_t *image; /* 3 N image counters */
     const double *sigma;  /* N diameters */
@@ -161,6 +165,9 @@ HSBD_API double hsbd_spheres_packing_fraction(int dimension, const double box[3]
  * an uninterrupted run to round-off, not bit for bit). */
 HSBD_API int hsbd_spheres_step(hsbd_spheres *s);
 HSBD_API void hsbd_spheres_set_dt(hsbd_spheres *s, double dt);
+/* Threads for the following steps (as the parameter `threads`; the results do not depend
+ * on it). */
+HSBD_API void hsbd_spheres_set_threads(hsbd_spheres *s, int threads);
 
 HSBD_API hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s);
 HSBD_API const hsbd_spheres_params *hsbd_spheres_get_params(const hsbd_spheres *s);
@@ -175,8 +182,9 @@ HSBD_API void hsbd_spheres_reset_stats(hsbd_spheres *s);
 HSBD_API double hsbd_spheres_shell(const hsbd_spheres *s);
 
 /* Smallest surface gap over all pairs within reach, relative to sigma_ij, and of every
- * particle to the walls, relative to sigma_i (negative: overlap), and whether every coordinate is finite. Uses the neighbour lists: O(N) (when
- * memory ran out even for rebuilding them after a failed step, the pairs still listed). */
+ * particle to the walls, relative to sigma_i (negative: overlap), and whether every coordinate is
+ * finite. Uses the neighbour lists: O(N) (when memory ran out even for rebuilding them after a
+ * failed step, the pairs still listed). */
 HSBD_API double hsbd_spheres_min_gap(const hsbd_spheres *s, int *all_finite);
 
 /* The Brownian collision rule on the normal components (Scala Sec. III; elastic with

@@ -99,6 +99,8 @@ static double bench_rate(const bench_case *c, int hard_core, int contact_rule, d
     return bench_rate_on(c, hard_core, contact_rule, seconds, 1, now_seconds);
 }
 
+static void sphere_bench_threads(const char *only, double seconds, int all, FILE *out);
+
 void hsbd_bench_threads(const char *only, double seconds, FILE *out) {
     const int all = hsbd_threads_available();
     fprintf(out,
@@ -115,6 +117,7 @@ void hsbd_bench_threads(const char *only, double seconds, FILE *out) {
                 many / one);
         fflush(out);
     }
+    sphere_bench_threads(only, seconds, all, out);
 }
 
 /* EDBD of monodisperse spheres: 3D, D = sigma = 1, from an fcc lattice. */
@@ -136,12 +139,14 @@ static const sphere_bench_case sphere_bench_cases[] = {
     {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3, 0}, /* scaling in N; events by group */
 };
 
-/* steps per second; *coll: collisions per step */
-static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, double seconds,
-                                double *coll) {
+/* The case's system on `threads` threads after 0.3 Brownian times of warm-up from the
+ * lattice (they melt it and let the neighbour rows reach the capacity the fluid needs: a
+ * short warm-up measured a lattice-like state at N 1e5), or NULL. *gravity (empty on
+ * entry) must live as long as the system. */
+static hsbd_spheres *sphere_bench_system(const sphere_bench_case *c, int hard_core, int threads,
+                                         hsbd_field *gravity) {
     const double side = cbrt((double)c->n * 3.14159265358979323846 / 6 / c->phi);
-    hsbd_field gravity = {0};
-    hsbd_field_add(&gravity, hsbd_field_tilt(-0.5));
+    hsbd_field_add(gravity, hsbd_field_tilt(-0.5));
     const hsbd_spheres_params p = {.n = c->n,
                                    .dimension = 3,
                                    .box = {side, side, side},
@@ -152,33 +157,47 @@ static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, doubl
                                    .seed = 1,
                                    .hard_core = hard_core,
                                    .walls = {0, 0, c->sediment},
-                                   .field = c->sediment ? &gravity : NULL,
-                                   .field_axis = 2};
+                                   .field = c->sediment ? gravity : NULL,
+                                   .field_axis = 2,
+                                   .threads = threads};
     hsbd_error err;
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
     if (!s || hsbd_spheres_init_lattice(s, &err) != HSBD_OK) {
         hsbd_spheres_free(s);
-        return NAN;
+        return NULL;
     }
-    const uint64_t batch = 1 + (uint64_t)(1e6 / (double)c->n);
-    /* warm-up: 0.3 Brownian times melt the lattice and let the neighbour rows reach the
-     * capacity the fluid needs (a short warm-up measured a lattice-like state at N 1e5) */
-    const uint64_t warm = (uint64_t)fmax(5.0 * (double)batch, ceil(0.3 / c->dt));
+    const uint64_t warm = (uint64_t)fmax(5.0 * (1 + 1e6 / (double)c->n), ceil(0.3 / c->dt));
     for (uint64_t k = 0; k < warm; ++k)
-        if (hsbd_spheres_step(s) != HSBD_OK) return hsbd_spheres_free(s), NAN;
+        if (hsbd_spheres_step(s) != HSBD_OK) return hsbd_spheres_free(s), NULL;
+    return s;
+}
+
+/* steps per second of s over at least `seconds` of `clock`; *coll: collisions per step */
+static double sphere_steps_per_second(hsbd_spheres *s, size_t n, double seconds,
+                                      double (*clock)(void), double *coll) {
+    const uint64_t batch = 1 + (uint64_t)(1e6 / (double)n);
     hsbd_spheres_reset_stats(s);
     uint64_t steps = 0;
-    const double t0 = now_seconds();
+    const double t0 = clock();
     double t = t0;
     while (t - t0 < seconds) {
         for (uint64_t k = 0; k < batch; ++k)
-            if (hsbd_spheres_step(s) != HSBD_OK) return hsbd_spheres_free(s), NAN;
+            if (hsbd_spheres_step(s) != HSBD_OK) return NAN;
         steps += batch;
-        t = now_seconds();
+        t = clock();
     }
     *coll = (double)hsbd_spheres_get_stats(s).collisions / (double)steps;
-    hsbd_spheres_free(s);
     return (double)steps / (t - t0);
+}
+
+/* steps per CPU-second on one thread; *coll: collisions per step */
+static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, double seconds,
+                                double *coll) {
+    hsbd_field gravity = {0};
+    hsbd_spheres *s = sphere_bench_system(c, hard_core, 1, &gravity);
+    const double rate = s ? sphere_steps_per_second(s, c->n, seconds, now_seconds, coll) : NAN;
+    hsbd_spheres_free(s);
+    return rate;
 }
 
 static void sphere_bench(const char *only, double seconds, FILE *out) {
@@ -201,6 +220,35 @@ static void sphere_bench(const char *only, double seconds, FILE *out) {
         fprintf(out, "%-30s %7zu %9.3f %9.1f %10.1f %9.4f %9.3f %7.2f\n", c->name, c->n,
                 hard * c->dt, 1e9 / (hard * n), coll > 0 ? 1e9 / (hard * coll) : NAN, coll / n,
                 free_ * c->dt, free_ / hard);
+        fflush(out);
+    }
+}
+
+/* The spheres cases of N >= 10^5 on one thread and on all: one system, warmed up on all
+ * threads, measured first on one thread and then on all (the same statistical state). */
+static void sphere_bench_threads(const char *only, double seconds, int all, FILE *out) {
+    int header = 0;
+    for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0]; ++k) {
+        const sphere_bench_case *c = &sphere_bench_cases[k];
+        if ((only && strcmp(only, c->name)) || c->n < 100000) continue;
+        if (!header++)
+            fprintf(out,
+                    "# spheres (the cases above), one thread against all %d threads, wall clock; "
+                    "N >= 10^5 only\n%-30s %9s %12s %12s %8s\n",
+                    all, "case", "N", "1 thr. ns/ps", "all ns/ps", "speed-up");
+        hsbd_field gravity = {0};
+        hsbd_spheres *s = sphere_bench_system(c, 1, all, &gravity);
+        double coll, one = NAN, many = NAN;
+        if (s) {
+            hsbd_spheres_set_threads(s, 1);
+            one = sphere_steps_per_second(s, c->n, seconds, wall_seconds, &coll);
+            hsbd_spheres_set_threads(s, all);
+            many = sphere_steps_per_second(s, c->n, seconds, wall_seconds, &coll);
+        }
+        hsbd_spheres_free(s);
+        const double n = (double)c->n;
+        fprintf(out, "%-30s %9zu %12.1f %12.1f %8.2f\n", c->name, c->n, 1e9 / (one * n),
+                1e9 / (many * n), many / one);
         fflush(out);
     }
 }

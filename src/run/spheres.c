@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/threads.h"
 #include "hsbd/io.h"
 #include "hsbd/observe.h"
 #include "hsbd/spheres.h"
@@ -154,7 +155,9 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .particle_diffusion = diffusion,
                              .field = cfg->field.type ? &m->field : NULL,
                              .field_axis = cfg->field.axis,
-                             .particle_coupling = m->coupling};
+                             .particle_coupling = m->coupling,
+                             .threads = cfg->run.threads > 0 ? (int)cfg->run.threads
+                                                             : hsbd_threads_available()};
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a],
         p.walls[a] = cfg->system.walls[a];

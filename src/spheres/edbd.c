@@ -11,6 +11,7 @@
 #include "spheres/groups.h"
 #include "spheres/neighbours.h"
 #include "spheres/order.h"
+#include "spheres/scan.h"
 #include "spheres/state.h"
 
 /* ---- parameters and allocation ---- */
@@ -138,9 +139,15 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->nb_upper);
     free(s->nb);
     free(s->near);
-    free(s->scan_i);
     free(s->scan_j);
     free(s->scan_t);
+    free(s->start_flag);
+    for (size_t k = 0; k < s->hit_nparts; ++k) {
+        free(s->hit_parts[k].i);
+        free(s->hit_parts[k].j);
+        free(s->hit_parts[k].t);
+    }
+    free(s->hit_parts);
     free(s->normals);
     free(s->label);
     free(s->cell_rank);
@@ -200,6 +207,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->par = *params;
     s->dim = params->dimension;
     s->n = params->n;
+    s->threads = params->threads > 1 ? params->threads : 1;
     s->dt = params->dt;
     s->noise_stream = HSBD_STREAM_NOISE;
     s->bridge_stream = HSBD_STREAM_CONTACT;
@@ -292,11 +300,11 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->cells_near = sph_cells_near_select();
         s->half_scan = sph_half_scan_select();
         s->scan_cap = 4096;
-        s->scan_i = malloc(s->scan_cap * sizeof *s->scan_i);
         s->scan_j = malloc(s->scan_cap * sizeof *s->scan_j);
         s->scan_t = malloc(s->scan_cap * sizeof *s->scan_t);
         s->x_start = malloc(3 * n * sizeof *s->x_start);
-        if (!s->scan_i || !s->scan_j || !s->scan_t || !s->x_start) goto oom;
+        s->start_flag = malloc(n * sizeof *s->start_flag);
+        if (!s->scan_j || !s->scan_t || !s->x_start || !s->start_flag) goto oom;
         if (!params->keep_order) { /* the view's user-order copies */
             s->sort_enabled = 1;
             s->sort_clock = INFINITY; /* sort before the first step */
@@ -321,6 +329,11 @@ void hsbd_spheres_set_dt(hsbd_spheres *s, double dt) {
     s->dt = dt;
     s->par.dt = dt;
     set_noise_amplitudes(s);
+}
+
+void hsbd_spheres_set_threads(hsbd_spheres *s, int threads) {
+    s->threads = threads > 1 ? threads : 1;
+    s->par.threads = s->threads;
 }
 
 /* ---- the step ---- */
@@ -385,16 +398,33 @@ static void add_wall_pushes(hsbd_spheres *s) {
     }
 }
 
+/* The normals of the user's particles in range k of `parts` (each draw is its own Philox
+ * counter: the split changes no bit). */
+static void normals_range(hsbd_spheres *s, int parts, int k) {
+    const size_t d = (size_t)s->dim, first = sph_range_start(s->n, parts, k);
+    const size_t count = sph_range_start(s->n, parts, k + 1) - first;
+    hsbd_rng_normals(s->par.seed, s->noise_stream, s->step, d * first, d * count,
+                     s->normals + d * first);
+}
+
 static void draw_velocities(hsbd_spheres *s) {
-    const size_t n = s->n, d = (size_t)s->dim;
-    hsbd_rng_normals(s->par.seed, s->noise_stream, s->step, 0, d * n, s->normals);
-    const double *g = s->par.drift;
-    for (size_t i = 0; i < n; ++i) {
-        double *v = s->v + 3 * i;
-        const double amp = s->noise_amp[i];
-        const double *z = s->normals + d * (size_t)s->label[i]; /* the user's particle's draw */
-        for (size_t a = 0; a < d; ++a)
-            v[a] = amp * z[a] + (amp > 0 ? g[a] : 0.0);
+    const size_t d = (size_t)s->dim;
+    const int threads = sph_threads(s);
+    const long n = (long)s->n;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+    {
+#pragma omp for schedule(static, 1)
+        for (int k = 0; k < threads; ++k)
+            normals_range(s, threads, k);
+        const double *g = s->par.drift;
+#pragma omp for schedule(static)
+        for (long i = 0; i < n; ++i) {
+            double *v = s->v + 3 * i;
+            const double amp = s->noise_amp[i];
+            const double *z = s->normals + d * (size_t)s->label[i]; /* the user's particle's */
+            for (size_t a = 0; a < d; ++a)
+                v[a] = amp * z[a] + (amp > 0 ? g[a] : 0.0);
+        }
     }
     if (s->par.field) add_field_drift(s);
     if (s->any_walls) add_wall_pushes(s);
@@ -406,58 +436,33 @@ static int start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_
     return grouped ? sph_groups_add_hit(s, t, i, j) : sph_push_event(s, t, i, j);
 }
 
-/* Whether i's straight path from its start leaves the room between the walls: only if
- * its end point does (the room is convex); after the bridge pushes, rarely. */
-static int leaves_walls(const hsbd_spheres *s, size_t i) {
-    const double *x = s->x + 3 * i, *v = s->v + 3 * i, half = 0.5 * s->sigma[i];
-    int out = 0;
-    for (int a = 0; a < s->dim; ++a) {
-        const double end = x[a] + v[a] * s->dt;
-        out |= s->walls[a] & (end < half || end > s->length[a] - half);
-    }
-    return out;
-}
-
 /* Re-centre the shells of particles whose straight end point would leave them, then
  * predict every neighbour pair once (half scan) and the rare shell exits. Returns 0, or
  * -1 when out of memory. */
 static int start_step_events(hsbd_spheres *s, int grouped) {
-    const double dt = s->dt, r2 = s->shell * s->shell;
     const size_t n = s->n;
-    if (!grouped && sph_calendar_start(&s->calendar, dt)) return -1;
-    for (size_t i = 0; i < n; ++i) {
-        double d[3];
-        sph_min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
-        const double *v = s->v + 3 * i;
-        const double e[3] = {d[0] + v[0] * dt, d[1] + v[1] * dt, d[2] + v[2] * dt};
-        if (hsbd_dot3(e, e) > r2) {
+    const int threads = sph_threads(s);
+    if (!grouped && sph_calendar_start(&s->calendar, s->dt)) return -1;
+    sph_scan_leaving(s, threads);    /* the start positions, velocities and shells */
+    for (size_t i = 0; i < n; ++i) { /* in order: a re-centring changes others' rows */
+        if (!s->start_flag[i]) continue;
+        if (s->start_flag[i] & SPH_LEAVES_SHELL) {
             if (sph_recentre(s, (int32_t)i)) return -1;
             const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
             if (exit >= 0 && start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
         }
-        if (s->any_walls && leaves_walls(s, i)) {
+        if (s->start_flag[i] & SPH_LEAVES_WALLS) {
             int wall = 0;
             const double contact = sph_wall_time(s, (int32_t)i, 0.0, &wall);
             if (contact >= 0 && start_event(s, grouped, contact, (int32_t)i, sph_wall_event(wall)))
                 return -1;
         }
     }
-    const sph_scan_query q = {.x = s->x,
-                              .v = s->v,
-                              .sigma = s->sigma,
-                              .nb = s->nb,
-                              .nb_upper = s->nb_upper,
-                              .nb_cap = s->nb_cap,
-                              .box = {s->box[0], s->box[1], s->box[2]},
-                              .tmax = dt};
-    for (size_t i0 = 0; i0 < n;) { /* chunks of rows whose pairs fit the hit buffers */
-        size_t i1 = i0, pairs = 0;
-        while (i1 < n && pairs + s->nb_upper[i1] <= s->scan_cap)
-            pairs += s->nb_upper[i1++];
-        const uint32_t hits = s->half_scan(&q, i0, i1, s->scan_i, s->scan_j, s->scan_t);
-        for (uint32_t k = 0; k < hits; ++k)
-            if (start_event(s, grouped, s->scan_t[k], s->scan_i[k], s->scan_j[k])) return -1;
-        i0 = i1;
+    if (sph_scan_pairs(s, threads)) return -1;
+    for (int p = 0; p < threads; ++p) { /* the hits in row order, whatever the threads */
+        const sph_hits *h = &s->hit_parts[p];
+        for (size_t k = 0; k < h->len; ++k)
+            if (start_event(s, grouped, h->t[k], h->i[k], h->j[k])) return -1;
     }
     return 0;
 }
@@ -541,7 +546,10 @@ static int fail_step(hsbd_spheres *s, const hsbd_spheres_stats *stats_at_start) 
 /* Every particle to t = dt, wrapped into the box with image counters. */
 static void finish_step(hsbd_spheres *s) {
     const double dt = s->dt;
-    for (size_t i = 0; i < s->n; ++i) {
+    const int threads = sph_threads(s);
+    const long n = (long)s->n;
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (long i = 0; i < n; ++i) {
         double *x = s->x + 3 * i;
         const double *v = s->v + 3 * i;
         const double h = dt - s->t_local[i];

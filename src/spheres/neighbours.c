@@ -18,14 +18,12 @@ static uint32_t nb_next_cap(uint32_t cap) {
 
 static int nb_grow(hsbd_spheres *s) {
     const uint32_t cap = nb_next_cap(s->nb_cap);
-    if (cap > s->scan_cap) { /* the scans take at least one whole row */
-        int32_t *si = realloc(s->scan_i, cap * sizeof *si);
-        if (si) s->scan_i = si;
+    if (cap > s->scan_cap) { /* a row's scan takes the whole row */
         int32_t *sj = realloc(s->scan_j, cap * sizeof *sj);
         if (sj) s->scan_j = sj;
         double *st = realloc(s->scan_t, cap * sizeof *st);
         if (st) s->scan_t = st;
-        if (!si || !sj || !st) return -1;
+        if (!sj || !st) return -1;
         s->scan_cap = cap;
     }
     int32_t *nb = malloc(s->n * cap * sizeof *nb);

@@ -15,8 +15,16 @@
 /* The state of the group scheduler (groups.c), allocated by it on first use. */
 typedef struct sph_groups sph_groups;
 
+/* Hits of the start-of-step half scan, one buffer per thread (scan.c). */
+typedef struct sph_hits {
+    int32_t *i, *j;
+    double *t;
+    size_t len, cap;
+} sph_hits;
+
 /* A wall event of a step: particle, wall 2 axis + side, displacement / D, the group
  * that ran it (-1: the global calendar). */
+
 typedef struct sph_wall_hit {
     int32_t particle, wall, group;
     double impulse;
@@ -50,12 +58,16 @@ struct hsbd_spheres {
     sph_predict_row_fn predict_row; /* scalar or AVX2 (the same results) */
     sph_cells_near_fn cells_near;   /* scalar or AVX2 */
     sph_half_scan_fn half_scan;     /* scalar or AVX2 */
-    int32_t *scan_i, *scan_j;       /* hits of a scan: a chunk of rows, or one row (no i) */
+    int32_t *scan_j;                /* hits of one row's scan */
     double *scan_t;
-    size_t scan_cap; /* >= nb_cap */
-    int32_t *near;   /* points found around one particle */
+    size_t scan_cap;     /* >= nb_cap */
+    int threads;         /* for the loops over all particles (scan.h) */
+    uint8_t *start_flag; /* per particle: its path leaves its shell or the walls (scan.h) */
+    sph_hits *hit_parts; /* the half scan's hits, one part per thread */
+    size_t hit_nparts;
+    int32_t *near; /* points found around one particle */
     size_t near_cap;
-    double *normals;       /* dim x n draws of a step */
+    double *normals;        /* dim x n draws of a step */
     uint32_t noise_stream;  /* HSBD_STREAM_NOISE; the compression uses its own */
     uint32_t bridge_stream; /* HSBD_STREAM_CONTACT (wall bridges); the compression's own */
     double dt, time;
@@ -76,11 +88,11 @@ struct hsbd_spheres {
      * (sigma_max + 2 shell)), so minimum images, cells and wrapping never act there */
     int walls[3], any_walls;
     double length[3];
-    double *wall_step;  /* 6 nspecies: this step's wall impulses / kT (see wall_sum) */
-    double *wall_sum;   /* 6 nspecies: since the last reset (hsbd_spheres_wall_impulses) */
+    double *wall_step;      /* 6 nspecies: this step's wall impulses / kT (see wall_sum) */
+    double *wall_sum;       /* 6 nspecies: since the last reset (hsbd_spheres_wall_impulses) */
     sph_wall_hit *wall_log; /* this step's wall events (a re-run group drops its own) */
     size_t wall_log_len, wall_log_cap;
-    double *drift_mu; /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
+    double *drift_mu;          /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
     double *field_x, *field_f; /* N: coordinates along the field axis, forces */
     hsbd_spheres_stats stats;
 };

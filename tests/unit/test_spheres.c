@@ -5,8 +5,9 @@
  * bit-identical reruns of one seed by two objects in one process, the engine's spatial
  * sort invisible (the same run bit for bit with and without it), the free-particle
  * mode, polydisperse diameters (moments within their sampling error), the compression to
- * dense states without overlaps (and its refusal near jamming), and the g(r) weights of
- * the virial route. */
+ * dense states without overlaps (and its refusal near jamming), the g(r) weights of
+ * the virial route, and threads that change no bit (1, 2 and 4 threads, the global
+ * calendar, groups, walls with a field). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -641,6 +642,66 @@ static void test_event_groups(void) {
     compare_event_orders("disks phi 0.6", d, 200, 20, HSBD_EVENTS_GROUPS);
 }
 
+/* The same run on 1, 2 and 4 threads (oversubscribed on a small machine, which is fine):
+ * bit-identical positions, image counters, collisions, shell updates and virial (the
+ * events run on one thread in the same order; the threads share the noise, the start-of-
+ * step scan and the final move). N is above SPH_THREADS_MIN_N, so every loop is split. */
+static void compare_thread_counts(const char *name, hsbd_spheres_params p, int steps) {
+    hsbd_error err;
+    hsbd_spheres *s[3] = {0};
+    static const int threads[3] = {1, 2, 4};
+    for (int k = 0; k < 3; ++k) {
+        p.threads = threads[k];
+        s[k] = hsbd_spheres_alloc(&p, &err);
+        CHECK(s[k] && hsbd_spheres_init_lattice(s[k], &err) == HSBD_OK, "%s: init: %s", name,
+              err.message);
+        for (int step = 0; s[k] && step < steps; ++step)
+            CHECK(hsbd_spheres_step(s[k]) == HSBD_OK, "%s: step", name);
+    }
+    for (int k = 1; k < 3 && s[0] && s[k]; ++k) {
+        const hsbd_spheres_view va = hsbd_spheres_get_view(s[0]), vb = hsbd_spheres_get_view(s[k]);
+        CHECK(!memcmp(va.x, vb.x, 3 * p.n * sizeof *va.x) &&
+                  !memcmp(va.image, vb.image, 3 * p.n * sizeof *va.image),
+              "%s: %d threads differ from one, by up to %.3g in a position", name, threads[k],
+              max_unwrapped_difference(&va, &vb));
+        const hsbd_spheres_stats sa = hsbd_spheres_get_stats(s[0]);
+        const hsbd_spheres_stats sb = hsbd_spheres_get_stats(s[k]);
+        CHECK(sa.collisions == sb.collisions && sa.collisions > 0 &&
+                  sa.shell_updates == sb.shell_updates && sa.virial == sb.virial &&
+                  sa.group_reruns == sb.group_reruns && sa.wall_pushes == sb.wall_pushes,
+              "%s: %d threads: collisions %llu vs %llu, virial %.17g vs %.17g", name, threads[k],
+              (unsigned long long)sa.collisions, (unsigned long long)sb.collisions, sa.virial,
+              sb.virial);
+    }
+    for (int k = 0; k < 3; ++k)
+        hsbd_spheres_free(s[k]);
+}
+
+static void test_threads(void) {
+    const double side = cbrt(4000 * PI / 6 / 0.3);
+    hsbd_spheres_params p = {.n = 4000,
+                             .dimension = 3,
+                             .box = {side, side, side},
+                             .sigma = 1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = 1e-3,
+                             .seed = 12,
+                             .hard_core = 1,
+                             .event_order = HSBD_EVENTS_GLOBAL};
+    compare_thread_counts("global calendar, phi 0.3", p, 150);
+    p.event_order = HSBD_EVENTS_GROUPS;
+    compare_thread_counts("groups, phi 0.3", p, 150);
+    /* walls on z with gravity: the start flags for the walls, the bridge pushes */
+    hsbd_field gravity = {0};
+    hsbd_field_add(&gravity, hsbd_field_tilt(-0.5));
+    p.event_order = HSBD_EVENTS_AUTO;
+    p.walls[2] = 1;
+    p.field = &gravity;
+    p.field_axis = 2;
+    compare_thread_counts("walls and gravity", p, 150);
+}
+
 static void test_bad_params(void) {
     hsbd_spheres_params p = {.n = 10,
                              .dimension = 3,
@@ -797,5 +858,6 @@ int main(void) {
     test_diameters();
     test_compress();
     test_gr_weights();
+    test_threads();
     return test_finish("test_spheres");
 }

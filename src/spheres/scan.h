@@ -1,0 +1,27 @@
+/* The start of a step on threads (internal to src/spheres): which straight paths leave
+ * their shells or the room between the walls, and the half scan of every neighbour pair.
+ * Both are split into contiguous ranges of particles, one per thread, and the results come
+ * back range by range: in the order one thread finds them, so a run does not depend on the
+ * number of threads (docs/spheres.md, "Threads"). */
+#ifndef HSBD_SPHERES_SCAN_H
+#define HSBD_SPHERES_SCAN_H
+
+#include "spheres/state.h"
+
+/* Bits of s->start_flag[i]: i's straight end point leaves its shell, leaves the walls. */
+enum { SPH_LEAVES_SHELL = 1, SPH_LEAVES_WALLS = 2 };
+
+/* The threads a loop over the particles uses: run.threads from N = SPH_THREADS_MIN_N on
+ * (a parallel region costs a few microseconds), else one. */
+enum { SPH_THREADS_MIN_N = 2048 };
+int sph_threads(const hsbd_spheres *s);
+/* The first particle of range k of `parts` (nearly) equal ranges of [0, n). */
+size_t sph_range_start(size_t n, int parts, int k);
+
+/* Sets s->start_flag for every particle from its start position, velocity and shell. */
+void sph_scan_leaving(hsbd_spheres *s, int threads);
+/* The half scan of all rows into s->hit_parts[0 .. threads), part k holding the hits of
+ * the k-th range of rows in row order. Returns 0, or -1 when out of memory. */
+int sph_scan_pairs(hsbd_spheres *s, int threads);
+
+#endif
