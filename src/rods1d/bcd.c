@@ -150,6 +150,7 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
     }
+    hsbd_pava_set_threads(r->pava, par->threads);
     r->mobility = r->par.diffusion / par->kT;
     double total = 0;
     for (size_t i = 0; i < n; ++i)
@@ -594,8 +595,8 @@ static void reflect_gaps(hsbd_rods *r) {
                             : 0.0;
         push[n] = 0.0;
     }
-    for (size_t i = 0; i < n; ++i) {
-        if (i >= first_general && i + 1 < n) continue;
+    /* the rods the halves above left out: all of a mixture, else the two at the ends */
+    for (size_t i = 0; i < n; i = i + 1 < first_general || i + 1 == n ? i + 1 : n - 1) {
         const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
         const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
         const double left = push[wall_left ? n : il], right = push[i];
