@@ -28,6 +28,8 @@ struct hsbd_pava {
     pava_segment *seg;
     size_t *live;
     size_t *before; /* blocks in the live segments before live[lh + i] */
+    size_t nblocks; /* of the last solve */
+    size_t *size;   /* size[k]: elements of block k of the last solve */
 };
 
 static size_t chunks_of(size_t n) {
@@ -44,7 +46,8 @@ hsbd_pava *hsbd_pava_alloc(size_t nmax) {
     p->seg = malloc(nchunks * sizeof *p->seg);
     p->live = malloc(nchunks * sizeof *p->live);
     p->before = malloc((nchunks + 1) * sizeof *p->before);
-    if (!p->block || !p->seg || !p->live || !p->before) {
+    p->size = malloc((nmax + 1) * sizeof *p->size);
+    if (!p->block || !p->seg || !p->live || !p->before || !p->size) {
         hsbd_pava_free(p);
         return NULL;
     }
@@ -57,6 +60,7 @@ void hsbd_pava_free(hsbd_pava *p) {
     free(p->seg);
     free(p->live);
     free(p->before);
+    free(p->size);
     free(p);
 }
 
@@ -188,32 +192,36 @@ static void push_chunks(hsbd_pava *p, size_t n, const double *y, const double *w
     }
 }
 
-/* The fit of one live segment's blocks; a block reaching past n wraps to the start of the
- * array at mean - shift. */
-static void write_segment(const hsbd_pava *p, const pava_segment *s, size_t n, double shift,
-                          double *restrict fit) {
+/* The fit of the blocks of live segment k, and their sizes; a block reaching past n wraps to
+ * the start of the array at mean - shift. */
+static void write_segment(hsbd_pava *p, size_t k, size_t n, double shift, double *restrict fit) {
+    const pava_segment *s = &p->seg[p->live[k]];
     size_t j = s->start;
+    size_t *restrict size = p->size;
+    const size_t to_index = p->before[k - p->lh] - s->lo; /* slot b is block b + to_index */
     const size_t last = s->hi - 1;
     /* all blocks but the segment's last end inside [0, n): a tight loop */
     for (size_t b = s->lo; b < last; ++b) {
         const double m = block_mean(&p->block[b]);
         const size_t end = j + p->block[b].len;
+        size[b + to_index] = p->block[b].len;
         do
             fit[j] = m;
         while (++j < end);
     }
     const double m = block_mean(&p->block[last]);
     const size_t end = j + p->block[last].len;
+    size[last + to_index] = p->block[last].len;
     for (; j < end && j < n; ++j)
         fit[j] = m;
     for (; j < end; ++j)
         fit[j - n] = m - shift;
 }
 
-static void write_fit(const hsbd_pava *p, size_t n, double shift, double *restrict fit) {
+static void write_fit(hsbd_pava *p, size_t n, double shift, double *restrict fit) {
 #pragma omp for schedule(static)
     for (long k = (long)p->lh; k < (long)p->lt; ++k)
-        write_segment(p, &p->seg[p->live[k]], n, shift, fit);
+        write_segment(p, (size_t)k, n, shift, fit);
 }
 
 /* Close the ring: the last block meets the image (+shift) of the first one; pool them and
@@ -231,15 +239,14 @@ static void close_ring(hsbd_pava *p, double shift) {
     }
 }
 
-/* number of blocks; fills `before` for the block lookup */
-static size_t count_blocks(hsbd_pava *p) {
+/* the blocks before each live segment, and their number */
+static void count_blocks(hsbd_pava *p) {
     size_t total = 0;
     for (size_t k = p->lh; k < p->lt; ++k) {
         p->before[k - p->lh] = total;
         total += p->seg[p->live[k]].hi - p->seg[p->live[k]].lo;
     }
-    p->before[p->lt - p->lh] = total;
-    return total;
+    p->nblocks = total;
 }
 
 /* One solve: the chunks' passes, the join, on a ring the closure, then the fit. The work-sharing
@@ -252,13 +259,14 @@ static void solve(hsbd_pava *p, size_t n, const double *y, const double *w, int 
     {
         join_chunks(p, chunks_of(n));
         if (ring) close_ring(p, shift);
+        count_blocks(p);
     }
     write_fit(p, n, shift, fit);
 }
 
 static size_t solve_on_threads(hsbd_pava *p, size_t n, const double *y, const double *w, int ring,
                                double shift, double *fit) {
-    if (n == 0) return 0;
+    if (n == 0) return p->nblocks = 0;
     const int threads = n > HSBD_PAVA_CHUNK ? p->threads : 1;
     if (threads > 1) {
 #pragma omp parallel num_threads(threads)
@@ -266,7 +274,7 @@ static size_t solve_on_threads(hsbd_pava *p, size_t n, const double *y, const do
     } else {
         solve(p, n, y, w, ring, shift, fit);
     }
-    return count_blocks(p);
+    return p->nblocks;
 }
 
 size_t hsbd_pava_line(hsbd_pava *p, size_t n, const double *y, const double *w, double *fit) {
@@ -279,13 +287,5 @@ size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w, 
 }
 
 size_t hsbd_pava_block_size(const hsbd_pava *p, size_t k) {
-    size_t lo = 0, hi = p->lt - p->lh; /* the live segment holding block k: before[lo] <= k */
-    while (hi - lo > 1) {
-        const size_t mid = lo + (hi - lo) / 2;
-        if (p->before[mid] <= k)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return p->block[p->seg[p->live[p->lh + lo]].lo + (k - p->before[lo])].len;
+    return p->size[k];
 }
