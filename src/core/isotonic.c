@@ -178,18 +178,14 @@ static void join_chunks(hsbd_pava *p, size_t nchunks) {
     }
 }
 
-/* Each chunk's own pass (chunks in parallel), then the join. */
-static void push_chunks(hsbd_pava *p, size_t n, const double *y, const double *w) {
-    const size_t nchunks = chunks_of(n);
-#pragma omp for schedule(static)
-    for (long lc = 0; lc < (long)nchunks; ++lc) {
-        const size_t c = (size_t)lc, first = c * HSBD_PAVA_CHUNK;
-        const size_t len = n - first < HSBD_PAVA_CHUNK ? n - first : HSBD_PAVA_CHUNK;
-        pava_segment *s = &p->seg[c];
-        s->lo = s->start = first;
-        s->hi = w ? push_all(p->block, first, len, y + first, w + first, 1)
-                  : push_all(p->block, first, len, y + first, NULL, 0);
-    }
+/* Chunk c's own pass. */
+static void push_chunk(hsbd_pava *p, size_t c, size_t n, const double *y, const double *w) {
+    const size_t first = c * HSBD_PAVA_CHUNK;
+    const size_t len = n - first < HSBD_PAVA_CHUNK ? n - first : HSBD_PAVA_CHUNK;
+    pava_segment *s = &p->seg[c];
+    s->lo = s->start = first;
+    s->hi = w ? push_all(p->block, first, len, y + first, w + first, 1)
+              : push_all(p->block, first, len, y + first, NULL, 0);
 }
 
 /* The fit of the blocks of live segment k, and their sizes; a block reaching past n wraps to
@@ -218,12 +214,6 @@ static void write_segment(hsbd_pava *p, size_t k, size_t n, double shift, double
         fit[j - n] = m - shift;
 }
 
-static void write_fit(hsbd_pava *p, size_t n, double shift, double *restrict fit) {
-#pragma omp for schedule(static)
-    for (long k = (long)p->lh; k < (long)p->lt; ++k)
-        write_segment(p, (size_t)k, n, shift, fit);
-}
-
 /* Close the ring: the last block meets the image (+shift) of the first one; pool them and
  * keep pooling backwards. Each pooling removes a block: O(n) in total. */
 static void close_ring(hsbd_pava *p, double shift) {
@@ -249,41 +239,51 @@ static void count_blocks(hsbd_pava *p) {
     p->nblocks = total;
 }
 
-/* One solve: the chunks' passes, the join, on a ring the closure, then the fit. The work-sharing
- * loops split among the threads of an enclosing parallel region and run whole without one; the join
- * and the closure run on one thread. */
-static void solve(hsbd_pava *p, size_t n, const double *y, const double *w, int ring, double shift,
-                  double *fit) {
-    push_chunks(p, n, y, w);
-#pragma omp single
-    {
-        join_chunks(p, chunks_of(n));
-        if (ring) close_ring(p, shift);
-        count_blocks(p);
-    }
-    write_fit(p, n, shift, fit);
+/* Between the chunks' passes and the fit: the join, on a ring the closure, the count. */
+static void join_and_close(hsbd_pava *p, size_t nchunks, int ring, double shift) {
+    join_chunks(p, nchunks);
+    if (ring) close_ring(p, shift);
+    count_blocks(p);
 }
 
-static size_t solve_on_threads(hsbd_pava *p, size_t n, const double *y, const double *w, int ring,
-                               double shift, double *fit) {
+/* One solve: the chunks' passes, the join, on a ring the closure, then the fit. On threads
+ * the passes and the fit are shared out and the rest runs on one thread. (The serial path
+ * has no work-sharing construct: called from inside another parallel region, one would
+ * bind to that region's team.) */
+static size_t solve(hsbd_pava *p, size_t n, const double *y, const double *w, int ring,
+                    double shift, double *fit) {
     if (n == 0) return p->nblocks = 0;
-    const int threads = n > HSBD_PAVA_CHUNK ? p->threads : 1;
+    const size_t nchunks = chunks_of(n);
+    const int threads = nchunks > 1 ? p->threads : 1;
     if (threads > 1) {
 #pragma omp parallel num_threads(threads)
-        solve(p, n, y, w, ring, shift, fit);
+        {
+#pragma omp for schedule(static)
+            for (long c = 0; c < (long)nchunks; ++c)
+                push_chunk(p, (size_t)c, n, y, w);
+#pragma omp single
+            join_and_close(p, nchunks, ring, shift);
+#pragma omp for schedule(static)
+            for (long k = (long)p->lh; k < (long)p->lt; ++k)
+                write_segment(p, (size_t)k, n, shift, fit);
+        }
     } else {
-        solve(p, n, y, w, ring, shift, fit);
+        for (size_t c = 0; c < nchunks; ++c)
+            push_chunk(p, c, n, y, w);
+        join_and_close(p, nchunks, ring, shift);
+        for (size_t k = p->lh; k < p->lt; ++k)
+            write_segment(p, k, n, shift, fit);
     }
     return p->nblocks;
 }
 
 size_t hsbd_pava_line(hsbd_pava *p, size_t n, const double *y, const double *w, double *fit) {
-    return solve_on_threads(p, n, y, w, 0, 0.0, fit);
+    return solve(p, n, y, w, 0, 0.0, fit);
 }
 
 size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w, double shift,
                       double *fit) {
-    return solve_on_threads(p, n, y, w, 1, shift, fit);
+    return solve(p, n, y, w, 1, shift, fit);
 }
 
 size_t hsbd_pava_block_size(const hsbd_pava *p, size_t k) {
