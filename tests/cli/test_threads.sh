@@ -7,7 +7,7 @@
 # large enough that every threaded loop is split (more than four chunks of rods and gaps).
 # The isotonic regression splits sequences longer than 4096 rods into chunks joined at the
 # seams: the dense cases (12000 rods, three chunks; a ring, the sticky rule, walls, a
-# mixture on a ring and between walls) pool blocks across the seams about twice a step.
+# mixture on a ring and between walls) pool blocks across the seams once or twice a step.
 set -u
 HSBD=${1:?usage: test_threads.sh path/to/hsbd}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -62,47 +62,11 @@ every = 5
 bin_width = 0.02
 INI
 
-cat >dense.ini <<'INI'
-[system]
-N = 12000
-L = 11000
-sigma = 0.9
-seed = 5
-[field]
-type = cosine
-amplitude = 4
-[run]
-dt = 1e-3
-t_equil = 0.01
-t_total = 0.05
-[sample]
-blocks = 4
-every = 5
-current_every = 0.0125
-INI
-cat >dense-mixture.ini <<'INI'
-[system]
-N = 12000
-L = 9400
-seed = 9
-[species]
-names = long short
-count = 6000 6000
-sigma = 1 0.5
-D = 1 2
-[field]
-type = cosine
-amplitude = 2
-wavelength = 2
-[run]
-dt = 1e-3
-t_equil = 0.01
-t_total = 0.05
-[sample]
-blocks = 4
-every = 5
-bin_width = 0.02
-INI
+# the dense systems: 12000 rods, steps of 1e-3 (ten times the time of the runs above)
+densify() { sed -e 's/^N = 5000/N = 12000/' -e 's/^dt = 1e-4/dt = 1e-3/' -e 's/^t_equil = 0.002/t_equil = 0.01/' \
+                -e 's/^t_total = 0.01/t_total = 0.05/' -e 's/^current_every = 0.0025/current_every = 0.0125/' "$@"; }
+densify -e 's/^L = 10000/L = 11000/' ring.ini >dense.ini
+densify -e 's/^L = 8000/L = 9400/' -e 's/^count = 2500 2500/count = 6000 6000/' mixture.ini >dense-mixture.ini
 
 # walls start from evenly spaced rods (the exact sampler of a bounded system with a field
 # costs more than these short runs), with coarse bins (the profile spans the whole box)
