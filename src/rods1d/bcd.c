@@ -552,6 +552,17 @@ static inline int bridge_may_cross(double g0, double g1, double d_rel_dt) {
     return !(g1 > 0) | !(g0 * g1 > 20.0 * d_rel_dt); /* no branch: | evaluates both */
 }
 
+/* A gap that may cross whose uniform u shows, without a log, that its bridge minimum stays
+ * >= 0: bridge_push_with would return +0.0. The minimum is < 0 when -ln u > g0 g1 / d_rel_dt,
+ * and -ln u <= (1 - u) / u, so 4 d_rel_dt (1 - u) < 4 g0 g1 u (times u > 0) rules the
+ * crossing out. The relative margin of 1e-12 covers every rounding of this test and of
+ * bridge_push_with (a few ulps, with libm's log within one), so the sign of the computed
+ * minimum is the one this test implies and the bits are those of bridge_push_with. */
+static inline int bridge_surely_clear(double g0, double g1, double d_rel_dt, double u) {
+    const double a = g0 + g1;
+    return 4.0 * d_rel_dt * (1.0 - u) * (1.0 + 1e-12) + 1e-12 * a * a * u < 4.0 * g0 * g1 * u;
+}
+
 /* the push of a gap that may cross, with its uniform u: -m when the minimum m < 0, else
  * +0.0, selected by a mask (the same bits as the branch, without its mispredictions) */
 static inline double bridge_push_with(double g0, double g1, double d_rel_dt, double u) {
@@ -601,8 +612,22 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
         idx[count] = (unsigned)j;
         count += (size_t)bridge_may_cross(g0[j], g1[j], d[j]);
     }
-    hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
+    if (10 * count > 3 * m) { /* dense: the batch's counters in a row cost less (4) */
+        double every[GAP_CHUNK];
+        hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, every);
+        for (size_t k = 0; k < count; ++k)
+            u[k] = every[idx[k]];
+    } else {
+        hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
+    }
+    size_t crossing = 0; /* the listed gaps whose uniform does not rule the crossing out */
     for (size_t k = 0; k < count; ++k) {
+        const size_t j = idx[k];
+        idx[crossing] = (unsigned)j;
+        u[crossing] = u[k];
+        crossing += (size_t)!bridge_surely_clear(g0[j], g1[j], d[j], u[k]);
+    }
+    for (size_t k = 0; k < crossing; ++k) {
         const size_t j = idx[k];
         push[j] = bridge_push_with(g0[j], g1[j], d[j], u[k]);
     }
