@@ -521,7 +521,7 @@ static void count_fragments(hsbd_rods *r, const double *target, hsbd_rods_step_s
     for (int t = 0; t < parts; ++t) {
         st->clusters_start += part[t].clusters;
         st->fragments += part[t].fragments;
-        if (part[t].long_len > 0) /* on threads (the regression's own) */
+        if (part[t].long_len > 0) /* longer than a part: frag, itself on the threads */
             st->fragments +=
                 hsbd_pava_line(r->frag, part[t].long_len, r->frag_v + part[t].long_first, NULL,
                                r->frag_v + part[t].long_first);
@@ -612,7 +612,7 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
         idx[count] = (unsigned)j;
         count += (size_t)bridge_may_cross(g0[j], g1[j], d[j]);
     }
-    if (10 * count > 3 * m) { /* dense: the batch's counters in a row cost less (4) */
+    if (10 * count > 3 * m) { /* over 30 % listed: one run of counters costs less */
         double every[GAP_CHUNK];
         hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, every);
         for (size_t k = 0; k < count; ++k)
