@@ -58,8 +58,9 @@ typedef struct hsbd_rods_params {
     size_t nspecies;
     const int *species;
     const double *species_sigma, *species_diffusion;
-    /* threads for the step's per-rod loops (noise, field, contact pushes); <= 1: one. The
-     * results do not depend on it (docs/scaling.md) */
+    /* threads for the step (noise, field, pair forces, contact pushes, the isotonic
+     * regression, the fragmentation statistics); <= 1: one. The results do not depend on it
+     * (docs/scaling.md) */
     int threads;
 } hsbd_rods_params;
 

@@ -11,21 +11,44 @@ typedef struct pava_block {
     size_t len;
 } pava_block;
 
-/* Blocks form a deque [head, tail) in one array. The head block starts at virtual
- * index head_start; the others follow contiguously. Virtual index j >= n stands for
- * element j - n seen through the ring's periodic shift. */
+/* The blocks of one chunk of HSBD_PAVA_CHUNK elements: slots [lo, hi) of the block array
+ * (chunk c's own pass fills them from slot c K), the first starting at virtual element
+ * index `start`. Virtual index j >= n stands for element j - n seen through the ring's
+ * periodic shift. */
+typedef struct pava_segment {
+    size_t lo, hi, start;
+} pava_segment;
+
+/* The fitted blocks are the blocks of the live segments, in order: a deque of segment
+ * indices live[lh .. lt) whose blocks are the solution read left to right. */
 struct hsbd_pava {
-    size_t nmax, head, tail, head_start;
+    size_t nmax, lh, lt;
+    int threads;
     pava_block *block;
+    pava_segment *seg;
+    size_t *live;
+    size_t *before; /* blocks in the live segments before live[lh + i] */
+    size_t nblocks; /* of the last solve */
+    size_t *size;   /* size[k]: elements of block k of the last solve */
 };
+
+static size_t chunks_of(size_t n) {
+    return n == 0 ? 1 : (n + HSBD_PAVA_CHUNK - 1) / HSBD_PAVA_CHUNK;
+}
 
 hsbd_pava *hsbd_pava_alloc(size_t nmax) {
     hsbd_pava *p = calloc(1, sizeof *p);
     if (!p) return NULL;
+    const size_t nchunks = chunks_of(nmax);
     p->nmax = nmax;
+    p->threads = 1;
     p->block = malloc((nmax + 1) * sizeof *p->block);
-    if (!p->block) {
-        free(p);
+    p->seg = malloc(nchunks * sizeof *p->seg);
+    p->live = malloc(nchunks * sizeof *p->live);
+    p->before = malloc((nchunks + 1) * sizeof *p->before);
+    p->size = malloc((nmax + 1) * sizeof *p->size);
+    if (!p->block || !p->seg || !p->live || !p->before || !p->size) {
+        hsbd_pava_free(p);
         return NULL;
     }
     return p;
@@ -34,7 +57,15 @@ hsbd_pava *hsbd_pava_alloc(size_t nmax) {
 void hsbd_pava_free(hsbd_pava *p) {
     if (!p) return;
     free(p->block);
+    free(p->seg);
+    free(p->live);
+    free(p->before);
+    free(p->size);
     free(p);
+}
+
+void hsbd_pava_set_threads(hsbd_pava *p, int threads) {
+    p->threads = threads > 1 ? threads : 1;
 }
 
 /* mean(a) >= mean(b), weights positive */
@@ -82,62 +113,179 @@ static inline double block_mean(const pava_block *b) {
     return b->weight == 1.0 ? b->sum : b->sum / b->weight;
 }
 
-static void write_fit(const hsbd_pava *p, size_t n, double shift, double *restrict fit) {
-    size_t j = p->head_start;
-    const size_t last = p->tail - 1;
-    /* all blocks but the last end inside [0, n): a tight loop */
-    for (size_t b = p->head; b < last; ++b) {
+/* ---- the live blocks as one deque ---- */
+
+static inline int deque_empty(const hsbd_pava *p) {
+    return p->lh == p->lt;
+}
+
+/* slot of the last block */
+static inline size_t deque_top(const hsbd_pava *p) {
+    return p->seg[p->live[p->lt - 1]].hi - 1;
+}
+
+/* removes the last block, returning its slot and segment */
+static inline size_t deque_pop(hsbd_pava *p, size_t *segment) {
+    *segment = p->live[p->lt - 1];
+    pava_segment *s = &p->seg[*segment];
+    const size_t slot = --s->hi;
+    if (s->lo == s->hi) --p->lt;
+    return slot;
+}
+
+/* puts `b` back as the last block in the slot just popped from `segment` */
+static inline void deque_push_back(hsbd_pava *p, size_t segment, size_t slot, const pava_block *b) {
+    pava_segment *s = &p->seg[segment];
+    if (s->lo == s->hi) p->live[p->lt++] = segment; /* it had emptied */
+    p->block[slot] = *b;
+    s->hi = slot + 1;
+}
+
+/* Pools `cur` (following the last block) backwards while the last block violates it, and
+ * leaves the pooled block as the last one. The caller has removed cur from its place and
+ * found that it violates the last block (so at least one block pools). Sums are added left
+ * block first, as push_all adds them. */
+static void pool_backwards(hsbd_pava *p, pava_block cur) {
+    size_t segment, slot;
+    do {
+        slot = deque_pop(p, &segment);
+        pava_block below = p->block[slot];
+        pool(&below, &cur);
+        cur = below;
+    } while (!deque_empty(p) && violates(&p->block[deque_top(p)], &cur));
+    deque_push_back(p, segment, slot, &cur);
+}
+
+/* Joins the chunks' solutions left to right: each chunk's blocks are pushed onto the
+ * blocks to their left with pooling, which is PAVA on the concatenated chunk solutions
+ * (pooling adjacent violators in any order reaches the unique solution). Once one of a
+ * chunk's blocks stays unpooled, the rest of the chunk is increasing (its own pass
+ * compared them with these very values) and stays as it is: the join costs the chunk
+ * count plus the blocks pooled at seams. */
+static void join_chunks(hsbd_pava *p, size_t nchunks) {
+    p->lh = 0;
+    p->lt = 1;
+    p->live[0] = 0;
+    for (size_t c = 1; c < nchunks; ++c) {
+        pava_segment *s = &p->seg[c];
+        while (s->lo < s->hi && !deque_empty(p) &&
+               violates(&p->block[deque_top(p)], &p->block[s->lo])) {
+            const pava_block first = p->block[s->lo++];
+            s->start += first.len;
+            pool_backwards(p, first);
+        }
+        if (s->lo < s->hi) p->live[p->lt++] = c;
+    }
+}
+
+/* Chunk c's own pass. */
+static void push_chunk(hsbd_pava *p, size_t c, size_t n, const double *y, const double *w) {
+    const size_t first = c * HSBD_PAVA_CHUNK;
+    const size_t len = n - first < HSBD_PAVA_CHUNK ? n - first : HSBD_PAVA_CHUNK;
+    pava_segment *s = &p->seg[c];
+    s->lo = s->start = first;
+    s->hi = w ? push_all(p->block, first, len, y + first, w + first, 1)
+              : push_all(p->block, first, len, y + first, NULL, 0);
+}
+
+/* The fit of the blocks of live segment k, and their sizes; a block reaching past n wraps to
+ * the start of the array at mean - shift. */
+static void write_segment(hsbd_pava *p, size_t k, size_t n, double shift, double *restrict fit) {
+    const pava_segment *s = &p->seg[p->live[k]];
+    size_t j = s->start;
+    size_t *restrict size = p->size;
+    const size_t to_index = p->before[k - p->lh] - s->lo; /* slot b is block b + to_index */
+    const size_t last = s->hi - 1;
+    /* all blocks but the segment's last end inside [0, n): a tight loop */
+    for (size_t b = s->lo; b < last; ++b) {
         const double m = block_mean(&p->block[b]);
         const size_t end = j + p->block[b].len;
+        size[b + to_index] = p->block[b].len;
         do
             fit[j] = m;
         while (++j < end);
     }
-    /* the last block may wrap around to the start of the array */
     const double m = block_mean(&p->block[last]);
     const size_t end = j + p->block[last].len;
+    size[last + to_index] = p->block[last].len;
     for (; j < end && j < n; ++j)
         fit[j] = m;
     for (; j < end; ++j)
         fit[j - n] = m - shift;
 }
 
-static void run_push(hsbd_pava *p, size_t n, const double *y, const double *w) {
-    p->head = p->head_start = 0;
-    p->tail = w ? push_all(p->block, 0, n, y, w, 1) : push_all(p->block, 0, n, y, NULL, 0);
+/* Close the ring: the last block meets the image (+shift) of the first one; pool them and
+ * keep pooling backwards. Each pooling removes a block: O(n) in total. */
+static void close_ring(hsbd_pava *p, double shift) {
+    for (;;) {
+        pava_segment *h = &p->seg[p->live[p->lh]];
+        if (p->lt - p->lh < 2 && h->hi - h->lo < 2) break; /* one block left */
+        pava_block first = p->block[h->lo];
+        first.sum += shift * first.weight; /* the image of the first block */
+        if (!violates(&p->block[deque_top(p)], &first)) break;
+        h->start += first.len;
+        if (++h->lo == h->hi) ++p->lh;
+        pool_backwards(p, first); /* the last block, still there, violates it */
+    }
+}
+
+/* the blocks before each live segment, and their number */
+static void count_blocks(hsbd_pava *p) {
+    size_t total = 0;
+    for (size_t k = p->lh; k < p->lt; ++k) {
+        p->before[k - p->lh] = total;
+        total += p->seg[p->live[k]].hi - p->seg[p->live[k]].lo;
+    }
+    p->nblocks = total;
+}
+
+/* Between the chunks' passes and the fit: the join, on a ring the closure, the count. */
+static void join_and_close(hsbd_pava *p, size_t nchunks, int ring, double shift) {
+    join_chunks(p, nchunks);
+    if (ring) close_ring(p, shift);
+    count_blocks(p);
+}
+
+/* One solve: the chunks' passes, the join, on a ring the closure, then the fit. On threads
+ * the passes and the fit are shared out and the rest runs on one thread. (The serial path
+ * has no work-sharing construct: called from inside another parallel region, one would
+ * bind to that region's team.) */
+static size_t solve(hsbd_pava *p, size_t n, const double *y, const double *w, int ring,
+                    double shift, double *fit) {
+    if (n == 0) return p->nblocks = 0;
+    const size_t nchunks = chunks_of(n);
+    const int threads = nchunks > 1 ? p->threads : 1;
+    if (threads > 1) {
+#pragma omp parallel num_threads(threads)
+        {
+#pragma omp for schedule(static)
+            for (long c = 0; c < (long)nchunks; ++c)
+                push_chunk(p, (size_t)c, n, y, w);
+#pragma omp single
+            join_and_close(p, nchunks, ring, shift);
+#pragma omp for schedule(static)
+            for (long k = (long)p->lh; k < (long)p->lt; ++k)
+                write_segment(p, (size_t)k, n, shift, fit);
+        }
+    } else {
+        for (size_t c = 0; c < nchunks; ++c)
+            push_chunk(p, c, n, y, w);
+        join_and_close(p, nchunks, ring, shift);
+        for (size_t k = p->lh; k < p->lt; ++k)
+            write_segment(p, k, n, shift, fit);
+    }
+    return p->nblocks;
 }
 
 size_t hsbd_pava_line(hsbd_pava *p, size_t n, const double *y, const double *w, double *fit) {
-    run_push(p, n, y, w);
-    write_fit(p, n, 0.0, fit);
-    return p->tail - p->head;
+    return solve(p, n, y, w, 0, 0.0, fit);
 }
 
 size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w, double shift,
                       double *fit) {
-    run_push(p, n, y, w);
-    pava_block *blk = p->block;
-    /* Close the ring: the last block meets the image (+shift) of the first one; pool them
-     * and keep pooling backwards. Each pooling removes a block: O(n) in total. */
-    while (p->tail - p->head >= 2) {
-        pava_block first = blk[p->head];
-        first.sum += shift * first.weight; /* the image of the first block */
-        if (!violates(&blk[p->tail - 1], &first)) break;
-        p->head_start += first.len;
-        ++p->head;
-        pava_block cur = first;
-        size_t t = p->tail;
-        while (t > p->head && violates(&blk[t - 1], &cur)) {
-            pool(&blk[t - 1], &cur);
-            cur = blk[--t];
-        }
-        blk[t++] = cur;
-        p->tail = t;
-    }
-    write_fit(p, n, shift, fit);
-    return p->tail - p->head;
+    return solve(p, n, y, w, 1, shift, fit);
 }
 
 size_t hsbd_pava_block_size(const hsbd_pava *p, size_t k) {
-    return p->block[p->head + k].len;
+    return p->size[k];
 }

@@ -11,6 +11,13 @@
 
 enum { STEP_CHUNK = 256 }; /* rods per inner batch; even, so RNG pairs align */
 
+/* clusters starting in a part of the ring and the fragments they split into; a cluster
+ * longer than the part's regression holds is left for later (at most one per part) */
+typedef struct fragment_count {
+    size_t clusters, fragments;
+    size_t long_first, long_len; /* the long cluster (long_len 0: none) */
+} fragment_count;
+
 struct hsbd_rods {
     hsbd_rods_params par;
     int walls;          /* boundary == HSBD_RODS_WALLS */
@@ -27,16 +34,19 @@ struct hsbd_rods {
     double *y;          /* free end points of the current step */
     int64_t wraps;      /* unwrapped = z + offset + wraps * L */
     uint64_t step;
-    double time;           /* sum of the steps' dt */
-    size_t nclusters;      /* blocks of the last step */
-    hsbd_pava *pava;       /* the step's regression */
-    hsbd_pava *frag;       /* per-cluster regressions for the fragmentation diagnostic */
-    double *frag_v;        /* scratch for one cluster's velocities */
-    double *push;          /* reflect rule: push per gap in the last step (N + 1 gaps) */
-    size_t wall_blocks[2]; /* walls: regression blocks clamped to the left / right wall */
-    size_t pava_blocks;    /* walls: blocks of the last regression */
-    double *ypush;         /* reflect rule: end points after the pushes (the regression's input) */
-    double *fpair;         /* pair forces of the step (NULL without pair terms) */
+    double time;                /* sum of the steps' dt */
+    size_t nclusters;           /* blocks of the last step */
+    hsbd_pava *pava;            /* the step's regression */
+    hsbd_pava *frag;            /* per-cluster regressions for the fragmentation diagnostic */
+    double *frag_v;             /* scratch for the clusters' velocities */
+    hsbd_pava **frag_part;      /* on threads: one regression per part of the ring (else NULL) */
+    fragment_count *frag_count; /* and the counts of each part */
+    int frag_parts;             /* their number, par.threads */
+    double *push;               /* reflect rule: push per gap in the last step (N + 1 gaps) */
+    size_t wall_blocks[2];      /* walls: regression blocks clamped to the left / right wall */
+    size_t pava_blocks;         /* walls: blocks of the last regression */
+    double *ypush; /* reflect rule: end points after the pushes (the regression's input) */
+    double *fpair; /* pair forces of the step (NULL without pair terms) */
     double pair_range;
 };
 
@@ -123,6 +133,32 @@ static int alloc_species(hsbd_rods *r, const hsbd_rods_params *par) {
     return 0;
 }
 
+/* Threads for a loop over n rods: the configured number, one below a few chunks' worth
+ * (a parallel region costs a few microseconds). */
+static int threads_for(const hsbd_rods_params *par, size_t n) {
+    return par->threads > 1 && n >= 4 * STEP_CHUNK ? par->threads : 1;
+}
+
+/* rods per part of the ring in the fragmentation diagnostic on threads */
+static size_t fragment_part_length(const hsbd_rods *r) {
+    return (r->par.n + (size_t)r->frag_parts - 1) / (size_t)r->frag_parts;
+}
+
+/* the fragmentation diagnostic on threads: a regression per thread for the clusters that
+ * start in its part of the ring (ceil(N / threads) rods; longer clusters use frag) */
+static int alloc_fragment_parts(hsbd_rods *r) {
+    const int parts = threads_for(&r->par, r->par.n);
+    if (parts == 1) return 0;
+    r->frag_part = calloc((size_t)parts, sizeof *r->frag_part);
+    r->frag_count = malloc((size_t)parts * sizeof *r->frag_count);
+    if (!r->frag_part || !r->frag_count) return -1;
+    r->frag_parts = parts;
+    for (int t = 0; t < parts; ++t)
+        if (!(r->frag_part[t] = hsbd_pava_alloc(fragment_part_length(r)))) return -1;
+    hsbd_pava_set_threads(r->frag, parts);
+    return 0;
+}
+
 hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     if (check_params(par, err) != HSBD_OK) return NULL;
     hsbd_rods *r = calloc(1, sizeof *r);
@@ -145,11 +181,13 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     int species_ok = par->nspecies == 0;
     if (!species_ok) species_ok = alloc_species(r, par) == 0;
     if (!species_ok || !r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
+        alloc_fragment_parts(r) != 0 ||
         (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush)) ||
         (par->pair.nterms > 0 && !r->fpair)) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
     }
+    hsbd_pava_set_threads(r->pava, par->threads);
     r->mobility = r->par.diffusion / par->kT;
     double total = 0;
     for (size_t i = 0; i < n; ++i)
@@ -166,6 +204,10 @@ void hsbd_rods_free(hsbd_rods *r) {
     free(r->offset);
     free(r->y);
     free(r->frag_v);
+    for (int t = 0; r->frag_part && t < r->frag_parts; ++t)
+        hsbd_pava_free(r->frag_part[t]);
+    free(r->frag_part);
+    free(r->frag_count);
     free(r->push);
     free(r->ypush);
     free(r->fpair);
@@ -289,10 +331,8 @@ static void compute_pair_forces(hsbd_rods *r) {
     }
 }
 
-/* Threads for a loop over n rods: the configured number, one below a few chunks' worth
- * (a parallel region costs a few microseconds). */
 static int step_threads(const hsbd_rods *r, size_t n) {
-    return r->par.threads > 1 && n >= 4 * STEP_CHUNK ? r->par.threads : 1;
+    return threads_for(&r->par, n);
 }
 
 /* Distance from rod i to rod j to its right as compute_pair_forces computes it (j
@@ -416,32 +456,75 @@ static double rod_gap(const hsbd_rods *r, size_t i) {
     return r->walls && i + 1 == r->par.n ? HUGE_VAL : ring_gap(r, i);
 }
 
+/* Clusters touching at the start that begin at ring-order places a .. b-1 (place k is rod
+ * first + k mod n) with the velocities of the end points `target`, each cluster's
+ * fragments from the isotonic regression of its velocities (Eqs. 4-5) with `pava` (of
+ * `cap` elements). The velocities are written to frag_v[k]. */
+static void count_fragments_in(hsbd_rods *r, const double *target, size_t first, size_t a, size_t b,
+                               hsbd_pava *pava, size_t cap, fragment_count *out) {
+    const size_t n = r->par.n;
+    const double inv_dt = 1.0 / r->par.dt, tol = r->contact_tol;
+    double *v = r->frag_v;
+    size_t k = a, i = first + a < n ? first + a : first + a - n; /* rod at place k */
+    *out = (fragment_count){0};
+    if (k > 0) /* skip the end of a cluster that began before a */
+        for (size_t left = i ? i - 1 : n - 1; k < b && !(rod_gap(r, left) > tol); ++k) {
+            left = i;
+            i = i + 1 < n ? i + 1 : 0;
+        }
+    while (k < b) {
+        const size_t k0 = k;
+        int open;
+        do {
+            v[k++] = (target[i] - r->z[i]) * inv_dt; /* mu F_i, Eq. (12) */
+            open = rod_gap(r, i) > tol;
+            i = i + 1 < n ? i + 1 : 0;
+        } while (k < n && !open);
+        const size_t len = k - k0;
+        out->clusters += 1;
+        if (len == 1)
+            out->fragments += 1;
+        else if (len <= cap)
+            out->fragments += hsbd_pava_line(pava, len, v + k0, NULL, v + k0);
+        else
+            out->long_first = k0, out->long_len = len;
+    }
+}
+
 /* Fragmentation diagnostic: clusters touching at the start and the number of moving
  * clusters they split into (the isotonic regression of the velocities inside each
  * cluster, Eqs. 4-5) of the end points `target` (with the reflect rule: after the pushes).
- * Must run before z is overwritten. */
+ * On threads each part of the ring counts the clusters that begin in it; the counts are
+ * integers, so their sum is the same for any split. Must run before z is overwritten. */
 static void count_fragments(hsbd_rods *r, const double *target, hsbd_rods_step_stats *st) {
     const size_t n = r->par.n;
-    const double inv_dt = 1.0 / r->par.dt;
-    size_t start = 0; /* a rod whose left gap is open; else the one after the widest gap */
+    size_t first = 0; /* a rod whose left gap is open; else the one after the widest gap */
     double widest = -DBL_MAX;
     for (size_t i = 0; i < n; ++i) {
         const double g = rod_gap(r, (i + n - 1) % n);
-        if (g > widest) widest = g, start = i;
+        if (g > widest) widest = g, first = i;
         if (g > r->contact_tol) break;
     }
-    st->clusters_start = 0;
-    st->fragments = 0;
-    size_t len = 0;
-    for (size_t k = 0; k < n; ++k) {
-        const size_t i = (start + k) % n;
-        r->frag_v[len++] = (target[i] - r->z[i]) * inv_dt; /* mu F_i, Eq. (12) */
-        if (k + 1 == n || rod_gap(r, i) > r->contact_tol) {
-            st->clusters_start += 1;
-            st->fragments +=
-                len == 1 ? 1 : hsbd_pava_line(r->frag, len, r->frag_v, NULL, r->frag_v);
-            len = 0;
+    fragment_count one, *part = r->frag_part ? r->frag_count : &one;
+    const int parts = r->frag_part ? r->frag_parts : 1;
+    if (parts > 1) {
+        const size_t cap = fragment_part_length(r);
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+        for (int t = 0; t < parts; ++t) {
+            const size_t a = (size_t)t * cap, b = a + cap < n ? a + cap : n;
+            count_fragments_in(r, target, first, a < n ? a : n, b, r->frag_part[t], cap, &part[t]);
         }
+    } else {
+        count_fragments_in(r, target, first, 0, n, r->frag, n, &part[0]);
+    }
+    st->clusters_start = st->fragments = 0;
+    for (int t = 0; t < parts; ++t) {
+        st->clusters_start += part[t].clusters;
+        st->fragments += part[t].fragments;
+        if (part[t].long_len > 0) /* longer than a part: frag, itself on the threads */
+            st->fragments +=
+                hsbd_pava_line(r->frag, part[t].long_len, r->frag_v + part[t].long_first, NULL,
+                               r->frag_v + part[t].long_first);
     }
 }
 
@@ -467,6 +550,17 @@ static void recenter(hsbd_rods *r) {
  * below 2e-9 */
 static inline int bridge_may_cross(double g0, double g1, double d_rel_dt) {
     return !(g1 > 0) | !(g0 * g1 > 20.0 * d_rel_dt); /* no branch: | evaluates both */
+}
+
+/* A gap that may cross whose uniform u shows, without a log, that its bridge minimum stays
+ * >= 0: bridge_push_with would return +0.0. The minimum is < 0 when -ln u > g0 g1 / d_rel_dt,
+ * and -ln u <= (1 - u) / u, so 4 d_rel_dt (1 - u) < 4 g0 g1 u (times u > 0) rules the
+ * crossing out. The relative margin of 1e-12 covers every rounding of this test and of
+ * bridge_push_with (a few ulps, with libm's log within one), so the sign of the computed
+ * minimum is the one this test implies and the bits are those of bridge_push_with. */
+static inline int bridge_surely_clear(double g0, double g1, double d_rel_dt, double u) {
+    const double a = g0 + g1;
+    return 4.0 * d_rel_dt * (1.0 - u) * (1.0 + 1e-12) + 1e-12 * a * a * u < 4.0 * g0 * g1 * u;
 }
 
 /* the push of a gap that may cross, with its uniform u: -m when the minimum m < 0, else
@@ -518,8 +612,22 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
         idx[count] = (unsigned)j;
         count += (size_t)bridge_may_cross(g0[j], g1[j], d[j]);
     }
-    hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
+    if (10 * count > 3 * m) { /* over 30 % listed: one run of counters costs less */
+        double every[GAP_CHUNK];
+        hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, every);
+        for (size_t k = 0; k < count; ++k)
+            u[k] = every[idx[k]];
+    } else {
+        hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
+    }
+    size_t crossing = 0; /* the listed gaps whose uniform does not rule the crossing out */
     for (size_t k = 0; k < count; ++k) {
+        const size_t j = idx[k];
+        idx[crossing] = (unsigned)j;
+        u[crossing] = u[k];
+        crossing += (size_t)!bridge_surely_clear(g0[j], g1[j], d[j], u[k]);
+    }
+    for (size_t k = 0; k < crossing; ++k) {
         const size_t j = idx[k];
         push[j] = bridge_push_with(g0[j], g1[j], d[j], u[k]);
     }
@@ -594,8 +702,8 @@ static void reflect_gaps(hsbd_rods *r) {
                             : 0.0;
         push[n] = 0.0;
     }
-    for (size_t i = 0; i < n; ++i) {
-        if (i >= first_general && i + 1 < n) continue;
+    /* the rods the halves above left out: all of a mixture, else the two at the ends */
+    for (size_t i = 0; i < n; i = i + 1 < first_general || i + 1 == n ? i + 1 : n - 1) {
         const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
         const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
         const double left = push[wall_left ? n : il], right = push[i];

@@ -5,6 +5,9 @@
 # rule), the sticky rule, walls with a tilt, a mixture (ring and walls), and pair forces
 # (ring and walls; on threads each rod gathers its pair forces in the serial order). N is
 # large enough that every threaded loop is split (more than four chunks of rods and gaps).
+# The isotonic regression splits sequences longer than 4096 rods into chunks joined at the
+# seams: the dense cases (12000 rods, three chunks; a ring, the sticky rule, walls, a
+# mixture on a ring and between walls) pool blocks across the seams once or twice a step.
 set -u
 HSBD=${1:?usage: test_threads.sh path/to/hsbd}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -59,10 +62,18 @@ every = 5
 bin_width = 0.02
 INI
 
+# the dense systems: 12000 rods, steps of 1e-3 (ten times the time of the runs above)
+densify() { sed -e 's/^N = 5000/N = 12000/' -e 's/^dt = 1e-4/dt = 1e-3/' -e 's/^t_equil = 0.002/t_equil = 0.01/' \
+                -e 's/^t_total = 0.01/t_total = 0.05/' -e 's/^current_every = 0.0025/current_every = 0.0125/' "$@"; }
+densify -e 's/^L = 10000/L = 11000/' ring.ini >dense.ini
+densify -e 's/^L = 8000/L = 9400/' -e 's/^count = 2500 2500/count = 6000 6000/' mixture.ini >dense-mixture.ini
+
 # walls start from evenly spaced rods (the exact sampler of a bounded system with a field
 # costs more than these short runs), with coarse bins (the profile spans the whole box)
 awk 'BEGIN { for (i = 0; i < 5000; ++i) printf "%.6f\n", (i + 0.5) * 2 }' >even.txt
 awk 'BEGIN { for (i = 0; i < 5000; ++i) printf "%.6f %s\n", (i + 0.5) * 2, i % 2 ? "short" : "long" }' >even-mix.txt
+awk 'BEGIN { for (i = 0; i < 12000; ++i) printf "%.6f\n", (i + 0.5) * 11000 / 12000 }' >even-dense.txt
+awk 'BEGIN { for (i = 0; i < 12000; ++i) printf "%.6f %s\n", 0.5 + i * 9399 / 12000, i % 2 ? "short" : "long" }' >even-dense-mix.txt
 
 cases=(
   "ring|ring.ini|"
@@ -72,6 +83,11 @@ cases=(
   "mixture-walls|mixture.ini|--set system.boundary=walls --set system.L=10000 --set init.positions=even-mix.txt --set sample.bin_width=2"
   "yukawa|ring.ini|--set pair.type=yukawa --set pair.strength=1 --set pair.kappa=1 --set pair.cutoff=4"
   "yukawa-walls|ring.ini|--set pair.type=yukawa --set pair.strength=1 --set pair.kappa=1 --set pair.cutoff=4 --set system.boundary=walls --set init.positions=even.txt --set sample.bin_width=2"
+  "dense|dense.ini|"
+  "dense-sticky|dense.ini|--set system.contact_rule=sticky"
+  "dense-walls|dense.ini|--set system.boundary=walls --set field.type=cosine+tilt --set field.force=0.5 --set init.positions=even-dense.txt --set sample.bin_width=2"
+  "dense-mixture|dense-mixture.ini|"
+  "dense-mixture-walls|dense-mixture.ini|--set system.boundary=walls --set init.positions=even-dense-mix.txt --set sample.bin_width=2"
 )
 for c in "${cases[@]}"; do
     IFS='|' read -r name cfg extra <<<"$c"
