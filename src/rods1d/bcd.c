@@ -39,6 +39,7 @@ struct hsbd_rods {
     hsbd_pava *pava;            /* the step's regression */
     hsbd_pava *frag;            /* per-cluster regressions for the fragmentation diagnostic */
     double *frag_v;             /* scratch for the clusters' velocities */
+    double *frag_w;             /* and their frictions 1/mu_i (mixtures; else NULL) */
     hsbd_pava **frag_part;      /* on threads: one regression per part of the ring (else NULL) */
     fragment_count *frag_count; /* and the counts of each part */
     int frag_parts;             /* their number, par.threads */
@@ -170,6 +171,7 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     r->offset = malloc(n * sizeof *r->offset);
     r->y = malloc(n * sizeof *r->y);
     r->frag_v = malloc(n * sizeof *r->frag_v);
+    if (par->nspecies > 0) r->frag_w = malloc(n * sizeof *r->frag_w);
     r->pava = hsbd_pava_alloc(n);
     r->frag = hsbd_pava_alloc(n);
     if (par->contact_rule == HSBD_CONTACT_REFLECT) {
@@ -181,6 +183,7 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     int species_ok = par->nspecies == 0;
     if (!species_ok) species_ok = alloc_species(r, par) == 0;
     if (!species_ok || !r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
+        (par->nspecies > 0 && !r->frag_w) ||
         alloc_fragment_parts(r) != 0 ||
         (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush)) ||
         (par->pair.nterms > 0 && !r->fpair)) {
@@ -204,6 +207,7 @@ void hsbd_rods_free(hsbd_rods *r) {
     free(r->offset);
     free(r->y);
     free(r->frag_v);
+    free(r->frag_w);
     for (int t = 0; r->frag_part && t < r->frag_parts; ++t)
         hsbd_pava_free(r->frag_part[t]);
     free(r->frag_part);
@@ -459,12 +463,14 @@ static double rod_gap(const hsbd_rods *r, size_t i) {
 /* Clusters touching at the start that begin at ring-order places a .. b-1 (place k is rod
  * first + k mod n) with the velocities of the end points `target`, each cluster's
  * fragments from the isotonic regression of its velocities (Eqs. 4-5) with `pava` (of
- * `cap` elements). The velocities are written to frag_v[k]. */
+ * `cap` elements), weighted by the frictions 1/mu_i in a mixture (a cluster moves with
+ * the friction-weighted mean velocity). The velocities are written to frag_v[k], the
+ * frictions to frag_w[k]. */
 static void count_fragments_in(hsbd_rods *r, const double *target, size_t first, size_t a, size_t b,
                                hsbd_pava *pava, size_t cap, fragment_count *out) {
     const size_t n = r->par.n;
     const double inv_dt = 1.0 / r->par.dt, tol = r->contact_tol;
-    double *v = r->frag_v;
+    double *v = r->frag_v, *w = r->frag_w;
     size_t k = a, i = first + a < n ? first + a : first + a - n; /* rod at place k */
     *out = (fragment_count){0};
     if (k > 0) /* skip the end of a cluster that began before a */
@@ -476,6 +482,7 @@ static void count_fragments_in(hsbd_rods *r, const double *target, size_t first,
         const size_t k0 = k;
         int open;
         do {
+            if (w) w[k] = r->friction[i];
             v[k++] = (target[i] - r->z[i]) * inv_dt; /* mu F_i, Eq. (12) */
             open = rod_gap(r, i) > tol;
             i = i + 1 < n ? i + 1 : 0;
@@ -485,7 +492,7 @@ static void count_fragments_in(hsbd_rods *r, const double *target, size_t first,
         if (len == 1)
             out->fragments += 1;
         else if (len <= cap)
-            out->fragments += hsbd_pava_line(pava, len, v + k0, NULL, v + k0);
+            out->fragments += hsbd_pava_line(pava, len, v + k0, w ? w + k0 : NULL, v + k0);
         else
             out->long_first = k0, out->long_len = len;
     }
@@ -522,9 +529,11 @@ static void count_fragments(hsbd_rods *r, const double *target, hsbd_rods_step_s
         st->clusters_start += part[t].clusters;
         st->fragments += part[t].fragments;
         if (part[t].long_len > 0) /* longer than a part: frag, itself on the threads */
-            st->fragments +=
-                hsbd_pava_line(r->frag, part[t].long_len, r->frag_v + part[t].long_first, NULL,
-                               r->frag_v + part[t].long_first);
+        {
+            const size_t k0 = part[t].long_first;
+            st->fragments += hsbd_pava_line(r->frag, part[t].long_len, r->frag_v + k0,
+                                            r->frag_w ? r->frag_w + k0 : NULL, r->frag_v + k0);
+        }
     }
 }
 
