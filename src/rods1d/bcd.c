@@ -183,8 +183,7 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     int species_ok = par->nspecies == 0;
     if (!species_ok) species_ok = alloc_species(r, par) == 0;
     if (!species_ok || !r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
-        (par->nspecies > 0 && !r->frag_w) ||
-        alloc_fragment_parts(r) != 0 ||
+        (par->nspecies > 0 && !r->frag_w) || alloc_fragment_parts(r) != 0 ||
         (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush)) ||
         (par->pair.nterms > 0 && !r->fpair)) {
         hsbd_rods_free(r);

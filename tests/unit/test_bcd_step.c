@@ -244,9 +244,8 @@ static void test_mixture_step_vs_oracle(int boundary) {
         for (size_t i = 0; i < N; ++i)
             force[i] += sqrt(2 * mob[i] * par.kT / par.dt) / mob[i] * g[i];
         const double shift = v.unwrap;
-        const size_t expected = boundary == HSBD_RODS_PERIODIC
-                                    ? ring_fragments(N, x, force, mob, sig, par.length)
-                                    : 0;
+        const size_t expected =
+            boundary == HSBD_RODS_PERIODIC ? ring_fragments(N, x, force, mob, sig, par.length) : 0;
         merges += oracle_step_general(N, x, force, mob, sig, par.length, boundary, par.dt, 1e-12);
         hsbd_rods_step_stats st;
         CHECK(hsbd_rods_step(rods, &st) == HSBD_OK, "step");
