@@ -89,22 +89,30 @@ cases=(
   "dense-mixture|dense-mixture.ini|"
   "dense-mixture-walls|dense-mixture.ini|--set system.boundary=walls --set init.positions=even-dense-mix.txt --set sample.bin_width=2"
 )
-for c in "${cases[@]}"; do
-    IFS='|' read -r name cfg extra <<<"$c"
+# runs config $2 (extra arguments after it) as case $1 on 1, 2 and 4 threads and compares
+# every table and the physical results in summary.json
+same_on_threads() {
+    local name=$1 cfg=$2 t f same
+    shift 2
     for t in 1 2 4; do
-        # shellcheck disable=SC2086
-        "$HSBD" run "$cfg" $extra --threads $t --quiet --out "$name-$t" ||
-            bad "$name: --threads $t failed"
+        "$HSBD" run "$cfg" "$@" --threads $t --quiet --out "$name-$t" || bad "$name: --threads $t failed"
     done
     for t in 2 4; do
         same=1
         for f in "$name-1"/*.tsv; do
             cmp -s "$f" "$name-$t/$(basename "$f")" || { same=0; bad "$name: $(basename "$f") differs on $t threads"; }
         done
-        phys() { grep -v -E 'second|"threads"|"dir"' "$1/summary.json"; }
-        diff <(phys "$name-1") <(phys "$name-$t") >/dev/null || { same=0; bad "$name: summary.json differs on $t threads"; }
+        diff <(grep -v -E 'second|"threads"|"dir"' "$name-1/summary.json") \
+            <(grep -v -E 'second|"threads"|"dir"' "$name-$t/summary.json") >/dev/null ||
+            { same=0; bad "$name: summary.json differs on $t threads"; }
         [ $same -eq 1 ] && ok
     done
+}
+
+for c in "${cases[@]}"; do
+    IFS='|' read -r name cfg extra <<<"$c"
+    # shellcheck disable=SC2086
+    same_on_threads "$name" "$cfg" $extra
 done
 # Spheres: 1, 2 and 4 threads give byte-identical tables (g(r), MSD, F_s, profiles) and
 # summary.json: a fluid and a mixture between walls with gravity. At N 4000 (above the
@@ -151,23 +159,6 @@ t_total = 0.1
 blocks = 4
 bin_width = 0.5
 INI
-# runs config $2 as case $1 on 1, 2 and 4 threads and compares the tables and summary.json
-same_on_threads() {
-    local name=$1 cfg=$2 t f same
-    for t in 1 2 4; do
-        "$HSBD" run "$cfg" --threads $t --quiet --out "$name-$t" || bad "$name: --threads $t failed"
-    done
-    for t in 2 4; do
-        same=1
-        for f in "$name-1"/*.tsv; do
-            cmp -s "$f" "$name-$t/$(basename "$f")" || { same=0; bad "$name: $(basename "$f") differs on $t threads"; }
-        done
-        diff <(grep -v -E 'second|"threads"|"dir"' "$name-1/summary.json") \
-            <(grep -v -E 'second|"threads"|"dir"' "$name-$t/summary.json") >/dev/null ||
-            { same=0; bad "$name: summary.json differs on $t threads"; }
-        [ $same -eq 1 ] && ok
-    done
-}
 same_on_threads spheres spheres.ini
 same_on_threads spheres-walls spheres-walls.ini
 
