@@ -18,6 +18,7 @@
 #include "hsbd/io.h"
 #include "hsbd/run.h"
 #include "hsbd/theory.h"
+#include "core/threads.h"
 #include "hsbd/validate.h"
 #include "validate/report.h"
 
@@ -409,6 +410,10 @@ static int run_case(const hsbd_validate_options *opt, const vcase *c) {
         fprintf(stderr, "validate %s: %s\n", c->name, err.message);
         return 1;
     }
+    /* the jobs share the cores: each simulation takes its share of threads, so they do not
+     * oversubscribe the machine (the results do not depend on the thread count) */
+    const int cores = hsbd_threads_available(), jobs = opt->jobs > 0 ? opt->jobs : 1;
+    cfg.run.threads = cores > jobs ? cores / jobs : 1;
     hsbd_run_options ro = {.force = 1};
     if ((spheres ? hsbd_run_spheres(&cfg, &ro, &err) : hsbd_run_rods(&cfg, &ro, &err)) != HSBD_OK) {
         fprintf(stderr, "validate %s: %s\n", c->name, err.message);
