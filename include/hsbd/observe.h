@@ -205,20 +205,21 @@ typedef struct hsbd_slab hsbd_slab;
  * they fill the period), folded into `period` (a divisor of the box length; the length
  * between walls), and, when the axis has walls, the density of the gaps x - sigma_i/2 (and
  * L - sigma_i/2 - x) in four sub-windows of [0, contact_window) for the contact density. */
-HSBD_API hsbd_slab *hsbd_slab_alloc(const hsbd_spheres_view *v, int axis, double period, double bin_width,
-                           double contact_window, size_t nblocks, uint64_t nsamples_total,
-                           hsbd_error *err);
+HSBD_API hsbd_slab *hsbd_slab_alloc(const hsbd_spheres_view *v, int axis, double period,
+                                    double bin_width, double contact_window, size_t nblocks,
+                                    uint64_t nsamples_total, hsbd_error *err);
 HSBD_API void hsbd_slab_free(hsbd_slab *p);
 HSBD_API void hsbd_slab_sample(hsbd_slab *p, const hsbd_spheres_view *v);
 HSBD_API size_t hsbd_slab_bins(const hsbd_slab *p);
 /* Bin centres, number density (per volume) of one species (or all: species < 0) and its
  * block error. */
-HSBD_API void hsbd_slab_density(const hsbd_slab *p, int species, double *x, double *rho, double *err);
+HSBD_API void hsbd_slab_density(const hsbd_slab *p, int species, double *x, double *rho,
+                                double *err);
 /* Density of centres at contact with the wall at 0 (side 0) or at the box length (side
  * 1): the gap density extrapolated linearly to zero gap from the four sub-windows, block
  * by block; error from the blocks' scatter. NaN without walls on the axis. */
 HSBD_API void hsbd_slab_wall_contact(const hsbd_slab *p, int side, int species, double *value,
-                            double *err);
+                                     double *err);
 /* the accumulators (checkpoints) */
 HSBD_API hsbd_blocks *hsbd_slab_blocks(hsbd_slab *p);
 

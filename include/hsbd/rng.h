@@ -12,9 +12,9 @@
 #include <stdint.h>
 
 enum hsbd_stream {
-    HSBD_STREAM_NOISE = 1,   /* Brownian displacements, one normal per rod per step */
-    HSBD_STREAM_INIT = 2,    /* initial configurations */
-    HSBD_STREAM_CONTACT = 3, /* Brownian-bridge minima of gaps (contact_rule = reflect) */
+    HSBD_STREAM_NOISE = 1,    /* Brownian displacements, one normal per rod per step */
+    HSBD_STREAM_INIT = 2,     /* initial configurations */
+    HSBD_STREAM_CONTACT = 3,  /* Brownian-bridge minima of gaps (contact_rule = reflect) */
     HSBD_STREAM_COMPRESS = 4, /* Brownian steps that compress dense initial states (spheres) */
     HSBD_STREAM_COMPRESS_CONTACT = 5 /* their bridge minima at walls (spheres) */
 };

@@ -116,7 +116,8 @@ HSBD_API double hsbd_short_time_msd(double t, double rho_gap, double diffusion);
  * design notes 10, G(x - x0 - c t) + e^(-c x0 / D) G(x + x0 - c t)
  * - (c / 2D) e^(c x / D) erfc((x + x0 + c t) / sqrt(4 D t)), G the free Gaussian of
  * variance 2 D t. Its stationary limit for c < 0 is the barometric (|c| / D) e^(c x / D). */
-HSBD_API double hsbd_reflected_drift_density(double x, double x0, double c, double diffusion, double t);
+HSBD_API double hsbd_reflected_drift_density(double x, double x0, double c, double diffusion,
+                                             double t);
 /* Its moments <x^k>, k = 0, 1, 2 (by quadrature; 0 gives the normalisation). */
 HSBD_API double hsbd_reflected_drift_moment(int k, double x0, double c, double diffusion, double t);
 

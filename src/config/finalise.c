@@ -376,8 +376,7 @@ static int parse_boundary(hsbd_config *cfg, int dim, int *walls, hsbd_error *err
     snprintf(buf, sizeof buf, "%s", cfg->system.boundary_text);
     const size_t got = split_list(buf, words, 3);
     if (got != 1 && got != (size_t)dim)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: system.boundary has %zu values; allowed: %s", 
+        return hsbd_error_set(err, HSBD_EINPUT, "%s: system.boundary has %zu values; allowed: %s",
                               config_origin_of(cfg, "system", "boundary"), got,
                               dim == 1 ? "one (rods)" : "1 or one per axis (system.dimension)");
     for (int a = 0; a < dim; ++a) {
@@ -639,17 +638,19 @@ static int finalise_spheres_walls_field(hsbd_config *cfg, double sigma_max, hsbd
         if (d != 0) continue;
         const int law = cfg->species.coupling_law == HSBD_COUPLING_VOLUME;
         if (cfg->field.type && (law || cfg->species.coupling[k] != 0))
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "%s: a field acts on species %s, whose D = 0 cannot move; "
-                                  "allowed: species.coupling = 0 for it",
-                                  config_origin_of(cfg, "species", law ? "coupling_law" : "coupling"),
-                                  cfg->species.n ? cfg->species.name[k] : "(one)");
+            return hsbd_error_set(
+                err, HSBD_EINPUT,
+                "%s: a field acts on species %s, whose D = 0 cannot move; "
+                "allowed: species.coupling = 0 for it",
+                config_origin_of(cfg, "species", law ? "coupling_law" : "coupling"),
+                cfg->species.n ? cfg->species.name[k] : "(one)");
         if (cfg->system.drift_text[0])
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "%s: system.drift with species %s, whose D = 0 cannot move (not a "
-                                  "common drift); allowed: no drift",
-                                  config_origin_of(cfg, "system", "drift"),
-                                  cfg->species.n ? cfg->species.name[k] : "(one)");
+            return hsbd_error_set(
+                err, HSBD_EINPUT,
+                "%s: system.drift with species %s, whose D = 0 cannot move (not a "
+                "common drift); allowed: no drift",
+                config_origin_of(cfg, "system", "drift"),
+                cfg->species.n ? cfg->species.name[k] : "(one)");
     }
     if (config_is_default(cfg, "sample", "bin_width")) {
         cfg->sample.bin_width = 0.05 * cfg->system.sigma;
@@ -658,7 +659,8 @@ static int finalise_spheres_walls_field(hsbd_config *cfg, double sigma_max, hsbd
     const int folds = (cfg->field.type & HSBD_FIELD_COSINE) && periodic;
     if (isnan(cfg->sample.period)) {
         cfg->sample.period = folds ? cfg->field.wavelength : length;
-        config_set_origin(cfg, "sample", "period", "default (spheres: field.wavelength or the box)");
+        config_set_origin(cfg, "sample", "period",
+                          "default (spheres: field.wavelength or the box)");
     }
     if (!divides(cfg->sample.period, length) || (!periodic && cfg->sample.period != length))
         return hsbd_error_set(err, HSBD_EINPUT,

@@ -70,8 +70,8 @@ static size_t memory_estimate(const hsbd_config *cfg, memory_part *parts) {
         const double ns = cfg->species.n ? (double)cfg->species.n : 1;
         for (int a = 0; a < (int)d; ++a)
             if (cfg->system.walls[a] || (cfg->field.type && cfg->field.axis == a))
-                profiles += (ceil(cfg->system.box[a] / cfg->sample.bin_width) + 8) * ns * 8 *
-                            (3 + blocks);
+                profiles +=
+                    (ceil(cfg->system.box[a] / cfg->sample.bin_width) + 8) * ns * 8 * (3 + blocks);
         parts[np++] = (memory_part){profiles, "sample", "bin_width", "the density profiles' bins"};
     } else {
         const double bins = round(cfg->sample.period / cfg->sample.bin_width);

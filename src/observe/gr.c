@@ -372,8 +372,7 @@ int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
                     }
                     if (r2 >= rmax2) continue;
                     const double r = sqrt(r2);
-                    double *acc =
-                        g->acc + pair_index(g->nspecies, si, (size_t)v->species[j]) * row;
+                    double *acc = g->acc + pair_index(g->nspecies, si, (size_t)v->species[j]) * row;
                     const size_t k = (size_t)(r * inv_w);
                     if (k < g->bins) acc[k] += 1;
                     const double sij = 0.5 * (v->sigma[i] + v->sigma[j]), gap = r - sij;

@@ -76,7 +76,8 @@ void hsbd_slab_sample(hsbd_slab *p, const hsbd_spheres_view *v) {
         for (int side = 0; side < 2; ++side)
             if (gap[side] < p->window) {
                 const size_t g = (size_t)fmax(0.0, floor(gap[side] / gap_width));
-                gaps[((size_t)side * p->ns + k) * GAP_BINS + (g < GAP_BINS ? g : GAP_BINS - 1)] += 1;
+                gaps[((size_t)side * p->ns + k) * GAP_BINS + (g < GAP_BINS ? g : GAP_BINS - 1)] +=
+                    1;
             }
     }
     hsbd_blocks_end_sample(p->blocks);
@@ -118,8 +119,7 @@ static double extrapolate_to_contact(const double *count, double gap_width, doub
     return (sy - slope * sx) / n;
 }
 
-void hsbd_slab_wall_contact(const hsbd_slab *p, int side, int species, double *value,
-                            double *err) {
+void hsbd_slab_wall_contact(const hsbd_slab *p, int side, int species, double *value, double *err) {
     *value = *err = NAN;
     if (!p->walls) return;
     const size_t nv = p->bins * p->ns + 2 * GAP_BINS * p->ns, nb = hsbd_blocks_count(p->blocks);

@@ -59,4 +59,3 @@ int run_build_field(const hsbd_config *cfg, double L, int periodic, const char *
     }
     return HSBD_OK;
 }
-

@@ -207,9 +207,9 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     hsbd_rods_params par = rods_params_from(cfg);
     if (cfg->species.n > 0 && arrange_species(cfg, m, &par, err) != HSBD_OK) return err->status;
-    int rc = run_build_field(cfg, cfg->system.length,
-                             cfg->system.boundary == HSBD_BOUNDARY_PERIODIC, "system.L",
-                             &m->field_table, &par.field, err);
+    int rc =
+        run_build_field(cfg, cfg->system.length, cfg->system.boundary == HSBD_BOUNDARY_PERIODIC,
+                        "system.L", &m->field_table, &par.field, err);
     if (rc == HSBD_OK) rc = build_pair(cfg, &m->pair_table, &par.pair, err);
     if (rc == HSBD_OK) rc = check_sticky_step(r, m, &par, err);
     if (rc != HSBD_OK) return rc;

@@ -144,7 +144,7 @@ void run_write_summary_head(const run *r, FILE *f, const char *stop_reason);
  * replicas' run directories into out (prepared first, after every check, when asked). */
 uint64_t run_noise_seed(const hsbd_config *cfg);
 int run_replica_dir(const char *dir, size_t k, char *out, size_t len, hsbd_error *err);
-int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int prepare,
-                   int force, hsbd_error *err);
+int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int prepare, int force,
+                   hsbd_error *err);
 
 #endif

@@ -29,10 +29,10 @@ typedef struct spheres_model {
     hsbd_blocks *virial; /* collisional virial per sampled interval */
     double virial_last;
     run_stream *trajectory;
-    hsbd_field field;         /* field.type along field.axis (the engine reads it) */
-    hsbd_table *field_table;  /* a tabulated term's table */
-    double *coupling;         /* per particle: the field's factor */
-    walls_observers walls;    /* profiles and wall contacts (walls or a field) */
+    hsbd_field field;        /* field.type along field.axis (the engine reads it) */
+    hsbd_table *field_table; /* a tabulated term's table */
+    double *coupling;        /* per particle: the field's factor */
+    walls_observers walls;   /* profiles and wall contacts (walls or a field) */
 } spheres_model;
 
 static spheres_model *model_of(const run *r) {

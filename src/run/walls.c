@@ -35,11 +35,11 @@ int walls_observers_build(const hsbd_config *cfg, const hsbd_spheres_view *v, wa
     for (int a = 0; a < (int)cfg->system.dimension; ++a) {
         any_walls |= cfg->system.walls[a];
         if (!profiled(cfg, a)) continue;
-        const double period = a == cfg->field.axis && cfg->field.type ? cfg->sample.period
-                                                                      : cfg->system.box[a];
-        w->slab[a] = hsbd_slab_alloc(v, a, period, cfg->sample.bin_width,
-                                     cfg->sample.contact_fit * cfg->system.sigma, blocks, samples,
-                                     err);
+        const double period =
+            a == cfg->field.axis && cfg->field.type ? cfg->sample.period : cfg->system.box[a];
+        w->slab[a] =
+            hsbd_slab_alloc(v, a, period, cfg->sample.bin_width,
+                            cfg->sample.contact_fit * cfg->system.sigma, blocks, samples, err);
         if (!w->slab[a]) return err->status;
     }
     if (!any_walls) return HSBD_OK;
@@ -110,8 +110,9 @@ int walls_observers_write_tables(const run *r, const walls_observers *w, hsbd_er
             snprintf(what, sizeof what,
                      "number density along %c (bin centres%s), all particles and per species; "
                      "errors from time blocks",
-                     "xyz"[a], cfg->system.walls[a] ? ", walls at 0 and the box length"
-                                                    : ", folded into sample.period");
+                     "xyz"[a],
+                     cfg -> system.walls[a] ? ", walls at 0 and the box length"
+                                            : ", folded into sample.period");
             const int rc = hsbd_write_columns_table(cfg->output.dir, name, cfg, what, columns, nb,
                                                     x, cols, val, err);
             free(x), free(val);
@@ -122,8 +123,8 @@ int walls_observers_write_tables(const run *r, const walls_observers *w, hsbd_er
 
 /* The contact density at a wall from its impulses: kT rho = force per area, so rho = the
  * mean impulse / kT per sample over (sample interval x area); value index q of the blocks. */
-static void impulse_contact(const run *r, const walls_observers *w, size_t q, int axis,
-                            double *val, double *err) {
+static void impulse_contact(const run *r, const walls_observers *w, size_t q, int axis, double *val,
+                            double *err) {
     const size_t nv = 6 * (w->ns + 1);
     double mean[6 * (HSBD_MAX_SPECIES + 1)], e[6 * (HSBD_MAX_SPECIES + 1)];
     hsbd_blocks_result(w->impulse, mean, e);

@@ -131,7 +131,8 @@ int hsbd_spheres_load(hsbd_spheres *s, hsbd_reader *r) {
                                     .group_reruns = stats[4],
                                     .virial = clock[4]};
     uint64_t walls[2] = {0, 0};
-    if (s->any_walls && (get_doubles(r, s->wall_sum, 6 * s->nspecies) || hsbd_get_u64s(r, walls, 2)))
+    if (s->any_walls &&
+        (get_doubles(r, s->wall_sum, 6 * s->nspecies) || hsbd_get_u64s(r, walls, 2)))
         return -1;
     s->stats.wall_collisions = walls[0];
     s->stats.wall_pushes = walls[1];

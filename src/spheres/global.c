@@ -48,8 +48,7 @@ int sph_global_run(hsbd_spheres *s) {
         if (e.j == SPH_EVENT_SHELL) {
             sph_advance(s, e.i, e.t);
             /* the same path: its wall event stands */
-            if (sph_recentre(s, e.i) || predict_row(s, e.i, e.t) ||
-                predict_shell_exit(s, e.i, e.t))
+            if (sph_recentre(s, e.i) || predict_row(s, e.i, e.t) || predict_shell_exit(s, e.i, e.t))
                 return -1;
         } else if (e.j <= SPH_EVENT_WALL) {
             const int rc = sph_collide_wall(s, &e, -1);

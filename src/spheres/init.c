@@ -229,7 +229,8 @@ int hsbd_spheres_set_positions(hsbd_spheres *s, const double *x, hsbd_error *err
                                       "from the box length)",
                                       i + 1, v, a, half, s->length[a] - half);
             }
-            if (a < s->dim && s->walls[a]) pos[3 * i + a] = fmin(fmax(v, half), s->length[a] - half);
+            if (a < s->dim && s->walls[a])
+                pos[3 * i + a] = fmin(fmax(v, half), s->length[a] - half);
         }
     int rc = HSBD_OK;
     if (s->par.hard_core) {

@@ -136,10 +136,10 @@ double hsbd_reflected_drift_density(double x, double x0, double c, double diffus
     const double pi = 3.14159265358979323846, four_dt = 4.0 * diffusion * t;
     const double norm = 1.0 / sqrt(pi * four_dt);
     const double free = norm * exp(-(x - x0 - c * t) * (x - x0 - c * t) / four_dt);
-    const double image = norm * exp(-c * x0 / diffusion - (x + x0 - c * t) * (x + x0 - c * t) /
-                                                              four_dt);
-    const double flux = -c / (2.0 * diffusion) * exp(c * x / diffusion) *
-                        erfc((x + x0 + c * t) / sqrt(four_dt));
+    const double image =
+        norm * exp(-c * x0 / diffusion - (x + x0 - c * t) * (x + x0 - c * t) / four_dt);
+    const double flux =
+        -c / (2.0 * diffusion) * exp(c * x / diffusion) * erfc((x + x0 + c * t) / sqrt(four_dt));
     return free + image + flux;
 }
 
@@ -147,7 +147,8 @@ double hsbd_reflected_drift_moment(int k, double x0, double c, double diffusion,
     /* Simpson's rule on [0, x_max], x_max beyond the free Gaussian and the barometric tail */
     const double spread = sqrt(2.0 * diffusion * t);
     double x_max = x0 + fabs(c) * t + 40.0 * spread;
-    if (c < 0 && 40.0 * diffusion / -c < x_max) x_max = fmax(x0 + 40.0 * spread, 40.0 * diffusion / -c);
+    if (c < 0 && 40.0 * diffusion / -c < x_max)
+        x_max = fmax(x0 + 40.0 * spread, 40.0 * diffusion / -c);
     const int m = 200000;
     const double h = x_max / m;
     double sum = 0;

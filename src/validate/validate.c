@@ -614,9 +614,9 @@ static double correlation_trace(const table *blk, const size_t *used, size_t n) 
  * from 20 blocks each bin's deviation is Student-t with 19 degrees of freedom, P(|t| >
  * 4.5) = 2.5e-4 per bin, so the band alone fails an unbiased profile of 34 bins in
  * 0.6-0.9 % of runs, and all rules together in 1.5-2 % (measured with synthetic runs of
- * the measured covariance, docs/validation.md section 16). The sd of chi^2/dof is sqrt(2 tr(R^2))/points
- * with R the correlation of the bins' errors, from the per-block profiles `blk` when
- * given (neighbouring bins of a profile share fluctuations; for independent bins it is
+ * the measured covariance, docs/validation.md section 16). The sd of chi^2/dof is sqrt(2
+ * tr(R^2))/points with R the correlation of the bins' errors, from the per-block profiles `blk`
+ * when given (neighbouring bins of a profile share fluctuations; for independent bins it is
  * sqrt(2/points)). chi^2/dof well below 1 means conservative error bars (spatial blocks
  * of a fixed-N ring: the segments' numbers fluctuate, the total does not); it is
  * reported, not failed. */

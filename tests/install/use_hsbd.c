@@ -19,8 +19,8 @@ int main(int argc, char **argv) {
     hsbd_config cfg;
     hsbd_error err;
     hsbd_config_defaults(&cfg);
-    const char *keys[] = {"system.N=20", "system.L=20", "run.t_total=0.05", "run.t_equil=0",
-                          "run.dt=1e-3", "sample.blocks=2"};
+    const char *keys[] = {"system.N=20",   "system.L=20", "run.t_total=0.05",
+                          "run.t_equil=0", "run.dt=1e-3", "sample.blocks=2"};
     for (size_t k = 0; k < sizeof keys / sizeof *keys; ++k)
         if (hsbd_config_set(&cfg, keys[k], "use_hsbd", &err) != HSBD_OK) {
             fprintf(stderr, "%s\n", err.message);

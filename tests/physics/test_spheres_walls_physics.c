@@ -223,9 +223,18 @@ static void test_barometric(void) {
 static void test_narrow_slit(void) {
     hsbd_field gravity = {0};
     hsbd_field_add(&gravity, hsbd_field_tilt(-1.0));
-    hsbd_spheres_params p = {.n = 200, .dimension = 3, .box = {4, 4, 0.4}, .sigma = 0.1,
-                             .diffusion = 1, .kT = 1, .dt = 0.05, .seed = 61, .hard_core = 0,
-                             .walls = {0, 0, 1}, .field = &gravity, .field_axis = 2};
+    hsbd_spheres_params p = {.n = 200,
+                             .dimension = 3,
+                             .box = {4, 4, 0.4},
+                             .sigma = 0.1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = 0.05,
+                             .seed = 61,
+                             .hard_core = 0,
+                             .walls = {0, 0, 1},
+                             .field = &gravity,
+                             .field_axis = 2};
     hsbd_error err;
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
     CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "init: %s", err.message);
@@ -243,8 +252,8 @@ static void test_narrow_slit(void) {
 
 /* ---- hard spheres: the wall theorem ---- */
 
-static void wall_theorem_case(const char *name, hsbd_spheres_params p, double force,
-                              double t_equil, double t_total) {
+static void wall_theorem_case(const char *name, hsbd_spheres_params p, double force, double t_equil,
+                              double t_total) {
     hsbd_field gravity = {0};
     hsbd_field_add(&gravity, hsbd_field_tilt(force));
     const int axis = p.dimension - 1;
@@ -361,9 +370,9 @@ static double weighted_displacement(const hsbd_spheres *s, const double *x0, int
     const hsbd_spheres_view v = hsbd_spheres_get_view(s);
     double sum = 0;
     for (size_t i = 0; i < v.n; ++i)
-        sum += (v.x[3 * i + axis] + (double)v.image[3 * i + axis] * v.box[axis] -
-                x0[3 * i + axis]) /
-               v.diffusion[i];
+        sum +=
+            (v.x[3 * i + axis] + (double)v.image[3 * i + axis] * v.box[axis] - x0[3 * i + axis]) /
+            v.diffusion[i];
     return sum;
 }
 

@@ -189,7 +189,10 @@ static int sphere_run(const sphere_case *c) {
         rc = hsbd_spheres_step(s);
         if (reported(c->name, before, rc == HSBD_OK, "hsbd_spheres_step")) {
             CHECK(rc == HSBD_ENOMEM, "%s: step returned %d", c->name, rc);
-            CHECK(view_hash(s) == at_start, "%s: a failed step changed the state (allocation %" PRIu64 " of the run failing, step %d)", c->name, fail_at - run_start, k);
+            CHECK(view_hash(s) == at_start,
+                  "%s: a failed step changed the state (allocation %" PRIu64
+                  " of the run failing, step %d)",
+                  c->name, fail_at - run_start, k);
             step_failed = 1;
             --k; /* the same step again: later allocations do not fail */
         }
