@@ -742,14 +742,14 @@ static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
         cfg->init.method = phi <= phi_random     ? HSBD_INIT_RANDOM
                            : phi <= phi_compress ? HSBD_INIT_COMPRESS
                                                  : HSBD_INIT_LATTICE;
-    double half = INF;
+    double half = INF; /* pairs are minimum images along the periodic axes only */
     for (int a = 0; a < dim; ++a)
-        half = fmin(half, 0.5 * cfg->system.box[a]);
+        if (!cfg->system.walls[a]) half = fmin(half, 0.5 * cfg->system.box[a]);
     if (cfg->sample.gr_max == 0) cfg->sample.gr_max = fmin(3.0 * sigma_max, half);
     if (cfg->sample.gr_max > half)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s: sample.gr_max = %g; allowed: at most half the shortest box "
-                              "length, %g",
+                              "%s: sample.gr_max = %g; allowed: at most half the shortest "
+                              "periodic box length, %g",
                               config_origin_of(cfg, "sample", "gr_max"), cfg->sample.gr_max, half);
     if (cfg->sample.gr_bin > cfg->sample.gr_max)
         return hsbd_error_set(err, HSBD_EINPUT, "%s: sample.gr_bin = %g exceeds sample.gr_max = %g",

@@ -64,14 +64,18 @@ static size_t memory_estimate(const hsbd_config *cfg, memory_part *parts) {
     if (spheres) {
         const double pairs = cfg->species.n ? cfg->species.n * (cfg->species.n + 1) / 2.0 : 1;
         const double bins = ceil(cfg->sample.gr_max / cfg->sample.gr_bin) + 10;
-        parts[np++] =
-            (memory_part){pairs * bins * 8 * (3 + blocks), "sample", "gr_bin", "g(r)'s bins"};
-        double profiles = 0; /* along the walls and field axes (src/run/walls.c) */
         const double ns = cfg->species.n ? (double)cfg->species.n : 1;
-        for (int a = 0; a < (int)d; ++a)
-            if (cfg->system.walls[a] || (cfg->field.type && cfg->field.axis == a))
-                profiles +=
-                    (ceil(cfg->system.box[a] / cfg->sample.bin_width) + 8) * ns * 8 * (3 + blocks);
+        double gr_bytes = pairs * bins * 8 * (3 + blocks), profiles = 0;
+        for (int a = 0; a < (int)d; ++a) {
+            if (!cfg->system.walls[a] && !(cfg->field.type && cfg->field.axis == a)) continue;
+            profiles += /* src/run/walls.c */
+                (ceil(cfg->system.box[a] / cfg->sample.bin_width) + 8) * ns * 8 * (3 + blocks);
+            /* g(r)'s own profile in z bins of half its r bins, and its reference weights
+             * (src/observe/gr.c; an upper bound when g(r) is not measured there) */
+            const double nz = ceil(2 * cfg->system.box[a] / cfg->sample.gr_bin) + 1;
+            gr_bytes += (ns * nz * (3 + blocks) + pairs * fmin(nz, 2 * bins) * bins) * 8;
+        }
+        parts[np++] = (memory_part){gr_bytes, "sample", "gr_bin", "g(r)'s bins"};
         parts[np++] = (memory_part){profiles, "sample", "bin_width", "the density profiles' bins"};
     } else {
         const double bins = round(cfg->sample.period / cfg->sample.bin_width);

@@ -217,7 +217,8 @@ const key_spec config_schema[] = {
      "spheres: sample g(r) every this many steps (a pair search up to sample.gr_max, costly); "
      "0: every 0.05 time units (sigma^2/D), samples closer in time are strongly correlated"},
     {"sample", "gr_max", SPHERES, K_DOUBLE, OFF(sample.gr_max), 0, INF, OPEN_MAX, "0", 0,
-     "spheres: largest distance of g(r) (0: 3 sigma_max, at most half the box)"},
+     "spheres: largest distance of g(r) (0: 3 sigma_max, at most half the shortest periodic box "
+     "length)"},
     {"sample", "gr_bin", SPHERES, K_DOUBLE, OFF(sample.gr_bin), 0, INF, OPEN_MIN | OPEN_MAX, "0.02",
      0, "spheres: g(r) bin width"},
     {"sample", "contact_fit", SPHERES, K_DOUBLE, OFF(sample.contact_fit), 0, INF,

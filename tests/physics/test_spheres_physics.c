@@ -18,9 +18,9 @@
  *     compressed from random insertion: Z_virial and the sigma_ij^3-weighted contact
  *     value vs BMCSL summed exactly over all pairs of the drawn diameters;
  *   - the short-time MSD of each species of a dilute mixture (phi 0.02) at one step of
- *     1e-5 is 2 d D_a dt: the collision correction grows like phi sqrt(D dt) / sigma and
- *     was measured at -0.27 % for dt 1e-3 (3.6 error bars), so ~0.03 % here, a third of
- *     the error bar. */
+ *     1e-5 is 2 d D_a dt: the first-collision correction, -c_a t^(3/2) (docs/theory.md,
+ *     mixture dynamics), is 0.12 % and 0.085 % of the free MSD of the two species at a lag
+ *     of 1e-3, so about a hundredth of a percent at this lag, far below the error bar. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
