@@ -78,8 +78,9 @@ typedef struct hsbd_spheres_params {
     int field_axis;
     const double *species_coupling, *particle_coupling;
     /* threads for the step's loops over all particles (noise, the start-of-step scan, the
-     * final move; the events run on one); <= 1: one. The results do not depend on it
-     * (docs/spheres.md, "Threads") */
+     * final move) and for the first pass of the event groups (slabs of the box; the global
+     * calendar runs on one); <= 1: one. The results do not depend on it (docs/spheres.md,
+     * "Threads") */
     int threads;
 } hsbd_spheres_params;
 

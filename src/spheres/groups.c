@@ -18,6 +18,7 @@
 
 #include "spheres/events.h"
 #include "spheres/neighbours.h"
+#include "spheres/scan.h"
 
 /* One logged straight segment of a particle: from time t at position x with velocity v.
  * The first segment of a particle in a step also keeps its shell centre c at the start. */
@@ -27,6 +28,16 @@ typedef struct sph_segment {
     int32_t next_head; /* first segments only: the next particle's in the same group, -1 */
     int32_t particle;
 } sph_segment;
+
+/* What a thread of the first pass needs of its own (the rest of the state is shared). */
+typedef struct sph_worker {
+    sph_calendar calendar;
+    int32_t *scan_j;
+    double *scan_t;
+    size_t scan_cap;
+    int32_t *lone; /* the particles a run joined that had met nobody: undone with it */
+    size_t lone_len, lone_cap;
+} sph_worker;
 
 struct sph_groups {
     size_t n;
@@ -64,6 +75,21 @@ struct sph_groups {
     uint64_t replayed; /* events of the step in runs that ended in a join */
     uint64_t played;   /* all events of the step */
     unsigned pause;    /* AUTO: steps left on the global calendar after costly re-runs */
+    /* the first pass, on threads: slabs along one periodic axis (see run_slabs) */
+    int nslabs, slab_axis; /* nslabs 0: no first pass */
+    double slab_scale;     /* slabs per unit length */
+    int32_t *group_slab;   /* per group: the slab holding all its particles, or -1 */
+    int32_t *slab_groups;  /* the groups of slab k in order, from slab_first[k] */
+    size_t slab_first[SPH_MAX_SLABS + 1];
+    size_t slab_seg[SPH_MAX_SLABS + 1]; /* slab k logs its segments in [slab_seg[k], [k + 1]) */
+    sph_worker *workers;
+    size_t nworkers;
+    /* set in a worker's copy of this struct: the slab it runs; a run that would reach
+     * outside it stops and waits for the serial pass */
+    int speculative;
+    int slab;
+    int log_full; /* the slab's share of the log filled up (not out of memory) */
+    sph_worker *worker;
 };
 
 enum { GROUP_PENDING, GROUP_ACTIVE, GROUP_DONE, GROUP_JOINED };
@@ -117,6 +143,15 @@ void sph_groups_free(sph_groups *g) {
     free(g->moved_list);
     free(g->rewound);
     free(g->queued);
+    free(g->group_slab);
+    free(g->slab_groups);
+    for (size_t w = 0; w < g->nworkers; ++w) {
+        sph_calendar_free(&g->workers[w].calendar);
+        free(g->workers[w].scan_j);
+        free(g->workers[w].scan_t);
+        free(g->workers[w].lone);
+    }
+    free(g->workers);
     free(g);
 }
 
@@ -168,7 +203,8 @@ int sph_groups_begin(hsbd_spheres *s) {
 static int32_t find_root(sph_groups *g, int32_t i) {
     while (g->parent[i] >= 0) {
         const int32_t p = g->parent[i];
-        if (g->parent[p] >= 0) g->parent[i] = g->parent[p]; /* path halving */
+        /* path halving, not on threads: the chain may pass through other slabs */
+        if (!g->speculative && g->parent[p] >= 0) g->parent[i] = g->parent[p];
         i = p;
     }
     return i;
@@ -217,7 +253,9 @@ static int grow_groups(sph_groups *g) {
         grow_array(&g->first_segment, cap, sizeof *g->first_segment) ||
         grow_array(&g->first_time, cap, sizeof *g->first_time) ||
         grow_array(&g->virial, cap, sizeof *g->virial) ||
-        grow_array(&g->collisions, cap, sizeof *g->collisions))
+        grow_array(&g->collisions, cap, sizeof *g->collisions) ||
+        grow_array(&g->group_slab, cap, sizeof *g->group_slab) ||
+        grow_array(&g->slab_groups, cap, sizeof *g->slab_groups))
         return -1;
     g->group_cap = cap;
     return 0;
@@ -267,6 +305,7 @@ static long number_groups(hsbd_spheres *s) {
 static int32_t new_segment(hsbd_spheres *s, int32_t p, double t) {
     sph_groups *g = s->groups;
     if (g->nseg == g->seg_cap) {
+        if (g->speculative) return g->log_full = 1, -1; /* the slab's share is used up */
         const size_t cap = g->seg_cap ? 2 * g->seg_cap : 1024;
         if (grow_array(&g->seg, cap, sizeof *g->seg)) return -1;
         g->seg_cap = cap;
@@ -315,10 +354,11 @@ static void rewind_group(hsbd_spheres *s, int32_t a) {
         s->t_local[p] = 0;
         g->last_segment[p] = -1;
         g->history[p] = 0;
-        if (!g->queued[p]) g->queued[p] = 1, g->rewound[g->nrewound++] = p;
+        /* a first-pass run is undone before anything else meets its paths */
+        if (!g->speculative && !g->queued[p]) g->queued[p] = 1, g->rewound[g->nrewound++] = p;
     }
     g->first_segment[a] = -1;
-    drop_wall_hits(s, a);
+    if (!g->speculative) drop_wall_hits(s, a);
 }
 
 static void forget_rewound(sph_groups *g) {
@@ -326,19 +366,11 @@ static void forget_rewound(sph_groups *g) {
         g->queued[g->rewound[--g->nrewound]] = 0;
 }
 
-/* Takes back what a finished group b did: its statistics, its particles' moves. */
-static void undo_group(hsbd_spheres *s, int32_t b) {
-    sph_groups *g = s->groups;
-    s->stats.collisions -= g->collisions[b];
-    s->stats.virial -= g->virial[b];
-    rewind_group(s, b);
-}
-
 /* Group b joins the running group a, whose events then start again from the step's
  * start (b's results, if it ran, are undone). */
 static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
     sph_groups *g = s->groups;
-    if (g->state[b] == GROUP_DONE) undo_group(s, b);
+    if (g->state[b] == GROUP_DONE) rewind_group(s, b);
     rewind_group(s, a);
     g->parent[g->root[b]] = g->root[a];
     g->state[b] = GROUP_JOINED;
@@ -540,8 +572,29 @@ static int32_t rewound_hit(hsbd_spheres *s, int32_t a) {
     return -1;
 }
 
-/* What predict_in_group and play_group return besides a group to join */
-enum { NO_JOIN = -1, OUT_OF_MEMORY = -2 };
+/* What predict_in_group and play_group return besides a group to join; DEFER: a
+ * first-pass run would reach outside its slab */
+enum { NO_JOIN = -1, OUT_OF_MEMORY = -2, DEFER = -3 };
+
+/* A first-pass run joins j, which met nobody, to its group (so that an undone run can
+ * take it back). Returns 0, or -1 when out of memory. */
+static int join_lone_speculative(sph_groups *g, int32_t root_a, int32_t j) {
+    sph_worker *w = g->worker;
+    if (w->lone_len == w->lone_cap) {
+        const size_t cap = w->lone_cap ? 2 * w->lone_cap : 64;
+        if (grow_array(&w->lone, cap, sizeof *w->lone)) return -1;
+        w->lone_cap = cap;
+    }
+    w->lone[w->lone_len++] = j;
+    g->parent[j] = root_a;
+    return 0;
+}
+
+/* The slab of particle p's start position (p has not moved in the step). */
+static int slab_of(const hsbd_spheres *s, const sph_groups *g, int32_t p) {
+    long k = (long)floor(s->x[3 * (size_t)p + g->slab_axis] * g->slab_scale) % g->nslabs;
+    return (int)(k < 0 ? k + g->nslabs : k);
+}
 
 /* New predictions for i (on a new segment from time t, or a new shell: then its wall
  * event stands, new_path 0) in group a. Returns NO_JOIN, the group that i's segment
@@ -553,7 +606,10 @@ static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t,
     for (uint32_t k = 0; k < hits; ++k) {
         const int32_t j = s->scan_j[k], r = find_root(g, j);
         if (r != root_a) {
-            if (g->parent[r] == -1) { /* j never met anyone: it joins as it is */
+            if (g->speculative) { /* only a particle of the slab that met nobody */
+                if (g->parent[r] != -1 || slab_of(s, g, j) != g->slab) return DEFER;
+                if (join_lone_speculative(g, root_a, j)) return OUT_OF_MEMORY;
+            } else if (g->parent[r] == -1) { /* j never met anyone: it joins as it is */
                 g->parent[r] = root_a;
             } else {
                 const int32_t b = -2 - g->parent[r];
@@ -600,7 +656,9 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
         played++;
         if (log_start(s, a, e.i)) return OUT_OF_MEMORY;
         int32_t joined;
-        if (e.j == SPH_EVENT_SHELL) {
+        if (e.j == SPH_EVENT_SHELL && g->speculative) {
+            joined = DEFER; /* re-centring edits rows and cells outside the slab */
+        } else if (e.j == SPH_EVENT_SHELL) {
             sph_advance(s, e.i, e.t);
             if (recentre_adding(s, e.i)) return OUT_OF_MEMORY;
             joined = predict_in_group(s, a, e.i, e.t, 0);
@@ -621,7 +679,7 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
             if (joined == NO_JOIN) joined = predict_in_group(s, a, e.j, e.t, 1);
         }
         if (joined == OUT_OF_MEMORY) return OUT_OF_MEMORY;
-        if (joined >= 0) { /* the re-run starts a new calendar */
+        if (joined != NO_JOIN) { /* the re-run starts a new calendar */
             g->played += played;
             g->replayed += played;
             return joined;
@@ -629,6 +687,15 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
     }
     g->played += played;
     return NO_JOIN;
+}
+
+/* Group a ran to the end of the step. */
+static void finish_group(sph_groups *g, int32_t a) {
+    g->state[a] = GROUP_DONE;
+    for (int32_t k = g->first_segment[a]; k >= 0; k = g->seg[k].next_head) {
+        const int32_t p = g->seg[k].particle; /* several segments: the log test needed */
+        g->history[p] = g->seg[g->last_segment[p]].prev >= 0;
+    }
 }
 
 /* Runs group a to the end of the step; returns 0, 1 when AUTO gives up on groups for this
@@ -648,13 +715,7 @@ static int run_group(hsbd_spheres *s, int32_t a) {
         } while ((b = rewound_hit(s, a)) >= 0);
     }
     if (b == OUT_OF_MEMORY) return -1;
-    g->state[a] = GROUP_DONE;
-    for (int32_t k = g->first_segment[a]; k >= 0; k = g->seg[k].next_head) {
-        const int32_t p = g->seg[k].particle; /* several segments: the log test needed */
-        g->history[p] = g->seg[g->last_segment[p]].prev >= 0;
-    }
-    s->stats.collisions += g->collisions[a];
-    s->stats.virial += g->virial[a];
+    finish_group(g, a);
     return 0;
 }
 
@@ -667,6 +728,162 @@ static int hand_to_global_calendar(hsbd_spheres *s) {
     return 0;
 }
 
+/* ---- the first pass, on threads ----
+ * The box is cut into an even number of slabs along a periodic axis, each at least as
+ * wide as the reach of a neighbour pair at the start of a step (sigma_max + 4 shell). A
+ * group whose particles all start in slab k reads only particles in slabs k - 1 to
+ * k + 1, so the groups of the even slabs can run at the same time, and then those of the
+ * odd ones. A run that would touch anything outside its slab (a hit on a particle of
+ * another slab or of another group, a shell to move, its share of the segment log full)
+ * is undone at once and waits for the serial pass, which runs the rest as before. Which
+ * group runs where depends on the state only, never on the number of threads, so
+ * neither do the results: the positions are those of the global calendar (docs/spheres.md,
+ * "Threads"), and the sums are taken in group order at the end. */
+
+int sph_slabs(const hsbd_spheres *s, int *axis) {
+    *axis = -1; /* the last axis is the slowest along the Z curve (order.c) */
+    for (int a = 0; a < s->dim; ++a)
+        if (!s->walls[a] && (*axis < 0 || s->box[a] >= s->box[*axis])) *axis = a;
+    if (*axis < 0 || s->any_walls || !s->par.hard_core) return 0;
+    const double reach = 1.01 * (s->sigma_max + 4 * s->shell), length = s->box[*axis];
+    int n = 2 * (int)floor(length / (2 * 3 * reach)); /* three reaches wide: few groups cut */
+    if (n < 4) n = 2 * (int)floor(length / (2 * reach));
+    return n < 4 ? 0 : n < SPH_MAX_SLABS ? n : SPH_MAX_SLABS;
+}
+
+static void choose_slabs(hsbd_spheres *s, sph_groups *g) {
+    g->nslabs = sph_slabs(s, &g->slab_axis);
+    if (g->nslabs) g->slab_scale = g->nslabs / s->box[g->slab_axis];
+}
+
+/* Each group's slab (-1: not all its particles start in one), the slabs' lists of groups
+ * and their shares of the segment log. Returns 0, or -1 when out of memory. */
+static int plan_slabs(hsbd_spheres *s) {
+    sph_groups *g = s->groups;
+    size_t groups[SPH_MAX_SLABS] = {0}, segments[SPH_MAX_SLABS] = {0};
+    for (size_t a = 0; a < g->ngroups; ++a) {
+        const int32_t first = g->start[a], end = first + g->count[a];
+        int k = slab_of(s, g, g->by_i[first]);
+        for (int32_t h = first; h < end && k >= 0; ++h) {
+            const int32_t j = g->by_j[h]; /* a shell to move would stop the run */
+            if (slab_of(s, g, g->by_i[h]) != k || j == SPH_EVENT_SHELL ||
+                (j >= 0 && slab_of(s, g, j) != k))
+                k = -1;
+        }
+        g->group_slab[a] = k;
+        if (k < 0) continue;
+        groups[k]++;
+        /* at most count + 1 particles start a segment, two per collision: most runs */
+        segments[k] += 3 * (size_t)g->count[a] + 5;
+    }
+    g->slab_first[0] = 0;
+    g->slab_seg[0] = g->nseg;
+    for (int k = 0; k < g->nslabs; ++k) {
+        g->slab_first[k + 1] = g->slab_first[k] + groups[k];
+        g->slab_seg[k + 1] = g->slab_seg[k] + segments[k];
+        groups[k] = g->slab_first[k];
+    }
+    for (size_t a = 0; a < g->ngroups; ++a)
+        if (g->group_slab[a] >= 0) g->slab_groups[groups[g->group_slab[a]]++] = (int32_t)a;
+    const size_t need = g->slab_seg[g->nslabs];
+    if (need > g->seg_cap) {
+        if (grow_array(&g->seg, need, sizeof *g->seg)) return -1;
+        g->seg_cap = need;
+    }
+    return 0;
+}
+
+/* The groups of slab k, in order, in a worker's copies of the state. Returns 0, or -1
+ * when out of memory. */
+static int run_slab(hsbd_spheres *s, int k) {
+    sph_groups *g = s->groups;
+    g->slab = k;
+    g->nseg = g->slab_seg[k];
+    g->seg_cap = g->slab_seg[k + 1];
+    for (size_t q = g->slab_first[k]; q < g->slab_first[k + 1]; ++q) {
+        const int32_t a = g->slab_groups[q];
+        g->state[a] = GROUP_ACTIVE;
+        g->worker->lone_len = 0;
+        g->log_full = 0;
+        const int32_t rc = play_group(s, a);
+        if (rc == NO_JOIN) {
+            finish_group(g, a);
+            continue;
+        }
+        if (rc == OUT_OF_MEMORY && !g->log_full) return -1;
+        rewind_group(s, a); /* as if it had not run: its particles, its joins */
+        for (size_t l = 0; l < g->worker->lone_len; ++l)
+            g->parent[g->worker->lone[l]] = -1;
+        g->state[a] = GROUP_PENDING;
+    }
+    return 0;
+}
+
+/* A calendar and a row's hit buffers for each of `threads` workers. Returns 0 or -1. */
+static int reserve_workers(hsbd_spheres *s, int threads) {
+    sph_groups *g = s->groups;
+    if ((size_t)threads > g->nworkers) {
+        if (grow_array(&g->workers, (size_t)threads, sizeof *g->workers)) return -1;
+        for (size_t w = g->nworkers; w < (size_t)threads; ++w)
+            g->workers[w] = (sph_worker){0};
+        g->nworkers = (size_t)threads;
+    }
+    for (size_t w = 0; w < (size_t)threads; ++w) {
+        sph_worker *k = &g->workers[w];
+        if (k->scan_cap >= s->scan_cap) continue;
+        if (grow_array(&k->scan_j, s->scan_cap, sizeof *k->scan_j) ||
+            grow_array(&k->scan_t, s->scan_cap, sizeof *k->scan_t))
+            return -1;
+        k->scan_cap = s->scan_cap;
+    }
+    return 0;
+}
+
+/* The first pass: the even slabs on the threads, then the odd ones. Returns 0 or -1. */
+static int run_slabs(hsbd_spheres *s) {
+    sph_groups *g = s->groups;
+    const int threads = sph_threads(s);
+    if (plan_slabs(s) || reserve_workers(s, threads)) return -1;
+    uint64_t played = 0, replayed = 0, stale = 0;
+    int failed = 0;
+    for (int colour = 0; colour < 2 && !failed; ++colour) {
+        int next = colour; /* the next slab of this colour to take */
+#pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)                 \
+    reduction(+ : played, replayed, stale) reduction(| : failed)
+        for (int w = 0; w < threads; ++w) {
+            sph_worker *worker = &g->workers[w];
+            hsbd_spheres local = *s; /* shares every array; its own calendar and buffers */
+            sph_groups local_groups = *g;
+            local.groups = &local_groups;
+            local.calendar = worker->calendar;
+            local.scan_j = worker->scan_j;
+            local.scan_t = worker->scan_t;
+            local_groups.speculative = 1;
+            local_groups.worker = worker;
+            local_groups.played = local_groups.replayed = 0;
+            for (;;) {
+                int k;
+#pragma omp atomic capture
+                {
+                    k = next;
+                    next += 2;
+                }
+                if (k >= g->nslabs || failed) break;
+                failed |= run_slab(&local, k) != 0;
+            }
+            worker->calendar = local.calendar;
+            played += local_groups.played;
+            replayed += local_groups.replayed;
+            stale += local.stats.stale_events - s->stats.stale_events;
+        }
+    }
+    g->played += played;
+    g->replayed += replayed;
+    s->stats.stale_events += stale;
+    g->nseg = g->slab_seg[g->nslabs];
+    return failed ? -1 : 0;
+}
+
 int sph_groups_run(hsbd_spheres *s) {
     sph_groups *g = s->groups;
     forget_rewound(g); /* what a given-up or failed step left */
@@ -675,17 +892,24 @@ int sph_groups_run(hsbd_spheres *s) {
     if (largest < 0) return -1;
     if (automatic && largest * LARGEST_GROUP_SHARE > (long)g->nhits)
         return hand_to_global_calendar(s) ? -1 : 1;
+    choose_slabs(s, g);
+    if (g->nslabs && run_slabs(s)) return -1;
     for (size_t a = 0; a < g->ngroups; ++a) {
         if (g->state[a] != GROUP_PENDING) continue;
         const int rc = run_group(s, (int32_t)a);
         if (rc < 0) return -1;
         if (rc == 0) continue;
         for (size_t b = 0; b < g->ngroups; ++b) /* give up: the whole step back to its start */
-            if (g->state[b] == GROUP_DONE) undo_group(s, (int32_t)b);
+            if (g->state[b] == GROUP_DONE) rewind_group(s, (int32_t)b);
         g->pause = PAUSE_STEPS;
         return settle_moved_shells(s) || hand_to_global_calendar(s) ? -1 : 1;
     }
     if (settle_moved_shells(s)) return -1;
+    for (size_t a = 0; a < g->ngroups; ++a) /* in group order, whoever ran them */
+        if (g->state[a] == GROUP_DONE) {
+            s->stats.collisions += g->collisions[a];
+            s->stats.virial += g->virial[a];
+        }
     if (automatic && g->replayed * REPLAY_SHARE > g->played) g->pause = PAUSE_STEPS;
     return 0;
 }

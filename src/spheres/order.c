@@ -12,11 +12,43 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "spheres/groups.h"
 #include "spheres/order.h"
 
 /* Rank of each cell along the Z curve through the grid (cells outside the grid of the
- * next power-of-two size are skipped). */
-static int32_t *morton_cell_ranks(const hsbd_cells *c, int dim) {
+ * next power-of-two size are skipped); with the groups' slabs, slab by slab (a stable
+ * sort of the curve by the slab of each cell's middle), so that the first pass of the
+ * groups sweeps memory slab after slab. */
+/* The slab (of `slabs` along `axis`) holding the middle of cell k. */
+static int slab_of_cell(const hsbd_cells *c, int slabs, int axis, size_t stride, size_t k) {
+    const size_t index = k / stride % (size_t)c->nc[axis];
+    return (int)(((double)index + 0.5) * slabs / c->nc[axis]);
+}
+
+/* Ranks ordered by the slab of each cell first, the given rank second. Returns 0, or -1
+ * when out of memory. */
+static int group_by_slab(const hsbd_cells *c, int slabs, int axis, int32_t *rank) {
+    size_t start[SPH_MAX_SLABS + 1] = {0};
+    const size_t ncells = c->ncells, stride = axis == 0   ? 1
+                                              : axis == 1 ? (size_t)c->nc[0]
+                                                          : (size_t)c->nc[0] * c->nc[1];
+    for (size_t k = 0; k < ncells; ++k)
+        start[slab_of_cell(c, slabs, axis, stride, k) + 1]++;
+    for (int b = 0; b < slabs; ++b)
+        start[b + 1] += start[b];
+    int32_t *cell_at = malloc(ncells * sizeof *cell_at); /* the cells in rank order */
+    if (!cell_at) return -1;
+    for (size_t k = 0; k < ncells; ++k)
+        cell_at[rank[k]] = (int32_t)k;
+    for (size_t r = 0; r < ncells; ++r) {
+        const size_t k = (size_t)cell_at[r];
+        rank[k] = (int32_t)start[slab_of_cell(c, slabs, axis, stride, k)]++;
+    }
+    free(cell_at);
+    return 0;
+}
+
+static int32_t *morton_cell_ranks(const hsbd_cells *c, int dim, int slabs, int axis) {
     int32_t *rank = malloc(c->ncells * sizeof *rank);
     if (!rank) return NULL;
     int bits = 0;
@@ -33,6 +65,10 @@ static int32_t *morton_cell_ranks(const hsbd_cells *c, int dim) {
         rank[((size_t)k[2] * (size_t)c->nc[1] + (size_t)k[1]) * (size_t)c->nc[0] + (size_t)k[0]] =
             next++;
     }
+    if (slabs && group_by_slab(c, slabs, axis, rank)) {
+        free(rank);
+        return NULL;
+    }
     return rank;
 }
 
@@ -40,7 +76,9 @@ static int32_t *morton_cell_ranks(const hsbd_cells *c, int dim) {
  * Stable counting sort by the Z-curve rank of each particle's cell. */
 static int spatial_permutation(hsbd_spheres *s, int32_t *new_to_old) {
     const size_t n = s->n, nc = s->cells.ncells;
-    if (!s->cell_rank && !(s->cell_rank = morton_cell_ranks(&s->cells, s->dim))) return -1;
+    int axis, slabs = sph_slabs(s, &axis);
+    if (!s->cell_rank && !(s->cell_rank = morton_cell_ranks(&s->cells, s->dim, slabs, axis)))
+        return -1;
     uint32_t *start = calloc(nc + 1, sizeof *start);
     int32_t *rank_of = malloc(n * sizeof *rank_of);
     if (!start || !rank_of) {
