@@ -20,6 +20,11 @@ size_t sph_range_start(size_t n, int parts, int k);
 
 /* Sets s->start_flag for every particle from its start position, velocity and shell. */
 void sph_scan_leaving(hsbd_spheres *s, int threads);
+/* For each particle flagged SPH_LEAVES_SHELL, whose shell has moved (sph_shell_move), the
+ * centres within reach of its new one (itself included), as pairs (i, j) in
+ * s->hit_parts[0 .. threads), part k holding those of the k-th range of particles in
+ * order. Returns 0, or -1 when out of memory. */
+int sph_scan_moved_shells(hsbd_spheres *s, int threads);
 /* The half scan of all rows into s->hit_parts[0 .. threads), part k holding the hits of
  * the k-th range of rows in row order. Returns 0, or -1 when out of memory. */
 int sph_scan_pairs(hsbd_spheres *s, int threads);

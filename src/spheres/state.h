@@ -67,6 +67,12 @@ struct hsbd_spheres {
     size_t hit_nparts;
     int32_t *near; /* points found around one particle */
     size_t near_cap;
+    /* edits of the rows queued at the start of a step, applied on threads (neighbours.c):
+     * row op_row[k] gets op_value[k] added (>= 0) or -1 - op_value[k] removed */
+    int32_t *op_row, *op_value;
+    size_t op_len, op_cap;
+    uint32_t *op_adds;      /* per row: queued additions (0 outside the queue's life) */
+    uint32_t op_need;       /* the longest row once the queue is applied, at most */
     double *normals;        /* dim x n draws of a step */
     uint32_t noise_stream;  /* HSBD_STREAM_NOISE; the compression uses its own */
     uint32_t bridge_stream; /* HSBD_STREAM_CONTACT (wall bridges); the compression's own */
