@@ -111,6 +111,7 @@ typedef struct hsbd_config {
         int64_t replicas, replica;
         /* threads of one run (0: the cores the process may use) */
         int64_t threads;
+        int events; /* spheres: hsbd_spheres_event_order */
     } run;
     struct {
         double bin_width, contact_width, period;

@@ -179,8 +179,14 @@ const key_spec config_schema[] = {
     {"run", "threads", ALL_MODELS, K_INT, OFF(run.threads), 0, 1024, NO_HEADER, "0", 0,
      "threads of one run (hsbd run --threads N); 0: the cores the process may use. Rods: the "
      "noise, field and contact pushes in parallel, results identical for every count; "
-     "spheres: the noise, the start-of-step scan and the final move in parallel, the events "
-     "on one thread, results identical for every count (docs/scaling.md)"},
+     "spheres: the noise, the start-of-step scan and re-centring, the event groups (not the "
+     "global calendar) and the final move in parallel, results identical for every count "
+     "(docs/scaling.md)"},
+    {"run", "events", SPHERES, K_ENUM, OFF(run.events), 0, 0, 0, "auto", "auto|global|groups",
+     "spheres: how a step's events run: one time-ordered calendar for the whole box (global), "
+     "group by group (groups: cache-friendly for large N, and on threads), or auto (groups "
+     "from N = 131072 unless they grow too large); the same trajectories either way, the "
+     "virial summed in another order (docs/spheres.md)"},
     {"sample", "bin_width", ALL_MODELS, K_DOUBLE, OFF(sample.bin_width), 0, INF,
      OPEN_MIN | OPEN_MAX, "1e-2", 0,
      "density bin width Delta_x (Eq. 24); must divide sample.period (spheres: of the profiles "

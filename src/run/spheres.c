@@ -156,6 +156,7 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .field = cfg->field.type ? &m->field : NULL,
                              .field_axis = cfg->field.axis,
                              .particle_coupling = m->coupling,
+                             .event_order = (hsbd_spheres_event_order)cfg->run.events,
                              .threads = cfg->run.threads > 0 ? (int)cfg->run.threads
                                                              : hsbd_threads_available()};
     for (int a = 0; a < 3; ++a)

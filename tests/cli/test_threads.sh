@@ -115,9 +115,9 @@ for c in "${cases[@]}"; do
     same_on_threads "$name" "$cfg" $extra
 done
 # Spheres: 1, 2 and 4 threads give byte-identical tables (g(r), MSD, F_s, profiles) and
-# summary.json: a fluid and a mixture between walls with gravity. At N 4000 (above the
-# engine's threshold for threads, 2048 particles) the events run through the global
-# calendar; tests/unit/test_spheres.c checks the groups on threads too.
+# summary.json: a fluid (its events through the global calendar, and group by group,
+# whose first pass runs on threads), and a mixture between walls with gravity. N 4000 is
+# above the engine's threshold for threads (2048 particles).
 cat >spheres.ini <<'INI'
 [system]
 model = spheres
@@ -160,6 +160,15 @@ blocks = 4
 bin_width = 0.5
 INI
 same_on_threads spheres spheres.ini
+same_on_threads spheres-groups spheres.ini --set run.events=groups
+# the groups give the global calendar's trajectories: the same tables but for the line
+# that names run.events
+same=1
+for f in spheres-1/*.tsv; do
+    cmp -s <(grep -v 'run.events' "$f") <(grep -v 'run.events' "spheres-groups-1/$(basename "$f")") ||
+        { same=0; bad "spheres: $(basename "$f") differs between run.events = auto and groups"; }
+done
+[ $same -eq 1 ] && ok
 same_on_threads spheres-walls spheres-walls.ini
 
 echo "test_threads: $pass passed, $fail failed"
