@@ -126,17 +126,21 @@ typedef struct sphere_bench_case {
     size_t n;
     double phi, dt;
     int sediment; /* walls at z = 0 and L, gravity force -0.5 kT / sigma along z */
+    hsbd_spheres_event_order events;
 } sphere_bench_case;
 
 static const sphere_bench_case sphere_bench_cases[] = {
-    {"spheres-N4000-phi0.3-dt1e-3", 4000, 0.3, 1e-3, 0},
-    {"spheres-N4000-phi0.3-dt1e-3-sediment", 4000, 0.3, 1e-3, 1},
-    {"spheres-N4000-phi0.3-dt1e-4", 4000, 0.3, 1e-4, 0},
-    {"spheres-N4000-phi0.5-dt1e-3", 4000, 0.5, 1e-3, 0},
-    {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4, 0},
-    {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3, 0},
-    {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4, 0},
-    {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3, 0}, /* scaling in N; events by group */
+    {"spheres-N4000-phi0.3-dt1e-3", 4000, 0.3, 1e-3, 0, HSBD_EVENTS_AUTO},
+    {"spheres-N4000-phi0.3-dt1e-3-sediment", 4000, 0.3, 1e-3, 1, HSBD_EVENTS_AUTO},
+    {"spheres-N4000-phi0.3-dt1e-4", 4000, 0.3, 1e-4, 0, HSBD_EVENTS_AUTO},
+    {"spheres-N4000-phi0.5-dt1e-3", 4000, 0.5, 1e-3, 0, HSBD_EVENTS_AUTO},
+    {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4, 0, HSBD_EVENTS_AUTO},
+    {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3, 0, HSBD_EVENTS_AUTO},
+    /* the same with the events group by group (run.events = groups), which run on threads */
+    {"spheres-N1e5-phi0.3-dt1e-3-groups", 100000, 0.3, 1e-3, 0, HSBD_EVENTS_GROUPS},
+    {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4, 0, HSBD_EVENTS_AUTO},
+    {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3, 0,
+     HSBD_EVENTS_AUTO}, /* scaling in N; events by group */
 };
 
 /* The case's system on `threads` threads after 0.3 Brownian times of warm-up from the
@@ -159,6 +163,7 @@ static hsbd_spheres *sphere_bench_system(const sphere_bench_case *c, int hard_co
                                    .walls = {0, 0, c->sediment},
                                    .field = c->sediment ? gravity : NULL,
                                    .field_axis = 2,
+                                   .event_order = c->events,
                                    .threads = threads};
     hsbd_error err;
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
