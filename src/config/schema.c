@@ -179,8 +179,8 @@ const key_spec config_schema[] = {
     {"run", "threads", ALL_MODELS, K_INT, OFF(run.threads), 0, 1024, NO_HEADER, "0", 0,
      "threads of one run (hsbd run --threads N); 0: the cores the process may use. Rods: the "
      "noise, field and contact pushes in parallel, results identical for every count; "
-     "spheres: the noise, the start-of-step scan and re-centring, the event groups (not the "
-     "global calendar) and the final move in parallel, results identical for every count "
+     "spheres: the noise, the start-of-step scan, the event groups (not the global calendar) "
+     "and the final move in parallel, results identical for every count "
      "(docs/scaling.md)"},
     {"run", "events", SPHERES, K_ENUM, OFF(run.events), 0, 0, 0, "auto", "auto|global|groups",
      "spheres: how a step's events run: one time-ordered calendar for the whole box (global), "

@@ -139,9 +139,6 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->nb_upper);
     free(s->nb);
     free(s->near);
-    free(s->op_row);
-    free(s->op_value);
-    free(s->op_adds);
     free(s->scan_j);
     free(s->scan_t);
     free(s->start_flag);
@@ -439,32 +436,6 @@ static int start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_
     return grouped ? sph_groups_add_hit(s, t, i, j) : sph_push_event(s, t, i, j);
 }
 
-/* Re-centres the shells of the particles whose straight end points would leave them:
- * every such shell out of its rows and into its new cell, then the search for its new
- * neighbours on threads, then their pairs into the rows, each pair once, in particle
- * order (the rows then hold the same pairs for any number of threads). Returns 0, or -1
- * when out of memory. */
-static int recentre_leaving(hsbd_spheres *s, int threads) {
-    const size_t n = s->n;
-    const uint8_t *flag = s->start_flag;
-    if (sph_queue_begin(s)) return -1;
-    for (size_t i = 0; i < n; ++i)
-        if ((flag[i] & SPH_LEAVES_SHELL) &&
-            sph_queue_shell_move(s, (int32_t)i, flag, SPH_LEAVES_SHELL))
-            return -1;
-    if (sph_scan_moved_shells(s, threads)) return -1;
-    for (int p = 0; p < threads; ++p) {
-        const sph_hits *h = &s->hit_parts[p];
-        for (size_t k = 0; k < h->len; ++k) {
-            const int32_t i = h->i[k], j = h->j[k];
-            /* two moved shells: the pair comes from the smaller index's search */
-            if (j == i || ((flag[j] & SPH_LEAVES_SHELL) && j < i)) continue;
-            if (sph_queue_pair(s, i, j)) return -1;
-        }
-    }
-    return sph_queue_apply(s, threads);
-}
-
 /* Re-centre the shells of particles whose straight end point would leave them, then
  * predict every neighbour pair once (half scan) and the rare shell exits. Returns 0, or
  * -1 when out of memory. */
@@ -472,11 +443,11 @@ static int start_step_events(hsbd_spheres *s, int grouped) {
     const size_t n = s->n;
     const int threads = sph_threads(s);
     if (!grouped && sph_calendar_start(&s->calendar, s->dt)) return -1;
-    sph_scan_leaving(s, threads); /* the start positions, velocities and shells */
-    if (recentre_leaving(s, threads)) return -1;
-    for (size_t i = 0; i < n; ++i) {
+    sph_scan_leaving(s, threads);    /* the start positions, velocities and shells */
+    for (size_t i = 0; i < n; ++i) { /* in order: a re-centring changes others' rows */
         if (!s->start_flag[i]) continue;
         if (s->start_flag[i] & SPH_LEAVES_SHELL) {
+            if (sph_recentre(s, (int32_t)i)) return -1;
             const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
             if (exit >= 0 && start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
         }

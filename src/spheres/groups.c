@@ -740,17 +740,6 @@ static int hand_to_global_calendar(hsbd_spheres *s) {
  * neither do the results: the positions are those of the global calendar (docs/spheres.md,
  * "Threads"), and the sums are taken in group order at the end. */
 
-int sph_slabs(const hsbd_spheres *s, int *axis) {
-    *axis = -1; /* the last axis is the slowest along the Z curve (order.c) */
-    for (int a = 0; a < s->dim; ++a)
-        if (!s->walls[a] && (*axis < 0 || s->box[a] >= s->box[*axis])) *axis = a;
-    if (*axis < 0 || s->any_walls || !s->par.hard_core) return 0;
-    const double reach = 1.01 * (s->sigma_max + 4 * s->shell), length = s->box[*axis];
-    int n = 2 * (int)floor(length / (2 * 3 * reach)); /* three reaches wide: few groups cut */
-    if (n < 4) n = 2 * (int)floor(length / (2 * reach));
-    return n < 4 ? 0 : n < SPH_MAX_SLABS ? n : SPH_MAX_SLABS;
-}
-
 static void choose_slabs(hsbd_spheres *s, sph_groups *g) {
     g->nslabs = sph_slabs(s, &g->slab_axis);
     if (g->nslabs) g->slab_scale = g->nslabs / s->box[g->slab_axis];

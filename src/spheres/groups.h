@@ -26,12 +26,6 @@ void sph_groups_abandon(hsbd_spheres *s);
 /* AUTO: the steps left on the global calendar (part of a checkpoint), and setting it */
 unsigned sph_groups_pause(const hsbd_spheres *s);
 int sph_groups_set_pause(hsbd_spheres *s, unsigned pause);
-/* The slabs of the groups' first pass, on threads (groups.c): an even number, 4 to
- * SPH_MAX_SLABS, of equal slabs along periodic axis *axis, or 0 when there is no first
- * pass (walls, a small box). Fixed for a system: the spatial order (order.c) keeps each
- * slab's particles together in memory. */
-enum { SPH_MAX_SLABS = 64 };
-int sph_slabs(const hsbd_spheres *s, int *axis);
 /* Frees the groups' state (NULL allowed). */
 void sph_groups_free(sph_groups *g);
 

@@ -4,8 +4,6 @@
  * cell grid of the centres, re-centring one shell, and a full rebuild. */
 #include "spheres/neighbours.h"
 
-#include "spheres/scan.h"
-
 #include <stdlib.h>
 #include <string.h>
 
@@ -39,8 +37,9 @@ static int nb_grow(hsbd_spheres *s) {
 }
 
 /* Row i holds its neighbours j > i first (nb_upper of them), then the others: the
- * per-step half scan then runs without a branch per entry. Row i has room for j. */
-static void nb_put(hsbd_spheres *s, int32_t i, int32_t j) {
+ * per-step half scan then runs without a branch per entry. */
+int sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
+    if (s->nb_count[i] == s->nb_cap && nb_grow(s)) return -1;
     int32_t *row = s->nb + (size_t)i * s->nb_cap;
     const uint32_t c = s->nb_count[i]++;
     if (j > i) {
@@ -50,11 +49,6 @@ static void nb_put(hsbd_spheres *s, int32_t i, int32_t j) {
     } else {
         row[c] = j;
     }
-}
-
-int sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
-    if (s->nb_count[i] == s->nb_cap && nb_grow(s)) return -1;
-    nb_put(s, i, j);
     return 0;
 }
 
@@ -99,13 +93,13 @@ static int add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
     if (sph_shells_near(s, &s->cells, s->sigma, i, &found)) return -1;
     for (uint32_t k = 0; k < found; ++k) {
         const int32_t j = s->near[k];
-        if (j == i || (upper_only && j < i)) continue;
+        if (upper_only && j <= i) continue;
         if (sph_nb_add(s, i, j) || sph_nb_add(s, j, i)) return -1;
     }
     return 0;
 }
 
-int sph_shell_move(hsbd_spheres *s, int32_t i) {
+int sph_recentre(hsbd_spheres *s, int32_t i) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     for (uint32_t k = 0; k < s->nb_count[i]; ++k)
         sph_nb_remove(s, row[k], i);
@@ -113,88 +107,8 @@ int sph_shell_move(hsbd_spheres *s, int32_t i) {
     hsbd_cells_remove(&s->cells, i);
     sph_set_centre(s, i);
     s->stats.shell_updates++;
+    if (add_shell_neighbours(s, i, 0)) return -1;
     return hsbd_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i);
-}
-
-/* ---- edits of many rows at once ----
- * The shells moved at the start of a step edit the rows of their old and new neighbours,
- * scattered in memory. The edits are queued in particle order and then applied on
- * threads, each thread to the rows of its range of particles in queue order: every row
- * sees the same sequence of edits as one thread would make. */
-
-static int queue_op(hsbd_spheres *s, int32_t row, int32_t value) {
-    if (s->op_len == s->op_cap) {
-        const size_t cap = s->op_cap ? 2 * s->op_cap : 4096;
-        int32_t *r = realloc(s->op_row, cap * sizeof *r);
-        if (r) s->op_row = r;
-        int32_t *v = r ? realloc(s->op_value, cap * sizeof *v) : NULL;
-        if (!v) return -1;
-        s->op_value = v;
-        s->op_cap = cap;
-    }
-    s->op_row[s->op_len] = row;
-    s->op_value[s->op_len++] = value;
-    return 0;
-}
-
-int sph_queue_begin(hsbd_spheres *s) {
-    for (size_t k = 0; k < s->op_len; ++k) /* a queue left by a failed step */
-        s->op_adds[s->op_row[k]] = 0;
-    s->op_len = 0;
-    s->op_need = 0;
-    if (!s->op_adds && !(s->op_adds = calloc(s->n, sizeof *s->op_adds))) return -1;
-    return 0;
-}
-
-int sph_queue_shell_move(hsbd_spheres *s, int32_t i, const uint8_t *moving, uint8_t bit) {
-    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
-    for (uint32_t k = 0; k < s->nb_count[i]; ++k) /* a moving neighbour's row is emptied */
-        if (!(moving[row[k]] & bit) && queue_op(s, row[k], -1 - i)) return -1;
-    s->nb_count[i] = s->nb_upper[i] = 0;
-    hsbd_cells_remove(&s->cells, i);
-    sph_set_centre(s, i);
-    s->stats.shell_updates++;
-    return hsbd_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i);
-}
-
-/* Row `row` gets `value` added, after the edits queued before. */
-static int queue_add(hsbd_spheres *s, int32_t row, int32_t value) {
-    const uint32_t need = s->nb_count[row] + ++s->op_adds[row];
-    if (need > s->op_need) s->op_need = need;
-    return queue_op(s, row, value);
-}
-
-int sph_queue_pair(hsbd_spheres *s, int32_t i, int32_t j) {
-    return queue_add(s, i, j) || queue_add(s, j, i) ? -1 : 0;
-}
-
-/* The queued edits of rows [lo, hi), in queue order. */
-static void apply_range(hsbd_spheres *s, size_t lo, size_t hi) {
-    for (size_t k = 0; k < s->op_len; ++k) {
-        const size_t row = (size_t)s->op_row[k];
-        if (row < lo || row >= hi) continue;
-        const int32_t value = s->op_value[k];
-        if (value >= 0) {
-            nb_put(s, (int32_t)row, value);
-            s->op_adds[row] = 0;
-        } else {
-            sph_nb_remove(s, (int32_t)row, -1 - value);
-        }
-    }
-}
-
-int sph_queue_apply(hsbd_spheres *s, int threads) {
-    while (s->op_need > s->nb_cap) /* room first: the rows move when they grow */
-        if (nb_grow(s)) return -1;
-#pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)
-    for (int k = 0; k < threads; ++k)
-        apply_range(s, sph_range_start(s->n, threads, k), sph_range_start(s->n, threads, k + 1));
-    s->op_len = 0;
-    return 0;
-}
-
-int sph_recentre(hsbd_spheres *s, int32_t i) {
-    return sph_shell_move(s, i) || add_shell_neighbours(s, i, 0) ? -1 : 0;
 }
 
 int sph_rebuild_rows(hsbd_spheres *s) {

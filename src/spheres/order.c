@@ -12,7 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "spheres/groups.h"
 #include "spheres/order.h"
 
 /* Rank of each cell along the Z curve through the grid (cells outside the grid of the

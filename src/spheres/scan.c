@@ -8,10 +8,6 @@ int sph_threads(const hsbd_spheres *s) {
     return s->threads > 1 && s->n >= SPH_THREADS_MIN_N ? s->threads : 1;
 }
 
-size_t sph_range_start(size_t n, int parts, int k) {
-    return n * (size_t)k / (size_t)parts; /* n < 2^31, k <= parts <= 1024: no overflow */
-}
-
 /* Whether i's straight path from its start leaves the room between the walls: only if
  * its end point does (the room is convex); after the bridge pushes, rarely. */
 static int leaves_walls(const hsbd_spheres *s, size_t i) {
@@ -74,54 +70,15 @@ static int scan_rows(const hsbd_spheres *s, const sph_scan_query *q, size_t i0, 
     return 0;
 }
 
-/* One hit buffer per thread. Returns 0, or -1 when out of memory. */
-static int reserve_parts(hsbd_spheres *s, int threads) {
-    if ((size_t)threads <= s->hit_nparts) return 0;
-    sph_hits *parts = realloc(s->hit_parts, (size_t)threads * sizeof *parts);
-    if (!parts) return -1;
-    for (size_t k = s->hit_nparts; k < (size_t)threads; ++k)
-        parts[k] = (sph_hits){0};
-    s->hit_parts = parts;
-    s->hit_nparts = (size_t)threads;
-    return 0;
-}
-
-/* The centres near the moved shell of each flagged particle i of [i0, i1), as pairs
- * (i, j) in h (i itself among them). Returns 0, or -1 when out of memory. */
-static int near_moved_shells(const hsbd_spheres *s, size_t i0, size_t i1, sph_hits *h) {
-    const size_t room = 27 * (size_t)s->cells.cap + SPH_NEAR_PAD;
-    for (size_t i = i0; i < i1; ++i) {
-        if (!(s->start_flag[i] & SPH_LEAVES_SHELL)) continue;
-        if (hits_reserve(h, room)) return -1;
-        const double *c = s->centre + 3 * i;
-        int32_t around[27];
-        const int cells = hsbd_cells_around(&s->cells, c, around);
-        const uint32_t found = s->cells_near(&s->cells, around, cells, c, s->box, s->sigma,
-                                             0.5 * s->sigma[i] + 2 * s->shell, h->j + h->len);
-        for (uint32_t k = 0; k < found; ++k)
-            h->i[h->len + k] = (int32_t)i;
-        h->len += found;
-    }
-    return 0;
-}
-
-int sph_scan_moved_shells(hsbd_spheres *s, int threads) {
-    if (reserve_parts(s, threads)) return -1;
-    int failed = 0;
-#pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)                 \
-    reduction(|                                                                                    \
-              : failed)
-    for (int k = 0; k < threads; ++k) {
-        sph_hits *h = &s->hit_parts[k];
-        h->len = 0;
-        failed |= near_moved_shells(s, sph_range_start(s->n, threads, k),
-                                    sph_range_start(s->n, threads, k + 1), h) != 0;
-    }
-    return failed ? -1 : 0;
-}
-
 int sph_scan_pairs(hsbd_spheres *s, int threads) {
-    if (reserve_parts(s, threads)) return -1;
+    if ((size_t)threads > s->hit_nparts) {
+        sph_hits *parts = realloc(s->hit_parts, (size_t)threads * sizeof *parts);
+        if (!parts) return -1;
+        for (size_t k = s->hit_nparts; k < (size_t)threads; ++k)
+            parts[k] = (sph_hits){0};
+        s->hit_parts = parts;
+        s->hit_nparts = (size_t)threads;
+    }
     const sph_scan_query q = {.x = s->x,
                               .v = s->v,
                               .sigma = s->sigma,

@@ -15,16 +15,9 @@ enum { SPH_LEAVES_SHELL = 1, SPH_LEAVES_WALLS = 2 };
  * (a parallel region costs a few microseconds), else one. */
 enum { SPH_THREADS_MIN_N = 2048 };
 int sph_threads(const hsbd_spheres *s);
-/* The first particle of range k of `parts` (nearly) equal ranges of [0, n). */
-size_t sph_range_start(size_t n, int parts, int k);
 
 /* Sets s->start_flag for every particle from its start position, velocity and shell. */
 void sph_scan_leaving(hsbd_spheres *s, int threads);
-/* For each particle flagged SPH_LEAVES_SHELL, whose shell has moved (sph_shell_move), the
- * centres within reach of its new one (itself included), as pairs (i, j) in
- * s->hit_parts[0 .. threads), part k holding those of the k-th range of particles in
- * order. Returns 0, or -1 when out of memory. */
-int sph_scan_moved_shells(hsbd_spheres *s, int threads);
 /* The half scan of all rows into s->hit_parts[0 .. threads), part k holding the hits of
  * the k-th range of rows in row order. Returns 0, or -1 when out of memory. */
 int sph_scan_pairs(hsbd_spheres *s, int threads);

@@ -67,12 +67,6 @@ struct hsbd_spheres {
     size_t hit_nparts;
     int32_t *near; /* points found around one particle */
     size_t near_cap;
-    /* edits of the rows queued at the start of a step, applied on threads (neighbours.c):
-     * row op_row[k] gets op_value[k] added (>= 0) or -1 - op_value[k] removed */
-    int32_t *op_row, *op_value;
-    size_t op_len, op_cap;
-    uint32_t *op_adds;      /* per row: queued additions (0 outside the queue's life) */
-    uint32_t op_need;       /* the longest row once the queue is applied, at most */
     double *normals;        /* dim x n draws of a step */
     uint32_t noise_stream;  /* HSBD_STREAM_NOISE; the compression uses its own */
     uint32_t bridge_stream; /* HSBD_STREAM_CONTACT (wall bridges); the compression's own */
@@ -140,6 +134,29 @@ static inline void sph_set_centre(hsbd_spheres *s, int32_t i) {
     double *c = s->centre + 3 * (size_t)i;
     for (int a = 0; a < 3; ++a)
         c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
+}
+
+/* The first particle of range k of `parts` (nearly) equal ranges of [0, n) (threads). */
+static inline size_t sph_range_start(size_t n, int parts, int k) {
+    return n * (size_t)k / (size_t)parts; /* n < 2^31, k <= parts <= 1024: no overflow */
+}
+
+/* The slabs of the groups' first pass on threads (groups.c, docs/spheres.md "Threads"):
+ * an even number, 4 to SPH_MAX_SLABS, of equal slabs along the periodic axis *axis, or 0
+ * when there is no first pass (walls, no hard core, a small box). Fixed for a system: the
+ * spatial order (order.c) keeps each slab's particles together in memory. */
+enum { SPH_MAX_SLABS = 64 };
+static inline int sph_slabs(const hsbd_spheres *s, int *axis) {
+    *axis = -1; /* the last axis is the slowest along the Z curve (order.c) */
+    for (int a = 0; a < s->dim; ++a)
+        if (!s->walls[a] && (*axis < 0 || s->box[a] >= s->box[*axis])) *axis = a;
+    if (*axis < 0 || s->any_walls || !s->par.hard_core) return 0;
+    /* a neighbour pair's reach at the start of a step, sigma_max + 4 shell; slabs three
+     * reaches wide cut few groups, one reach is the least */
+    const double reach = 1.01 * (s->sigma_max + 4 * s->shell), length = s->box[*axis];
+    int n = 2 * (int)floor(length / (2 * 3 * reach));
+    if (n < 4) n = 2 * (int)floor(length / (2 * reach));
+    return n < 4 ? 0 : n < SPH_MAX_SLABS ? n : SPH_MAX_SLABS;
 }
 
 /* Events of particle i with wall w (2 axis + side) have j = sph_wall_event(w). */
