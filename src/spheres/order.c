@@ -14,10 +14,6 @@
 
 #include "spheres/order.h"
 
-/* Rank of each cell along the Z curve through the grid (cells outside the grid of the
- * next power-of-two size are skipped); with the groups' slabs, slab by slab (a stable
- * sort of the curve by the slab of each cell's middle), so that the first pass of the
- * groups sweeps memory slab after slab. */
 /* The slab (of `slabs` along `axis`) holding the middle of cell k. */
 static int slab_of_cell(const hsbd_cells *c, int slabs, int axis, size_t stride, size_t k) {
     const size_t index = k / stride % (size_t)c->nc[axis];
@@ -47,6 +43,10 @@ static int group_by_slab(const hsbd_cells *c, int slabs, int axis, int32_t *rank
     return 0;
 }
 
+/* Rank of each cell along the Z curve through the grid (cells outside the grid of the
+ * next power-of-two size are skipped); with the groups' slabs, slab by slab (a stable
+ * sort of the curve by the slab of each cell's middle), so that the first pass of the
+ * groups sweeps memory slab after slab. */
 static int32_t *morton_cell_ranks(const hsbd_cells *c, int dim, int slabs, int axis) {
     int32_t *rank = malloc(c->ncells * sizeof *rank);
     if (!rank) return NULL;
