@@ -81,7 +81,7 @@ struct sph_groups {
     int32_t *group_slab;   /* per group: the slab holding all its particles, or -1 */
     int32_t *slab_groups;  /* the groups of slab k in order, from slab_first[k] */
     size_t slab_first[SPH_MAX_SLABS + 1];
-    size_t slab_seg[SPH_MAX_SLABS + 1]; /* slab k logs its segments in [slab_seg[k], [k + 1]) */
+    size_t slab_seg[SPH_MAX_SLABS + 1]; /* slab k logs in [slab_seg[k], slab_seg[k + 1]) */
     sph_worker *workers;
     size_t nworkers;
     /* set in a worker's copy of this struct: the slab it runs; a run that would reach
