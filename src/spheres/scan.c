@@ -8,6 +8,10 @@ int sph_threads(const hsbd_spheres *s) {
     return s->threads > 1 && s->n >= SPH_THREADS_MIN_N ? s->threads : 1;
 }
 
+size_t sph_range_start(size_t n, int parts, int k) {
+    return n * (size_t)k / (size_t)parts; /* n < 2^31, k <= parts <= 1024: no overflow */
+}
+
 /* Whether i's straight path from its start leaves the room between the walls: only if
  * its end point does (the room is convex); after the bridge pushes, rarely. */
 static int leaves_walls(const hsbd_spheres *s, size_t i) {

@@ -15,6 +15,8 @@ enum { SPH_LEAVES_SHELL = 1, SPH_LEAVES_WALLS = 2 };
  * (a parallel region costs a few microseconds), else one. */
 enum { SPH_THREADS_MIN_N = 2048 };
 int sph_threads(const hsbd_spheres *s);
+/* The first particle of range k of `parts` (nearly) equal ranges of [0, n). */
+size_t sph_range_start(size_t n, int parts, int k);
 
 /* Sets s->start_flag for every particle from its start position, velocity and shell. */
 void sph_scan_leaving(hsbd_spheres *s, int threads);

@@ -136,11 +136,6 @@ static inline void sph_set_centre(hsbd_spheres *s, int32_t i) {
         c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
 }
 
-/* The first particle of range k of `parts` (nearly) equal ranges of [0, n) (threads). */
-static inline size_t sph_range_start(size_t n, int parts, int k) {
-    return n * (size_t)k / (size_t)parts; /* n < 2^31, k <= parts <= 1024: no overflow */
-}
-
 /* The slabs of the groups' first pass on threads (groups.c, docs/spheres.md "Threads"):
  * an even number, 4 to SPH_MAX_SLABS, of equal slabs along the periodic axis *axis, or 0
  * when there is no first pass (walls, no hard core, a small box). Fixed for a system: the
