@@ -138,7 +138,11 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->nb_count);
     free(s->nb_upper);
     free(s->nb);
-    free(s->near);
+    free(s->near.id);
+    for (size_t k = 0; k < s->near_nparts; ++k)
+        free(s->near_parts[k].id);
+    free(s->near_parts);
+    free(s->leaving);
     free(s->scan_j);
     free(s->scan_t);
     free(s->start_flag);
@@ -304,7 +308,8 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->scan_t = malloc(s->scan_cap * sizeof *s->scan_t);
         s->x_start = malloc(3 * n * sizeof *s->x_start);
         s->start_flag = malloc(n * sizeof *s->start_flag);
-        if (!s->scan_j || !s->scan_t || !s->x_start || !s->start_flag) goto oom;
+        s->leaving = malloc(n * sizeof *s->leaving);
+        if (!s->scan_j || !s->scan_t || !s->x_start || !s->start_flag || !s->leaving) goto oom;
         if (!params->keep_order) { /* the view's user-order copies */
             s->sort_enabled = 1;
             s->sort_clock = INFINITY; /* sort before the first step */
@@ -443,11 +448,11 @@ static int start_step_events(hsbd_spheres *s, int grouped) {
     const size_t n = s->n;
     const int threads = sph_threads(s);
     if (!grouped && sph_calendar_start(&s->calendar, s->dt)) return -1;
-    sph_scan_leaving(s, threads);    /* the start positions, velocities and shells */
-    for (size_t i = 0; i < n; ++i) { /* in order: a re-centring changes others' rows */
+    sph_scan_leaving(s, threads); /* the start positions, velocities and shells */
+    if (sph_move_leaving_shells(s, threads)) return -1;
+    for (size_t i = 0; i < n; ++i) {
         if (!s->start_flag[i]) continue;
         if (s->start_flag[i] & SPH_LEAVES_SHELL) {
-            if (sph_recentre(s, (int32_t)i)) return -1;
             const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
             if (exit >= 0 && start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
         }

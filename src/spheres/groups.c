@@ -443,12 +443,12 @@ static int recentre_adding(hsbd_spheres *s, int32_t i) {
     sph_set_centre(s, i);
     s->stats.shell_updates++;
     uint32_t found;
-    if (sph_shells_near(s, &s->cells, s->sigma, i, &found)) return -1;
+    if (sph_shells_near(s, &s->cells, s->sigma, i, &s->near, &found)) return -1;
     for (uint32_t k = 0; k < found; ++k)
-        if (add_pair_once(s, i, s->near[k])) return -1;
-    if (sph_shells_near(s, &g->extra, g->extra_sigma, i, &found)) return -1;
+        if (add_pair_once(s, i, s->near.id[k])) return -1;
+    if (sph_shells_near(s, &g->extra, g->extra_sigma, i, &s->near, &found)) return -1;
     for (uint32_t k = 0; k < found; ++k)
-        if (add_pair_once(s, i, g->extra_particle[s->near[k]])) return -1;
+        if (add_pair_once(s, i, g->extra_particle[s->near.id[k]])) return -1;
     return add_extra_shell(s, i);
 }
 

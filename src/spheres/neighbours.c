@@ -70,45 +70,64 @@ void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
 }
 
 int sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *point_sigma, int32_t i,
-                    uint32_t *found) {
+                    sph_near *out, uint32_t *found) {
     const size_t room = 27 * (size_t)cells->cap + SPH_NEAR_PAD;
-    if (room > s->near_cap) {
-        int32_t *near = realloc(s->near, room * sizeof *near);
-        if (!near) return -1;
-        s->near = near;
-        s->near_cap = room;
+    if (room > out->cap) {
+        int32_t *id = realloc(out->id, room * sizeof *id);
+        if (!id) return -1;
+        out->id = id;
+        out->cap = room;
     }
     const double *ci = s->centre + 3 * (size_t)i;
     int32_t around[27];
     const int nc = hsbd_cells_around(cells, ci, around);
     *found = s->cells_near(cells, around, nc, ci, s->box, point_sigma,
-                           0.5 * s->sigma[i] + 2 * s->shell, s->near);
+                           0.5 * s->sigma[i] + 2 * s->shell, out->id);
     return 0;
 }
 
-/* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
- * sigma_ij + 2 shell (j > i only when upper_only), to both rows. */
-static int add_shell_neighbours(hsbd_spheres *s, int32_t i, int upper_only) {
-    uint32_t found;
-    if (sph_shells_near(s, &s->cells, s->sigma, i, &found)) return -1;
-    for (uint32_t k = 0; k < found; ++k) {
-        const int32_t j = s->near[k];
-        if (upper_only && j <= i) continue;
-        if (sph_nb_add(s, i, j) || sph_nb_add(s, j, i)) return -1;
-    }
-    return 0;
-}
-
-int sph_recentre(hsbd_spheres *s, int32_t i) {
+void sph_shell_lift(hsbd_spheres *s, int32_t i) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     for (uint32_t k = 0; k < s->nb_count[i]; ++k)
         sph_nb_remove(s, row[k], i);
     s->nb_count[i] = s->nb_upper[i] = 0;
     hsbd_cells_remove(&s->cells, i);
     sph_set_centre(s, i);
-    s->stats.shell_updates++;
-    if (add_shell_neighbours(s, i, 0)) return -1;
+}
+
+int sph_shell_fits(const hsbd_spheres *s, int32_t i, const int32_t *near, uint32_t found) {
+    int fits =
+        found <= s->nb_cap &&
+        s->cells.count[hsbd_cells_index(&s->cells, s->centre + 3 * (size_t)i)] < s->cells.cap;
+    for (uint32_t k = 0; k < found; ++k) /* no early exit: almost every row has room */
+        fits &= s->nb_count[near[k]] < s->nb_cap;
+    return fits;
+}
+
+int sph_shell_land(hsbd_spheres *s, int32_t i, const int32_t *near, uint32_t found) {
+    for (uint32_t k = 0; k < found; ++k)
+        if (sph_nb_add(s, i, near[k]) || sph_nb_add(s, near[k], i)) return -1;
     return hsbd_cells_insert(&s->cells, i, s->centre + 3 * (size_t)i);
+}
+
+/* Adds i's pairs with the points in the cells whose shells overlap i's, |c_i - c_j| <
+ * sigma_ij + 2 shell (j > i only), to both rows. */
+static int add_upper_neighbours(hsbd_spheres *s, int32_t i) {
+    uint32_t found;
+    if (sph_shells_near(s, &s->cells, s->sigma, i, &s->near, &found)) return -1;
+    for (uint32_t k = 0; k < found; ++k) {
+        const int32_t j = s->near.id[k];
+        if (j > i && (sph_nb_add(s, i, j) || sph_nb_add(s, j, i))) return -1;
+    }
+    return 0;
+}
+
+int sph_recentre(hsbd_spheres *s, int32_t i) {
+    sph_shell_lift(s, i);
+    s->stats.shell_updates++;
+    uint32_t found;
+    if (sph_shells_near(s, &s->cells, s->sigma, i, &s->near, &found)) return -1;
+    return sph_shell_land(s, i, s->near.id, found);
 }
 
 int sph_rebuild_rows(hsbd_spheres *s) {
@@ -120,7 +139,7 @@ int sph_rebuild_rows(hsbd_spheres *s) {
     for (size_t i = 0; i < s->n; ++i)
         if (hsbd_cells_insert(&s->cells, (int32_t)i, s->centre + 3 * i)) return HSBD_ENOMEM;
     for (size_t i = 0; i < s->n; ++i)
-        if (add_shell_neighbours(s, (int32_t)i, 1)) return HSBD_ENOMEM;
+        if (add_upper_neighbours(s, (int32_t)i)) return HSBD_ENOMEM;
     s->nb_stale = 0;
     return HSBD_OK;
 }

@@ -1,6 +1,9 @@
 #include "spheres/scan.h"
 
+#include <math.h>
 #include <stdlib.h>
+
+#include "spheres/neighbours.h"
 
 enum { SCAN_CHUNK = 4096 }; /* pairs per kernel call (at least one whole row) */
 
@@ -41,6 +44,128 @@ void sph_scan_leaving(hsbd_spheres *s, int threads) {
 #pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)
     for (int k = 0; k < threads; ++k)
         flag_range(s, sph_range_start(s->n, threads, k), sph_range_start(s->n, threads, k + 1));
+}
+
+/* ---- the shells that move at the start of a step ----
+ * A shell moved from its centre c to its particle's position (closer than `shell`) edits
+ * the rows of the shells within reach of either centre (sigma_ij + 2 shell, less than a
+ * cell width w) and its old and new cells, and reads the cells around the new centre:
+ * all of it lies within m = shell + 2 w of c along the slab axis. The box is cut into an
+ * even number of slabs at least 2 m wide, and every slab moves the shells whose centres
+ * it holds, in particle order; then two even slabs touch disjoint rows and cells, and so
+ * do two odd ones. Every even slab moves its shells before its odd neighbours: each row
+ * and cell sees the same edits in the same order for any number of threads. The slabs go
+ * in the order 0, 2, 1, 4, 3, ..., so one thread sweeps the box once, and two threads
+ * work side by side, an odd slab as soon as both its neighbours are done. */
+
+enum { SHELL_SLABS_MAX = 64 }; /* even */
+
+/* The slabs' number along *axis: even, or 0 (particle order). */
+static int shell_slabs(const hsbd_spheres *s, int *axis) {
+    *axis = sph_slab_axis(s);
+    if (*axis < 0) return 0;
+    const double length = s->box[*axis], cell = length / s->cells.nc[*axis];
+    const int n = 2 * (int)floor(length / (2 * 1.01 * 2 * (s->shell + 2 * cell)));
+    return n < 2 ? 0 : n < SHELL_SLABS_MAX ? n : SHELL_SLABS_MAX;
+}
+
+/* The slab of i's shell centre, or nslabs when i's position is farther than `shell` from
+ * it along the axis (not expected: every particle starts a step inside its shell). */
+static int shell_slab(const hsbd_spheres *s, int axis, int nslabs, int32_t i) {
+    const double c = s->centre[3 * (size_t)i + axis];
+    if (fabs(hsbd_wrap_delta(s->x[3 * (size_t)i + axis] - c, s->box[axis])) > s->shell)
+        return nslabs;
+    const int k = (int)(c * nslabs / s->box[axis]); /* the centre is wrapped into the box */
+    return k < nslabs ? k : nslabs - 1;
+}
+
+/* The flagged particles into s->leaving slab by slab, in particle order within a slab;
+ * slab k's are first[k] .. first[k + 1] - 1, the strays (slab nslabs) last. */
+static void sort_leaving(hsbd_spheres *s, int axis, int nslabs, size_t first[]) {
+    size_t count[SHELL_SLABS_MAX + 1] = {0};
+    for (size_t i = 0; i < s->n; ++i)
+        if (s->start_flag[i] & SPH_LEAVES_SHELL) count[shell_slab(s, axis, nslabs, (int32_t)i)]++;
+    first[0] = 0;
+    for (int k = 0; k <= nslabs; ++k)
+        first[k + 1] = first[k] + count[k];
+    for (int k = 0; k <= nslabs; ++k)
+        count[k] = first[k];
+    for (size_t i = 0; i < s->n; ++i)
+        if (s->start_flag[i] & SPH_LEAVES_SHELL)
+            s->leaving[count[shell_slab(s, axis, nslabs, (int32_t)i)]++] = (int32_t)i;
+}
+
+/* Moves the shells of s->leaving[from .. to) in order; the first is already lifted when
+ * `lifted`. Without `may_grow` it stops before a pair or a point that would need a full row
+ * or cell to grow, that particle lifted. Returns the position reached (to when done), or
+ * -1 when out of memory; *moved counts the shells lifted. */
+static long move_shells(hsbd_spheres *s, size_t from, size_t to, int lifted, int may_grow,
+                        sph_near *near, uint64_t *moved) {
+    for (size_t q = from; q < to; ++q) {
+        const int32_t i = s->leaving[q];
+        if (!(lifted && q == from)) {
+            sph_shell_lift(s, i);
+            (*moved)++;
+        }
+        uint32_t found;
+        if (sph_shells_near(s, &s->cells, s->sigma, i, near, &found)) return -1;
+        if (!may_grow && !sph_shell_fits(s, i, near->id, found)) return (long)q;
+        if (sph_shell_land(s, i, near->id, found)) return -1;
+    }
+    return (long)to;
+}
+
+/* The q-th slab to take: 0, 2, 1, 4, 3, ..., nslabs - 2, nslabs - 3, nslabs - 1. */
+static int wave_slab(int q, int nslabs) {
+    return q == 0 || q == nslabs - 1 ? q : q % 2 ? q + 1 : q - 1;
+}
+
+int sph_move_leaving_shells(hsbd_spheres *s, int threads) {
+    int axis;
+    const int nslabs = shell_slabs(s, &axis);
+    if (!nslabs) { /* one slab: particle order */
+        for (size_t i = 0; i < s->n; ++i)
+            if ((s->start_flag[i] & SPH_LEAVES_SHELL) && sph_recentre(s, (int32_t)i)) return -1;
+        return 0;
+    }
+    if ((size_t)nslabs > s->near_nparts) { /* a buffer of points found for each slab */
+        sph_near *parts = realloc(s->near_parts, (size_t)nslabs * sizeof *parts);
+        if (!parts) return -1;
+        for (size_t k = s->near_nparts; k < (size_t)nslabs; ++k)
+            parts[k] = (sph_near){0};
+        s->near_parts = parts;
+        s->near_nparts = (size_t)nslabs;
+    }
+    size_t first[SHELL_SLABS_MAX + 2];
+    sort_leaving(s, axis, nslabs, first);
+    long reached[SHELL_SLABS_MAX];
+    uint64_t moved[SHELL_SLABS_MAX] = {0};
+    char done[SHELL_SLABS_MAX]; /* the even slabs' tasks, for the odd ones to wait on */
+    (void)done;                 /* (only named in the tasks' dependences) */
+#pragma omp parallel num_threads(threads) if (threads > 1)
+#pragma omp single
+    for (int q = 0; q < nslabs; ++q) {
+        const int k = wave_slab(q, nslabs), right = (k + 1) % nslabs;
+        if (k % 2 == 0) {
+#pragma omp task if (threads > 1) depend(out : done[k])
+            reached[k] = move_shells(s, first[k], first[k + 1], 0, 0, &s->near_parts[k], &moved[k]);
+        } else {
+#pragma omp task if (threads > 1) depend(in : done[k - 1], done[right])
+            reached[k] = move_shells(s, first[k], first[k + 1], 0, 0, &s->near_parts[k], &moved[k]);
+        }
+    }
+    uint64_t total = 0;
+    for (int q = 0; q < nslabs; ++q) { /* the slabs stopped by a full row or cell, in order */
+        const int k = wave_slab(q, nslabs);
+        if (reached[k] < 0) return -1;
+        if ((size_t)reached[k] < first[k + 1] &&
+            move_shells(s, (size_t)reached[k], first[k + 1], 1, 1, &s->near, &moved[k]) < 0)
+            return -1;
+        total += moved[k];
+    }
+    if (move_shells(s, first[nslabs], first[nslabs + 1], 0, 1, &s->near, &total) < 0) return -1;
+    s->stats.shell_updates += total;
+    return 0;
 }
 
 /* Room for `more` hits after the h->len held. Returns 0, or -1 when out of memory. */

@@ -1,8 +1,10 @@
 /* The start of a step on threads (internal to src/spheres): which straight paths leave
- * their shells or the room between the walls, and the half scan of every neighbour pair.
- * Both are split into contiguous ranges of particles, one per thread, and the results come
- * back range by range: in the order one thread finds them, so a run does not depend on the
- * number of threads (docs/spheres.md, "Threads"). */
+ * their shells or the room between the walls, the shells moved for those that leave
+ * them, and the half scan of every neighbour pair. The flags and the half scan are split
+ * into contiguous ranges of particles, one per thread, and the hits come back range by
+ * range, in the order one thread finds them; the shells move slab by slab in an order
+ * fixed by the box. So a run does not depend on the number of threads (docs/spheres.md,
+ * "Threads"). */
 #ifndef HSBD_SPHERES_SCAN_H
 #define HSBD_SPHERES_SCAN_H
 
@@ -20,6 +22,10 @@ size_t sph_range_start(size_t n, int parts, int k);
 
 /* Sets s->start_flag for every particle from its start position, velocity and shell. */
 void sph_scan_leaving(hsbd_spheres *s, int threads);
+/* Moves the shells of the particles flagged SPH_LEAVES_SHELL to their positions, with
+ * their new pairs (shell_updates counts them), slab by slab on threads: the rows and cells
+ * end the same for any number of threads. Returns 0, or -1 when out of memory. */
+int sph_move_leaving_shells(hsbd_spheres *s, int threads);
 /* The half scan of all rows into s->hit_parts[0 .. threads), part k holding the hits of
  * the k-th range of rows in row order. Returns 0, or -1 when out of memory. */
 int sph_scan_pairs(hsbd_spheres *s, int threads);

@@ -22,6 +22,12 @@ typedef struct sph_hits {
     size_t len, cap;
 } sph_hits;
 
+/* The points found around one particle (neighbours.c), grown to fit. */
+typedef struct sph_near {
+    int32_t *id;
+    size_t cap;
+} sph_near;
+
 /* A wall event of a step: particle, wall 2 axis + side, displacement / D, the group
  * that ran it (-1: the global calendar). */
 
@@ -65,8 +71,10 @@ struct hsbd_spheres {
     uint8_t *start_flag; /* per particle: its path leaves its shell or the walls (scan.h) */
     sph_hits *hit_parts; /* the half scan's hits, one part per thread */
     size_t hit_nparts;
-    int32_t *near; /* points found around one particle */
-    size_t near_cap;
+    sph_near near;        /* points found around one particle */
+    sph_near *near_parts; /* one per thread: the shells moved at the start of a step */
+    size_t near_nparts;
+    int32_t *leaving;       /* n: the particles whose shells move, slab by slab (scan.c) */
     double *normals;        /* dim x n draws of a step */
     uint32_t noise_stream;  /* HSBD_STREAM_NOISE; the compression uses its own */
     uint32_t bridge_stream; /* HSBD_STREAM_CONTACT (wall bridges); the compression's own */
@@ -141,10 +149,15 @@ static inline void sph_set_centre(hsbd_spheres *s, int32_t i) {
  * when there is no first pass (walls, no hard core, a small box). Fixed for a system: the
  * spatial order (order.c) keeps each slab's particles together in memory. */
 enum { SPH_MAX_SLABS = 64 };
-static inline int sph_slabs(const hsbd_spheres *s, int *axis) {
-    *axis = -1; /* the last axis is the slowest along the Z curve (order.c) */
+static inline int sph_slab_axis(const hsbd_spheres *s) {
+    int axis = -1; /* the longest periodic axis; of equal ones the last, the slowest along the
+                    * Z curve (order.c) */
     for (int a = 0; a < s->dim; ++a)
-        if (!s->walls[a] && (*axis < 0 || s->box[a] >= s->box[*axis])) *axis = a;
+        if (!s->walls[a] && (axis < 0 || s->box[a] >= s->box[axis])) axis = a;
+    return axis;
+}
+static inline int sph_slabs(const hsbd_spheres *s, int *axis) {
+    *axis = sph_slab_axis(s);
     if (*axis < 0 || s->any_walls || !s->par.hard_core) return 0;
     /* a neighbour pair's reach at the start of a step, sigma_max + 4 shell; slabs three
      * reaches wide cut few groups, one reach is the least */

@@ -692,6 +692,17 @@ static void test_threads(void) {
     compare_thread_counts("global calendar, phi 0.3", p, 150);
     p.event_order = HSBD_EVENTS_GROUPS;
     compare_thread_counts("groups, phi 0.3", p, 150);
+    /* a long box: 15 slabs along z, so the shells leaving at the start of a step move in
+     * rounds of five slabs shared by the threads (src/spheres/scan.c) */
+    p.n = 4950;
+    p.box[0] = p.box[1] = 12;
+    p.box[2] = 60;
+    p.event_order = HSBD_EVENTS_GLOBAL;
+    compare_thread_counts("global calendar, a long box", p, 150);
+    p.event_order = HSBD_EVENTS_GROUPS;
+    compare_thread_counts("groups, a long box", p, 150);
+    p.n = 4000;
+    p.box[0] = p.box[1] = p.box[2] = side;
     /* walls on z with gravity: the start flags for the walls, the bridge pushes */
     hsbd_field gravity = {0};
     hsbd_field_add(&gravity, hsbd_field_tilt(-0.5));
