@@ -37,6 +37,8 @@ typedef struct sph_worker {
     size_t scan_cap;
     int32_t *lone; /* the particles a run joined that had met nobody: undone with it */
     size_t lone_len, lone_cap;
+    int32_t *joined; /* the pending groups of its slab a run joined: undone with it */
+    size_t joined_len, joined_cap;
 } sph_worker;
 
 struct sph_groups {
@@ -150,6 +152,7 @@ void sph_groups_free(sph_groups *g) {
         free(g->workers[w].scan_j);
         free(g->workers[w].scan_t);
         free(g->workers[w].lone);
+        free(g->workers[w].joined);
     }
     free(g->workers);
     free(g);
@@ -576,24 +579,55 @@ static int32_t rewound_hit(hsbd_spheres *s, int32_t a) {
  * first-pass run would reach outside its slab */
 enum { NO_JOIN = -1, OUT_OF_MEMORY = -2, DEFER = -3 };
 
-/* A first-pass run joins j, which met nobody, to its group (so that an undone run can
- * take it back). Returns 0, or -1 when out of memory. */
-static int join_lone_speculative(sph_groups *g, int32_t root_a, int32_t j) {
-    sph_worker *w = g->worker;
-    if (w->lone_len == w->lone_cap) {
-        const size_t cap = w->lone_cap ? 2 * w->lone_cap : 64;
-        if (grow_array(&w->lone, cap, sizeof *w->lone)) return -1;
-        w->lone_cap = cap;
-    }
-    w->lone[w->lone_len++] = j;
-    g->parent[j] = root_a;
-    return 0;
-}
-
 /* The slab of particle p's start position (p has not moved in the step). */
 static int slab_of(const hsbd_spheres *s, const sph_groups *g, int32_t p) {
     long k = (long)floor(s->x[3 * (size_t)p + g->slab_axis] * g->slab_scale) % g->nslabs;
     return (int)(k < 0 ? k + g->nslabs : k);
+}
+
+/* Appends x to a worker's list (len, cap). Returns 0, or -1 when out of memory. */
+static int note(int32_t **list, size_t *len, size_t *cap, int32_t x) {
+    if (*len == *cap) {
+        const size_t more = *cap ? 2 * *cap : 64;
+        if (grow_array(list, more, sizeof **list)) return -1;
+        *cap = more;
+    }
+    (*list)[(*len)++] = x;
+    return 0;
+}
+
+/* A first-pass run of group a meets particle j of its slab: j joins if it met nobody, its
+ * group if that is a pending group of the slab still on its start lines at time t (both
+ * noted, so that an undone run can take them back). Returns NO_JOIN, DEFER when j is
+ * elsewhere (another slab, a group that ran or spans slabs), or OUT_OF_MEMORY. */
+static int32_t join_speculative(hsbd_spheres *s, int32_t a, int32_t j, int32_t r, double t) {
+    sph_groups *g = s->groups;
+    sph_worker *w = g->worker;
+    if (g->parent[r] == -1) { /* checked first: no other slab's group is read */
+        if (slab_of(s, g, j) != g->slab) return DEFER;
+        if (note(&w->lone, &w->lone_len, &w->lone_cap, j)) return OUT_OF_MEMORY;
+        g->parent[j] = g->root[a];
+        return NO_JOIN;
+    }
+    const int32_t b = -2 - g->parent[r];
+    if (g->group_slab[b] != g->slab || g->state[b] != GROUP_PENDING || g->first_time[b] < t)
+        return DEFER;
+    if (note(&w->joined, &w->joined_len, &w->joined_cap, b)) return OUT_OF_MEMORY;
+    return join_pending(s, a, b) ? OUT_OF_MEMORY : NO_JOIN;
+}
+
+/* Takes back what an undone first-pass run of group a joined. */
+static void unjoin_speculative(sph_groups *g, int32_t a) {
+    sph_worker *w = g->worker;
+    for (size_t l = 0; l < w->lone_len; ++l)
+        g->parent[w->lone[l]] = -1;
+    for (size_t l = 0; l < w->joined_len; ++l) {
+        const int32_t b = w->joined[l];
+        g->parent[g->root[b]] = -2 - b;
+        g->state[b] = GROUP_PENDING;
+        g->next_part[b] = -1;
+    }
+    g->next_part[a] = -1;
 }
 
 /* New predictions for i (on a new segment from time t, or a new shell: then its wall
@@ -606,9 +640,9 @@ static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t,
     for (uint32_t k = 0; k < hits; ++k) {
         const int32_t j = s->scan_j[k], r = find_root(g, j);
         if (r != root_a) {
-            if (g->speculative) { /* only a particle of the slab that met nobody */
-                if (g->parent[r] != -1 || slab_of(s, g, j) != g->slab) return DEFER;
-                if (join_lone_speculative(g, root_a, j)) return OUT_OF_MEMORY;
+            if (g->speculative) {
+                const int32_t rc = join_speculative(s, a, j, r, t);
+                if (rc != NO_JOIN) return rc;
             } else if (g->parent[r] == -1) { /* j never met anyone: it joins as it is */
                 g->parent[r] = root_a;
             } else {
@@ -791,8 +825,9 @@ static int run_slab(hsbd_spheres *s, int k) {
     g->seg_cap = g->slab_seg[k + 1];
     for (size_t q = g->slab_first[k]; q < g->slab_first[k + 1]; ++q) {
         const int32_t a = g->slab_groups[q];
+        if (g->state[a] != GROUP_PENDING) continue; /* joined by an earlier run */
         g->state[a] = GROUP_ACTIVE;
-        g->worker->lone_len = 0;
+        g->worker->lone_len = g->worker->joined_len = 0;
         g->log_full = 0;
         const int32_t rc = play_group(s, a);
         if (rc == NO_JOIN) {
@@ -801,8 +836,7 @@ static int run_slab(hsbd_spheres *s, int k) {
         }
         if (rc == OUT_OF_MEMORY && !g->log_full) return -1;
         rewind_group(s, a); /* as if it had not run: its particles, its joins */
-        for (size_t l = 0; l < g->worker->lone_len; ++l)
-            g->parent[g->worker->lone[l]] = -1;
+        unjoin_speculative(g, a);
         g->state[a] = GROUP_PENDING;
     }
     return 0;
