@@ -80,6 +80,7 @@ struct sph_groups {
     /* the first pass, on threads: slabs along one periodic axis (see run_slabs) */
     int nslabs, slab_axis; /* nslabs 0: no first pass */
     double slab_scale;     /* slabs per unit length */
+    double slab_shift;     /* 0, or 0.5 in the second round: the slabs moved half a width */
     int32_t *group_slab;   /* per group: the slab holding all its particles, or -1 */
     int32_t *slab_groups;  /* the groups of slab k in order, from slab_first[k] */
     size_t slab_first[SPH_MAX_SLABS + 1];
@@ -87,7 +88,7 @@ struct sph_groups {
     sph_worker *workers;
     size_t nworkers;
     /* set in a worker's copy of this struct: the slab it runs; a run that would reach
-     * outside it stops and waits for the serial pass */
+     * outside it stops and waits for the next round or the serial pass */
     int speculative;
     int slab;
     int log_full; /* the slab's share of the log filled up (not out of memory) */
@@ -581,7 +582,8 @@ enum { NO_JOIN = -1, OUT_OF_MEMORY = -2, DEFER = -3 };
 
 /* The slab of particle p's start position (p has not moved in the step). */
 static int slab_of(const hsbd_spheres *s, const sph_groups *g, int32_t p) {
-    long k = (long)floor(s->x[3 * (size_t)p + g->slab_axis] * g->slab_scale) % g->nslabs;
+    const double x = s->x[3 * (size_t)p + g->slab_axis];
+    long k = (long)floor(x * g->slab_scale + g->slab_shift) % g->nslabs;
     return (int)(k < 0 ? k + g->nslabs : k);
 }
 
@@ -767,9 +769,13 @@ static int hand_to_global_calendar(hsbd_spheres *s) {
  * wide as the reach of a neighbour pair at the start of a step (sigma_max + 4 shell). A
  * group whose particles all start in slab k reads only particles in slabs k - 1 to
  * k + 1, so the groups of the even slabs can run at the same time, and then those of the
- * odd ones. A run that would touch anything outside its slab (a hit on a particle of
- * another slab or of another group, a shell to move, its share of the segment log full)
- * is undone at once and waits for the serial pass, which runs the rest as before. Which
+ * odd ones. A run takes in what it meets in its slab that has not run: particles that met
+ * nobody, and groups still on their start lines at the present time. A run that would
+ * touch anything else (a particle of another slab, a group that ran or spans slabs, a
+ * shell to move, its share of the segment log full) is undone at once, with what it took
+ * in, and its group waits. Then a second round does the same on the slabs moved by half
+ * a width, for the groups left that lie wholly in one of those (most of those that span
+ * two slabs of the first round), and the serial pass runs the rest as before. Which
  * group runs where depends on the state only, never on the number of threads, so
  * neither do the results: the positions are those of the global calendar (docs/spheres.md,
  * "Threads"), and the sums are taken in group order at the end. */
@@ -786,7 +792,7 @@ static int plan_slabs(hsbd_spheres *s) {
     size_t groups[SPH_MAX_SLABS] = {0}, segments[SPH_MAX_SLABS] = {0};
     for (size_t a = 0; a < g->ngroups; ++a) {
         const int32_t first = g->start[a], end = first + g->count[a];
-        int k = slab_of(s, g, g->by_i[first]);
+        int k = g->state[a] == GROUP_PENDING ? slab_of(s, g, g->by_i[first]) : -1;
         for (int32_t h = first; h < end && k >= 0; ++h) {
             const int32_t j = g->by_j[h]; /* a shell to move would stop the run */
             if (slab_of(s, g, g->by_i[h]) != k || j == SPH_EVENT_SHELL ||
@@ -862,7 +868,8 @@ static int reserve_workers(hsbd_spheres *s, int threads) {
     return 0;
 }
 
-/* The first pass: the even slabs on the threads, then the odd ones. Returns 0 or -1. */
+/* A round of the first pass: the even slabs on the threads, then the odd ones. Returns 0
+ * or -1. */
 static int run_slabs(hsbd_spheres *s) {
     sph_groups *g = s->groups;
     const int threads = sph_threads(s);
@@ -916,7 +923,10 @@ int sph_groups_run(hsbd_spheres *s) {
     if (automatic && largest * LARGEST_GROUP_SHARE > (long)g->nhits)
         return hand_to_global_calendar(s) ? -1 : 1;
     choose_slabs(s, g);
-    if (g->nslabs && run_slabs(s)) return -1;
+    for (int round = 0; round < 2 && g->nslabs; ++round) { /* then the slabs moved by half */
+        g->slab_shift = 0.5 * round;
+        if (run_slabs(s)) return -1;
+    }
     for (size_t a = 0; a < g->ngroups; ++a) {
         if (g->state[a] != GROUP_PENDING) continue;
         const int rc = run_group(s, (int32_t)a);
