@@ -60,13 +60,14 @@ void sph_scan_leaving(hsbd_spheres *s, int threads) {
 
 enum { SHELL_SLABS_MAX = 64 }; /* even */
 
-/* The slabs' number along *axis: even, or 0 (particle order). */
+/* The slabs' number along *axis: even, at least 4 (fewer could not work side by side),
+ * or 0 (particle order). */
 static int shell_slabs(const hsbd_spheres *s, int *axis) {
     *axis = sph_slab_axis(s);
     if (*axis < 0) return 0;
     const double length = s->box[*axis], cell = length / s->cells.nc[*axis];
     const int n = 2 * (int)floor(length / (2 * 1.01 * 2 * (s->shell + 2 * cell)));
-    return n < 2 ? 0 : n < SHELL_SLABS_MAX ? n : SHELL_SLABS_MAX;
+    return n < 4 ? 0 : n < SHELL_SLABS_MAX ? n : SHELL_SLABS_MAX;
 }
 
 /* The slab of i's shell centre, or nslabs when i's position is farther than `shell` from
