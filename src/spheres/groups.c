@@ -852,9 +852,10 @@ static int run_slab(hsbd_spheres *s, int k) {
 static int reserve_workers(hsbd_spheres *s, int threads) {
     sph_groups *g = s->groups;
     if ((size_t)threads > g->nworkers) {
-        if (grow_array(&g->workers, (size_t)threads, sizeof *g->workers)) return -1;
-        for (size_t w = g->nworkers; w < (size_t)threads; ++w)
-            g->workers[w] = (sph_worker){0};
+        sph_worker *workers =
+            sph_grow_zeroed(g->workers, g->nworkers, (size_t)threads, sizeof *workers);
+        if (!workers) return -1;
+        g->workers = workers;
         g->nworkers = (size_t)threads;
     }
     for (size_t w = 0; w < (size_t)threads; ++w) {

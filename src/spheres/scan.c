@@ -2,6 +2,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "spheres/neighbours.h"
 
@@ -9,6 +10,12 @@ enum { SCAN_CHUNK = 4096 }; /* pairs per kernel call (at least one whole row) */
 
 int sph_threads(const hsbd_spheres *s) {
     return s->threads > 1 && s->n >= SPH_THREADS_MIN_N ? s->threads : 1;
+}
+
+void *sph_grow_zeroed(void *parts, size_t count, size_t want, size_t size) { /* want > count */
+    unsigned char *grown = realloc(parts, want * size);
+    if (grown) memset(grown + count * size, 0, (want - count) * size);
+    return grown;
 }
 
 size_t sph_range_start(size_t n, int parts, int k) {
@@ -130,10 +137,9 @@ int sph_move_leaving_shells(hsbd_spheres *s, int threads) {
         return 0;
     }
     if ((size_t)nslabs > s->near_nparts) { /* a buffer of points found for each slab */
-        sph_near *parts = realloc(s->near_parts, (size_t)nslabs * sizeof *parts);
+        sph_near *parts =
+            sph_grow_zeroed(s->near_parts, s->near_nparts, (size_t)nslabs, sizeof *parts);
         if (!parts) return -1;
-        for (size_t k = s->near_nparts; k < (size_t)nslabs; ++k)
-            parts[k] = (sph_near){0};
         s->near_parts = parts;
         s->near_nparts = (size_t)nslabs;
     }
@@ -141,19 +147,15 @@ int sph_move_leaving_shells(hsbd_spheres *s, int threads) {
     sort_leaving(s, axis, nslabs, first);
     long reached[SHELL_SLABS_MAX];
     uint64_t moved[SHELL_SLABS_MAX] = {0};
-    char done[SHELL_SLABS_MAX]; /* the even slabs' tasks, for the odd ones to wait on */
+    char done[SHELL_SLABS_MAX]; /* a slab's task, for the later-made neighbours to wait on */
     (void)done;                 /* (only named in the tasks' dependences) */
 #pragma omp parallel num_threads(threads) if (threads > 1)
 #pragma omp single
-    for (int q = 0; q < nslabs; ++q) {
-        const int k = wave_slab(q, nslabs), right = (k + 1) % nslabs;
-        if (k % 2 == 0) {
-#pragma omp task if (threads > 1) depend(out : done[k])
-            reached[k] = move_shells(s, first[k], first[k + 1], 0, 0, &s->near_parts[k], &moved[k]);
-        } else {
-#pragma omp task if (threads > 1) depend(in : done[k - 1], done[right])
-            reached[k] = move_shells(s, first[k], first[k + 1], 0, 0, &s->near_parts[k], &moved[k]);
-        }
+    for (int q = 0; q < nslabs; ++q) { /* an even slab's neighbours are made after it */
+        const int k = wave_slab(q, nslabs), left = (k + nslabs - 1) % nslabs,
+                  right = (k + 1) % nslabs;
+#pragma omp task if (threads > 1) depend(in : done[left], done[right]) depend(out : done[k])
+        reached[k] = move_shells(s, first[k], first[k + 1], 0, 0, &s->near_parts[k], &moved[k]);
     }
     uint64_t total = 0;
     for (int q = 0; q < nslabs; ++q) { /* the slabs stopped by a full row or cell, in order */
@@ -201,11 +203,10 @@ static int scan_rows(const hsbd_spheres *s, const sph_scan_query *q, size_t i0, 
 }
 
 int sph_scan_pairs(hsbd_spheres *s, int threads) {
-    if ((size_t)threads > s->hit_nparts) {
-        sph_hits *parts = realloc(s->hit_parts, (size_t)threads * sizeof *parts);
+    if ((size_t)threads > s->hit_nparts) { /* a hit buffer for each thread */
+        sph_hits *parts =
+            sph_grow_zeroed(s->hit_parts, s->hit_nparts, (size_t)threads, sizeof *parts);
         if (!parts) return -1;
-        for (size_t k = s->hit_nparts; k < (size_t)threads; ++k)
-            parts[k] = (sph_hits){0};
         s->hit_parts = parts;
         s->hit_nparts = (size_t)threads;
     }

@@ -17,6 +17,9 @@ enum { SPH_LEAVES_SHELL = 1, SPH_LEAVES_WALLS = 2 };
  * (a parallel region costs a few microseconds), else one. */
 enum { SPH_THREADS_MIN_N = 2048 };
 int sph_threads(const hsbd_spheres *s);
+/* parts, an array of `count` elements of `size` bytes, grown to `want` > count elements,
+ * the new ones zeroed. Returns it, or NULL when out of memory (the old array then stays). */
+void *sph_grow_zeroed(void *parts, size_t count, size_t want, size_t size);
 /* The first particle of range k of `parts` (nearly) equal ranges of [0, n). */
 size_t sph_range_start(size_t n, int parts, int k);
 
