@@ -835,6 +835,7 @@ static int run_slab(hsbd_spheres *s, int k) {
         g->state[a] = GROUP_ACTIVE;
         g->worker->lone_len = g->worker->joined_len = 0;
         g->log_full = 0;
+        const size_t nseg = g->nseg; /* an undone run gives its segments back */
         const int32_t rc = play_group(s, a);
         if (rc == NO_JOIN) {
             finish_group(g, a);
@@ -843,6 +844,7 @@ static int run_slab(hsbd_spheres *s, int k) {
         if (rc == OUT_OF_MEMORY && !g->log_full) return -1;
         rewind_group(s, a); /* as if it had not run: its particles, its joins */
         unjoin_speculative(g, a);
+        g->nseg = nseg;
         g->state[a] = GROUP_PENDING;
     }
     return 0;

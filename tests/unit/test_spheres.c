@@ -640,6 +640,19 @@ static void test_event_groups(void) {
                              .hard_core = 1};
     d.box[0] = d.box[1] = sqrt(900 * PI / 4 / 0.6);
     compare_event_orders("disks phi 0.6", d, 200, 20, HSBD_EVENTS_GROUPS);
+    /* a long box, on two threads: 8 slabs along z, so the groups' first pass runs both its
+     * rounds (taking in pending groups) and the shells move slab by slab */
+    hsbd_spheres_params l = {.n = 4950,
+                             .dimension = 3,
+                             .box = {12, 12, 60},
+                             .sigma = 1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = 1e-3,
+                             .seed = 8,
+                             .hard_core = 1,
+                             .threads = 2};
+    compare_event_orders("spheres phi 0.3, a long box", l, 150, 1, HSBD_EVENTS_GROUPS);
 }
 
 /* The same run on 1, 2 and 4 threads (oversubscribed on a small machine, which is fine):
@@ -692,8 +705,8 @@ static void test_threads(void) {
     compare_thread_counts("global calendar, phi 0.3", p, 150);
     p.event_order = HSBD_EVENTS_GROUPS;
     compare_thread_counts("groups, phi 0.3", p, 150);
-    /* a long box: 15 slabs along z, so the shells leaving at the start of a step move in
-     * rounds of five slabs shared by the threads (src/spheres/scan.c) */
+    /* a long box: 8 slabs along z, so the shells leaving at the start of a step move four
+     * slabs at a time on the threads (src/spheres/scan.c) */
     p.n = 4950;
     p.box[0] = p.box[1] = 12;
     p.box[2] = 60;
