@@ -64,8 +64,8 @@ void sph_scan_leaving(hsbd_spheres *s, int threads) {
  * and cell sees the same edits in the same order for any number of threads. Threads take
  * the even slabs, then the odd ones; one thread takes them in the order 0, 2, 1, 4, 3, ...,
  * which gives the same edits and sweeps the box once (two sweeps cost it 15 % more of the
- * shells' time). OpenMP tasks with dependences would let threads sweep too, but gcc 12's
- * libgomp leaks their dependence records (LeakSanitizer). */
+ * shells' time). OpenMP tasks with dependences would let threads sweep too, but with them
+ * LeakSanitizer found memory of gcc 12's libgomp still held at exit. */
 
 enum { SHELL_SLABS_MAX = 64 }; /* even */
 
