@@ -144,18 +144,21 @@ static inline void sph_set_centre(hsbd_spheres *s, int32_t i) {
         c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
 }
 
+/* The axis that slabs cut (the groups' first pass, the shells moved at the start of a
+ * step): the longest periodic one; of equal ones the last, the slowest along the Z curve
+ * (order.c). -1 when every axis has walls. */
+static inline int sph_slab_axis(const hsbd_spheres *s) {
+    int axis = -1;
+    for (int a = 0; a < s->dim; ++a)
+        if (!s->walls[a] && (axis < 0 || s->box[a] >= s->box[axis])) axis = a;
+    return axis;
+}
+
 /* The slabs of the groups' first pass on threads (groups.c, docs/spheres.md "Threads"):
  * an even number, 4 to SPH_MAX_SLABS, of equal slabs along the periodic axis *axis, or 0
  * when there is no first pass (walls, no hard core, a small box). Fixed for a system: the
  * spatial order (order.c) keeps each slab's particles together in memory. */
 enum { SPH_MAX_SLABS = 64 };
-static inline int sph_slab_axis(const hsbd_spheres *s) {
-    int axis = -1; /* the longest periodic axis; of equal ones the last, the slowest along the
-                    * Z curve (order.c) */
-    for (int a = 0; a < s->dim; ++a)
-        if (!s->walls[a] && (axis < 0 || s->box[a] >= s->box[axis])) axis = a;
-    return axis;
-}
 static inline int sph_slabs(const hsbd_spheres *s, int *axis) {
     *axis = sph_slab_axis(s);
     if (*axis < 0 || s->any_walls || !s->par.hard_core) return 0;
