@@ -30,6 +30,11 @@ typedef enum hsbd_spheres_event_order {
  * below it the state, about 450 bytes per particle, fits in or near the caches and the
  * global calendar is as fast or faster). */
 #define HSBD_SPHERES_GROUPS_MIN_N 131072
+/* On more than one thread, from this many particles on (when the box is long enough for
+ * the groups' first pass to run on threads): the groups then run mostly in parallel, the
+ * global calendar mostly serially. The event order changes no result (positions, virial,
+ * statistics), so AUTO may follow the thread count. */
+#define HSBD_SPHERES_GROUPS_MIN_N_THREADS 65536
 
 typedef struct hsbd_spheres_params {
     size_t n;         /* number of particles N */
@@ -60,10 +65,11 @@ typedef struct hsbd_spheres_params {
     /* How a step's events run (docs/spheres.md): through one time-ordered calendar for
      * the whole box, or group by group (the particles predicted to meet in the step, each
      * group in time order on its own), which keeps large systems in cache. The two give
-     * bit-identical trajectories (tests/unit/test_spheres.c); AUTO (0) takes groups from
-     * HSBD_SPHERES_GROUPS_MIN_N particles on, unless they grow too large to gain. */
+     * bit-identical trajectories and statistics (tests/unit/test_spheres.c); AUTO (0)
+     * takes groups from HSBD_SPHERES_GROUPS_MIN_N particles on (on threads from
+     * HSBD_SPHERES_GROUPS_MIN_N_THREADS), unless they grow too large to gain. */
     hsbd_spheres_event_order event_order;
-    size_t groups_min_n; /* AUTO: groups from this N on; 0: HSBD_SPHERES_GROUPS_MIN_N */
+    size_t groups_min_n; /* AUTO: groups from this N on; 0: the defaults above */
     /* Hard walls (docs/spheres.md, "Walls"): walls[a] = 1 puts planes at 0 and box[a]
      * along axis a (else periodic); centres stay in [sigma_i/2, box[a] - sigma_i/2]. A wall
      * is a body of infinite mass 1/D: a contact reflects the normal velocity. Walls act

@@ -395,9 +395,9 @@ static void add_wall_pushes(hsbd_spheres *s) {
             const double down = bridge_push(s, high, high - dx, d * dt, index + 1);
             if (up == 0 && down == 0) continue;
             *v += (up - down) / dt;
-            double *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
-            sum[0] += up / d; /* impulse / kT: the displacement the wall caused over D */
-            sum[1] += down / d;
+            sph_exact_sum *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
+            sum[0] += sph_exact_term(up / d); /* impulse / kT: the wall's displacement over D */
+            sum[1] += sph_exact_term(down / d);
             s->stats.wall_pushes++;
         }
     }
@@ -475,6 +475,7 @@ static int start_step_events(hsbd_spheres *s, int grouped) {
 /* Every event of the step, group by group or through the global calendar. Returns 0, or
  * -1 when out of memory (the step is then cut short). */
 static int run_events(hsbd_spheres *s) {
+    s->step_virial = 0;
     const int grouped = sph_groups_wanted(s);
     if ((grouped && sph_groups_begin(s)) || start_step_events(s, grouped)) return -1;
     const int rc = grouped ? sph_groups_run(s) : 1;
@@ -490,11 +491,12 @@ static void forget_wall_step(hsbd_spheres *s) {
 static void commit_wall_step(hsbd_spheres *s) {
     for (size_t k = 0; k < s->wall_log_len; ++k) {
         const sph_wall_hit *h = &s->wall_log[k];
-        s->wall_step[6 * (size_t)s->species[h->particle] + (size_t)h->wall] += h->impulse;
+        s->wall_step[6 * (size_t)s->species[h->particle] + (size_t)h->wall] +=
+            sph_exact_term(h->impulse);
     }
     s->stats.wall_collisions += s->wall_log_len;
     for (size_t k = 0; k < 6 * s->nspecies; ++k)
-        s->wall_sum[k] += s->wall_step[k];
+        s->wall_sum[k] += sph_exact_value(s->wall_step[k]);
     forget_wall_step(s);
 }
 
@@ -504,7 +506,7 @@ static void commit_wall_step(hsbd_spheres *s) {
 static void fold_between_walls(hsbd_spheres *s, size_t i, int a) {
     double *x = s->x + 3 * i;
     const double lo = 0.5 * s->sigma[i], hi = s->length[a] - lo, d = s->diffusion[i];
-    double *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
+    sph_exact_sum *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
     if (!(hi > lo)) { /* a slit as wide as the particle holds it */
         x[a] = lo;
         return;
@@ -512,7 +514,7 @@ static void fold_between_walls(hsbd_spheres *s, size_t i, int a) {
     while (x[a] < lo || x[a] > hi) {
         const int side = x[a] > hi;
         const double plane = side ? hi : lo;
-        sum[side] += 2.0 * fabs(x[a] - plane) / d; /* impulse / kT */
+        sum[side] += sph_exact_term(2.0 * fabs(x[a] - plane) / d); /* impulse / kT */
         x[a] = 2 * plane - x[a];
         s->stats.wall_collisions++;
     }
@@ -597,6 +599,7 @@ int hsbd_spheres_step(hsbd_spheres *s) {
     if (s->par.hard_core) {
         memcpy(s->x_start, s->x, 3 * s->n * sizeof *s->x);
         if (run_events(s)) return fail_step(s, &stats_at_start);
+        s->stats.virial += sph_exact_value(s->step_virial);
     }
     if (s->sort_enabled) s->sort_clock += s->diffusion_max * s->dt;
     finish_step(s);

@@ -57,8 +57,9 @@ struct sph_groups {
     /* groups: their hits by_*[start, start + count), state, constituents, rollback data */
     size_t group_cap, ngroups;
     int32_t *start, *count, *state, *root, *next_part, *first_segment;
-    double *first_time, *virial;
-    uint64_t *collisions;
+    double *first_time;
+    sph_exact_sum *virial;
+    uint64_t *collisions, *shell_updates;
     /* the segment log of the step */
     sph_segment *seg;
     size_t seg_cap, nseg;
@@ -103,6 +104,14 @@ enum { GROUP_PENDING, GROUP_ACTIVE, GROUP_DONE, GROUP_JOINED };
  * PAUSE_STEPS steps do. Both depend on the state only: runs stay reproducible. */
 enum { LARGEST_GROUP_SHARE = 4, REPLAY_SHARE = 4, PAUSE_STEPS = 64 };
 
+/* AUTO's size threshold: lower on threads when the groups' first pass can use them */
+static size_t groups_min_n(const hsbd_spheres *s) {
+    int axis;
+    if (s->par.groups_min_n) return s->par.groups_min_n;
+    return sph_threads(s) > 1 && sph_slabs(s, &axis) ? HSBD_SPHERES_GROUPS_MIN_N_THREADS
+                                                      : HSBD_SPHERES_GROUPS_MIN_N;
+}
+
 int sph_groups_wanted(hsbd_spheres *s) {
     switch (s->par.event_order) {
     case HSBD_EVENTS_GLOBAL:
@@ -110,8 +119,7 @@ int sph_groups_wanted(hsbd_spheres *s) {
     case HSBD_EVENTS_GROUPS:
         return 1;
     default:
-        if (s->n < (s->par.groups_min_n ? s->par.groups_min_n : HSBD_SPHERES_GROUPS_MIN_N))
-            return 0;
+        if (s->n < groups_min_n(s)) return 0;
         if (s->groups && s->groups->pause) return s->groups->pause--, 0;
         return 1;
     }
@@ -139,6 +147,7 @@ void sph_groups_free(sph_groups *g) {
     free(g->first_time);
     free(g->virial);
     free(g->collisions);
+    free(g->shell_updates);
     free(g->seg);
     hsbd_cells_free(&g->extra);
     free(g->extra_particle);
@@ -258,6 +267,7 @@ static int grow_groups(sph_groups *g) {
         grow_array(&g->first_time, cap, sizeof *g->first_time) ||
         grow_array(&g->virial, cap, sizeof *g->virial) ||
         grow_array(&g->collisions, cap, sizeof *g->collisions) ||
+        grow_array(&g->shell_updates, cap, sizeof *g->shell_updates) ||
         grow_array(&g->group_slab, cap, sizeof *g->group_slab) ||
         grow_array(&g->slab_groups, cap, sizeof *g->slab_groups))
         return -1;
@@ -280,7 +290,7 @@ static long number_groups(hsbd_spheres *s) {
             g->next_part[a] = g->first_segment[a] = -1;
             g->first_time[a] = s->dt;
             g->virial[a] = 0;
-            g->collisions[a] = 0;
+            g->collisions[a] = g->shell_updates[a] = 0;
             g->parent[r] = -2 - (int32_t)a;
         }
         const int32_t a = -2 - g->parent[r];
@@ -445,7 +455,6 @@ static int recentre_adding(hsbd_spheres *s, int32_t i) {
         g->moved_list[g->nmoved++] = i;
     }
     sph_set_centre(s, i);
-    s->stats.shell_updates++;
     uint32_t found;
     if (sph_shells_near(s, &s->cells, s->sigma, i, &s->near, &found)) return -1;
     for (uint32_t k = 0; k < found; ++k)
@@ -683,7 +692,7 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
     if (sph_calendar_start_for(&s->calendar, s->dt, 2 * hits, 8)) return OUT_OF_MEMORY;
     for (int32_t b = a; b >= 0; b = g->next_part[b])
         if (push_group_hits(s, b)) return OUT_OF_MEMORY;
-    g->collisions[a] = 0;
+    g->collisions[a] = g->shell_updates[a] = 0; /* a re-run counts afresh */
     g->virial[a] = 0;
     sph_event e;
     uint64_t played = 0;
@@ -697,6 +706,7 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
         } else if (e.j == SPH_EVENT_SHELL) {
             sph_advance(s, e.i, e.t);
             if (recentre_adding(s, e.i)) return OUT_OF_MEMORY;
+            g->shell_updates[a]++;
             joined = predict_in_group(s, a, e.i, e.t, 0);
         } else if (e.j <= SPH_EVENT_WALL) {
             const int rc = sph_collide_wall(s, &e, a);
@@ -709,7 +719,7 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
             double virial;
             if (!sph_collide_pair(s, &e, &virial)) continue;
             g->collisions[a]++;
-            g->virial[a] += virial;
+            g->virial[a] += sph_exact_term(virial);
             if (new_segment(s, e.i, e.t) < 0 || new_segment(s, e.j, e.t) < 0) return OUT_OF_MEMORY;
             joined = predict_in_group(s, a, e.i, e.t, 1);
             if (joined == NO_JOIN) joined = predict_in_group(s, a, e.j, e.t, 1);
@@ -941,10 +951,11 @@ int sph_groups_run(hsbd_spheres *s) {
         return settle_moved_shells(s) || hand_to_global_calendar(s) ? -1 : 1;
     }
     if (settle_moved_shells(s)) return -1;
-    for (size_t a = 0; a < g->ngroups; ++a) /* in group order, whoever ran them */
+    for (size_t a = 0; a < g->ngroups; ++a) /* exact sums: the order does not matter */
         if (g->state[a] == GROUP_DONE) {
             s->stats.collisions += g->collisions[a];
-            s->stats.virial += g->virial[a];
+            s->stats.shell_updates += g->shell_updates[a];
+            s->step_virial += g->virial[a];
         }
     if (automatic && g->replayed * REPLAY_SHARE > g->played) g->pause = PAUSE_STEPS;
     return 0;

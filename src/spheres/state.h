@@ -28,6 +28,19 @@ typedef struct sph_near {
     size_t cap;
 } sph_near;
 
+/* A sum that does not depend on the order of its terms: each term is rounded to a multiple
+ * of 2^-64 (far below its own last bit for the step's virial and wall impulses, which are
+ * of order sigma times a step's displacement), and the multiples add exactly in 128 bits
+ * (up to 2^63). The global calendar and the event groups meet the same events in other
+ * orders; with these sums a step's virial and wall impulses come out bit for bit the same. */
+__extension__ typedef __int128 sph_exact_sum;
+static inline sph_exact_sum sph_exact_term(double v) {
+    return (sph_exact_sum)nearbyint(v * 0x1p64); /* the scaling is exact */
+}
+static inline double sph_exact_value(sph_exact_sum sum) {
+    return (double)sum * 0x1p-64;
+}
+
 /* A wall event of a step: particle, wall 2 axis + side, displacement / D, the group
  * that ran it (-1: the global calendar). */
 
@@ -96,12 +109,13 @@ struct hsbd_spheres {
      * (sigma_max + 2 shell)), so minimum images, cells and wrapping never act there */
     int walls[3], any_walls;
     double length[3];
-    double *wall_step;      /* 6 nspecies: this step's wall impulses / kT (see wall_sum) */
+    sph_exact_sum *wall_step; /* 6 nspecies: this step's wall impulses / kT (see wall_sum) */
     double *wall_sum;       /* 6 nspecies: since the last reset (hsbd_spheres_wall_impulses) */
     sph_wall_hit *wall_log; /* this step's wall events (a re-run group drops its own) */
     size_t wall_log_len, wall_log_cap;
     double *drift_mu;          /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
     double *field_x, *field_f; /* N: coordinates along the field axis, forces */
+    sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
     hsbd_spheres_stats stats;
 };
 

@@ -161,13 +161,17 @@ bin_width = 0.5
 INI
 same_on_threads spheres spheres.ini
 same_on_threads spheres-groups spheres.ini --set run.events=groups
-# the groups give the global calendar's trajectories: the same tables but for the line
-# that names run.events
+# the groups give the global calendar's trajectories and statistics (the virial is an
+# exact sum): the same tables and summary.json but for the lines that name run.events,
+# so that AUTO may choose the event order by the thread count
 same=1
 for f in spheres-1/*.tsv; do
     cmp -s <(grep -v 'run.events' "$f") <(grep -v 'run.events' "spheres-groups-1/$(basename "$f")") ||
         { same=0; bad "spheres: $(basename "$f") differs between run.events = auto and groups"; }
 done
+diff <(grep -v -E 'second|"threads"|"dir"|events' spheres-1/summary.json) \
+    <(grep -v -E 'second|"threads"|"dir"|events' spheres-groups-1/summary.json) >/dev/null ||
+    { same=0; bad "spheres: summary.json differs between run.events = auto and groups"; }
 [ $same -eq 1 ] && ok
 same_on_threads spheres-walls spheres-walls.ini
 
