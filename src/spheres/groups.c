@@ -109,7 +109,7 @@ static size_t groups_min_n(const hsbd_spheres *s) {
     int axis;
     if (s->par.groups_min_n) return s->par.groups_min_n;
     return sph_threads(s) > 1 && sph_slabs(s, &axis) ? HSBD_SPHERES_GROUPS_MIN_N_THREADS
-                                                      : HSBD_SPHERES_GROUPS_MIN_N;
+                                                     : HSBD_SPHERES_GROUPS_MIN_N;
 }
 
 int sph_groups_wanted(hsbd_spheres *s) {

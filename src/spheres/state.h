@@ -110,8 +110,8 @@ struct hsbd_spheres {
     int walls[3], any_walls;
     double length[3];
     sph_exact_sum *wall_step; /* 6 nspecies: this step's wall impulses / kT (see wall_sum) */
-    double *wall_sum;       /* 6 nspecies: since the last reset (hsbd_spheres_wall_impulses) */
-    sph_wall_hit *wall_log; /* this step's wall events (a re-run group drops its own) */
+    double *wall_sum;         /* 6 nspecies: since the last reset (hsbd_spheres_wall_impulses) */
+    sph_wall_hit *wall_log;   /* this step's wall events (a re-run group drops its own) */
     size_t wall_log_len, wall_log_cap;
     double *drift_mu;          /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
     double *field_x, *field_f; /* N: coordinates along the field axis, forces */

@@ -559,8 +559,8 @@ static void test_spatial_order(void) {
 }
 
 /* The same run with the global calendar and group by group: bit-identical positions and
- * image counters, the same collisions, shell updates and virial (exact sums); at least min_reruns groups ran again (so the
- * joining and rewinding are exercised, not only the easy path). */
+ * image counters, the same collisions, shell updates and virial (exact sums); at least min_reruns
+ * groups ran again (so the joining and rewinding are exercised, not only the easy path). */
 static void compare_event_orders(const char *name, hsbd_spheres_params p, int steps,
                                  uint64_t min_reruns, hsbd_spheres_event_order order) {
     hsbd_error err;
