@@ -177,22 +177,32 @@ static hsbd_spheres *sphere_bench_system(const sphere_bench_case *c, int hard_co
     return s;
 }
 
-/* steps per second of s over at least `seconds` of `clock`; *coll: collisions per step */
-static double sphere_steps_per_second(hsbd_spheres *s, size_t n, double seconds,
-                                      double (*clock)(void), double *coll) {
+/* Steps s for at least `seconds` of `clock`, adding the steps and the time taken to
+ * *steps and *elapsed. Returns 0, or -1 when a step fails. */
+static int sphere_run_for(hsbd_spheres *s, size_t n, double seconds, double (*clock)(void),
+                          uint64_t *steps, double *elapsed) {
     const uint64_t batch = 1 + (uint64_t)(1e6 / (double)n);
-    hsbd_spheres_reset_stats(s);
-    uint64_t steps = 0;
     const double t0 = clock();
     double t = t0;
     while (t - t0 < seconds) {
         for (uint64_t k = 0; k < batch; ++k)
-            if (hsbd_spheres_step(s) != HSBD_OK) return NAN;
-        steps += batch;
+            if (hsbd_spheres_step(s) != HSBD_OK) return -1;
+        *steps += batch;
         t = clock();
     }
+    *elapsed += t - t0;
+    return 0;
+}
+
+/* steps per second of s over at least `seconds` of `clock`; *coll: collisions per step */
+static double sphere_steps_per_second(hsbd_spheres *s, size_t n, double seconds,
+                                      double (*clock)(void), double *coll) {
+    hsbd_spheres_reset_stats(s);
+    uint64_t steps = 0;
+    double elapsed = 0;
+    if (sphere_run_for(s, n, seconds, clock, &steps, &elapsed)) return NAN;
     *coll = (double)hsbd_spheres_get_stats(s).collisions / (double)steps;
-    return (double)steps / (t - t0);
+    return (double)steps / elapsed;
 }
 
 /* steps per CPU-second on one thread; *coll: collisions per step */
@@ -230,7 +240,9 @@ static void sphere_bench(const char *only, double seconds, FILE *out) {
 }
 
 /* The spheres cases of N >= 10^5 on one thread and on all: one system, warmed up on all
- * threads, measured first on one thread and then on all (the same statistical state). */
+ * threads, then stepped in turns on one thread and on all (the same statistical state;
+ * the turns share the machine's drifts in speed, which reach 25 % within minutes). */
+enum { SPHERE_THREAD_TURNS = 6 };
 static void sphere_bench_threads(const char *only, double seconds, int all, FILE *out) {
     int header = 0;
     for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0]; ++k) {
@@ -243,13 +255,15 @@ static void sphere_bench_threads(const char *only, double seconds, int all, FILE
                     all, "case", "N", "1 thr. ns/ps", "all ns/ps", "speed-up");
         hsbd_field gravity = {0};
         hsbd_spheres *s = sphere_bench_system(c, 1, all, &gravity);
-        double coll, one = NAN, many = NAN;
-        if (s) {
-            hsbd_spheres_set_threads(s, 1);
-            one = sphere_steps_per_second(s, c->n, seconds, wall_seconds, &coll);
-            hsbd_spheres_set_threads(s, all);
-            many = sphere_steps_per_second(s, c->n, seconds, wall_seconds, &coll);
+        uint64_t steps[2] = {0, 0};
+        double elapsed[2] = {0, 0}, one = NAN, many = NAN;
+        int failed = s == NULL;
+        for (int turn = 0; turn < 2 * SPHERE_THREAD_TURNS && !failed; ++turn) {
+            hsbd_spheres_set_threads(s, turn % 2 ? all : 1);
+            failed = sphere_run_for(s, c->n, seconds / SPHERE_THREAD_TURNS, wall_seconds,
+                                    &steps[turn % 2], &elapsed[turn % 2]);
         }
+        if (!failed) one = (double)steps[0] / elapsed[0], many = (double)steps[1] / elapsed[1];
         hsbd_spheres_free(s);
         const double n = (double)c->n;
         fprintf(out, "%-30s %9zu %12.1f %12.1f %8.2f\n", c->name, c->n, 1e9 / (one * n),

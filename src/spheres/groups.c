@@ -795,21 +795,30 @@ static void choose_slabs(hsbd_spheres *s, sph_groups *g) {
     if (g->nslabs) g->slab_scale = g->nslabs / s->box[g->slab_axis];
 }
 
-/* Each group's slab (-1: not all its particles start in one), the slabs' lists of groups
- * and their shares of the segment log. Returns 0, or -1 when out of memory. */
-static int plan_slabs(hsbd_spheres *s) {
+/* Group a's slab: -1 when it is not pending or not all its particles start in one. */
+static int slab_of_group(const hsbd_spheres *s, const sph_groups *g, size_t a) {
+    const int32_t first = g->start[a], end = first + g->count[a];
+    int k = g->state[a] == GROUP_PENDING ? slab_of(s, g, g->by_i[first]) : -1;
+    for (int32_t h = first; h < end && k >= 0; ++h) {
+        const int32_t j = g->by_j[h]; /* a shell to move would stop the run */
+        if (slab_of(s, g, g->by_i[h]) != k || j == SPH_EVENT_SHELL ||
+            (j >= 0 && slab_of(s, g, j) != k))
+            k = -1;
+    }
+    return k;
+}
+
+/* Each group's slab, the slabs' lists of groups and their shares of the segment log.
+ * Returns 0, or -1 when out of memory. */
+static int plan_slabs(hsbd_spheres *s, int threads) {
     sph_groups *g = s->groups;
     size_t groups[SPH_MAX_SLABS] = {0}, segments[SPH_MAX_SLABS] = {0};
+    const long ngroups = (long)g->ngroups;
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (long a = 0; a < ngroups; ++a)
+        g->group_slab[a] = slab_of_group(s, g, (size_t)a);
     for (size_t a = 0; a < g->ngroups; ++a) {
-        const int32_t first = g->start[a], end = first + g->count[a];
-        int k = g->state[a] == GROUP_PENDING ? slab_of(s, g, g->by_i[first]) : -1;
-        for (int32_t h = first; h < end && k >= 0; ++h) {
-            const int32_t j = g->by_j[h]; /* a shell to move would stop the run */
-            if (slab_of(s, g, g->by_i[h]) != k || j == SPH_EVENT_SHELL ||
-                (j >= 0 && slab_of(s, g, j) != k))
-                k = -1;
-        }
-        g->group_slab[a] = k;
+        const int k = g->group_slab[a];
         if (k < 0) continue;
         groups[k]++;
         /* at most count + 1 particles start a segment, two per collision: most runs */
@@ -886,7 +895,7 @@ static int reserve_workers(hsbd_spheres *s, int threads) {
 static int run_slabs(hsbd_spheres *s) {
     sph_groups *g = s->groups;
     const int threads = sph_threads(s);
-    if (plan_slabs(s) || reserve_workers(s, threads)) return -1;
+    if (plan_slabs(s, threads) || reserve_workers(s, threads)) return -1;
     uint64_t played = 0, replayed = 0, stale = 0;
     int failed = 0;
     for (int colour = 0; colour < 2 && !failed; ++colour) {
