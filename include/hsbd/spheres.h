@@ -32,8 +32,9 @@ typedef enum hsbd_spheres_event_order {
 #define HSBD_SPHERES_GROUPS_MIN_N 131072
 /* On more than one thread, from this many particles on (when the box is long enough for
  * the groups' first pass to run on threads): the groups then run mostly in parallel, the
- * global calendar mostly serially. The event order changes no result (positions, virial,
- * statistics), so AUTO may follow the thread count. */
+ * global calendar mostly serially. The event order changes no result (positions,
+ * collisions, shell updates, virial, wall impulses; only the counts of stale events and
+ * re-runs, which describe the work), so AUTO may follow the thread count. */
 #define HSBD_SPHERES_GROUPS_MIN_N_THREADS 65536
 
 typedef struct hsbd_spheres_params {

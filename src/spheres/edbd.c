@@ -267,6 +267,8 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->par.particle_sigma = s->par.particle_diffusion = NULL; /* s->sigma, s->diffusion hold them */
     set_noise_amplitudes(s);
     s->diffusion_max = dmax;
+    s->virial_scale = sph_exact_scale_for(s->sigma_max * s->sigma_max / dmax); /* a time */
+    s->wall_scale = sph_exact_scale_for(s->sigma_max / dmax);
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
     const double reach = s->sigma_max + 2 * s->shell;
     for (int a = 0; a < s->dim; ++a) {
@@ -396,8 +398,8 @@ static void add_wall_pushes(hsbd_spheres *s) {
             if (up == 0 && down == 0) continue;
             *v += (up - down) / dt;
             sph_exact_sum *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
-            sum[0] += sph_exact_term(up / d); /* impulse / kT: the wall's displacement over D */
-            sum[1] += sph_exact_term(down / d);
+            sum[0] += sph_exact_term(s->wall_scale, up / d); /* impulse / kT: displacement / D */
+            sum[1] += sph_exact_term(s->wall_scale, down / d);
             s->stats.wall_pushes++;
         }
     }
@@ -492,11 +494,11 @@ static void commit_wall_step(hsbd_spheres *s) {
     for (size_t k = 0; k < s->wall_log_len; ++k) {
         const sph_wall_hit *h = &s->wall_log[k];
         s->wall_step[6 * (size_t)s->species[h->particle] + (size_t)h->wall] +=
-            sph_exact_term(h->impulse);
+            sph_exact_term(s->wall_scale, h->impulse);
     }
     s->stats.wall_collisions += s->wall_log_len;
     for (size_t k = 0; k < 6 * s->nspecies; ++k)
-        s->wall_sum[k] += sph_exact_value(s->wall_step[k]);
+        s->wall_sum[k] += sph_exact_value(s->wall_scale, s->wall_step[k]);
     forget_wall_step(s);
 }
 
@@ -514,7 +516,7 @@ static void fold_between_walls(hsbd_spheres *s, size_t i, int a) {
     while (x[a] < lo || x[a] > hi) {
         const int side = x[a] > hi;
         const double plane = side ? hi : lo;
-        sum[side] += sph_exact_term(2.0 * fabs(x[a] - plane) / d); /* impulse / kT */
+        sum[side] += sph_exact_term(s->wall_scale, 2.0 * fabs(x[a] - plane) / d); /* impulse / kT */
         x[a] = 2 * plane - x[a];
         s->stats.wall_collisions++;
     }
@@ -599,7 +601,7 @@ int hsbd_spheres_step(hsbd_spheres *s) {
     if (s->par.hard_core) {
         memcpy(s->x_start, s->x, 3 * s->n * sizeof *s->x);
         if (run_events(s)) return fail_step(s, &stats_at_start);
-        s->stats.virial += sph_exact_value(s->step_virial);
+        s->stats.virial += sph_exact_value(s->virial_scale, s->step_virial);
     }
     if (s->sort_enabled) s->sort_clock += s->diffusion_max * s->dt;
     finish_step(s);

@@ -36,7 +36,7 @@ static int process_collision(hsbd_spheres *s, const sph_event *e) {
     const int32_t i = e->i, j = e->j;
     double virial;
     if (!sph_collide_pair(s, e, &virial)) return 0;
-    s->step_virial += sph_exact_term(virial);
+    s->step_virial += sph_exact_term(s->virial_scale, virial);
     s->stats.collisions++;
     return predict_particle(s, i, e->t) || predict_particle(s, j, e->t) ? -1 : 0;
 }

@@ -719,7 +719,7 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
             double virial;
             if (!sph_collide_pair(s, &e, &virial)) continue;
             g->collisions[a]++;
-            g->virial[a] += sph_exact_term(virial);
+            g->virial[a] += sph_exact_term(s->virial_scale, virial);
             if (new_segment(s, e.i, e.t) < 0 || new_segment(s, e.j, e.t) < 0) return OUT_OF_MEMORY;
             joined = predict_in_group(s, a, e.i, e.t, 1);
             if (joined == NO_JOIN) joined = predict_in_group(s, a, e.j, e.t, 1);

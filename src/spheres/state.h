@@ -29,16 +29,29 @@ typedef struct sph_near {
 } sph_near;
 
 /* A sum that does not depend on the order of its terms: each term is rounded to a multiple
- * of 2^-64 (far below its own last bit for the step's virial and wall impulses, which are
- * of order sigma times a step's displacement), and the multiples add exactly in 128 bits
- * (up to 2^63). The global calendar and the event groups meet the same events in other
- * orders; with these sums a step's virial and wall impulses come out bit for bit the same. */
+ * of a quantum and the multiples add exactly in 128-bit integers, in which addition is
+ * associative. The global calendar and the event groups meet the same events in other
+ * orders; with these sums a step's virial and wall impulses come out bit for bit the same.
+ * The quantum is 2^-64 of a power of two near the quantity's natural unit (the Brownian
+ * time sigma_max^2 / D_max for the virial, sigma_max / D_max for the wall impulses / kT),
+ * so a term of 10^-3 units keeps about 54 bits whatever the user's units, and the
+ * rounding of any term (at most half a quantum) is far below the sum's own last bit.
+ * Terms beyond 2^56 units (none in any sensible system) saturate; a NaN term counts 0. */
 __extension__ typedef __int128 sph_exact_sum;
-static inline sph_exact_sum sph_exact_term(double v) {
-    return (sph_exact_sum)nearbyint(v * 0x1p64); /* the scaling is exact */
+typedef struct sph_exact_scale {
+    double to_quanta, from_quanta; /* 2^(64 - e) and 2^(e - 64), 2^e near the unit */
+} sph_exact_scale;
+static inline sph_exact_scale sph_exact_scale_for(double unit) {
+    const int e = isnormal(unit) ? ilogb(unit) : 0;
+    return (sph_exact_scale){ldexp(1.0, 64 - e), ldexp(1.0, e - 64)};
 }
-static inline double sph_exact_value(sph_exact_sum sum) {
-    return (double)sum * 0x1p-64;
+static inline sph_exact_sum sph_exact_term(sph_exact_scale scale, double v) {
+    double q = v * scale.to_quanta; /* exact: a power of two */
+    if (!(fabs(q) <= 0x1p120)) q = isnan(q) ? 0.0 : copysign(0x1p120, q);
+    return (sph_exact_sum)nearbyint(q);
+}
+static inline double sph_exact_value(sph_exact_scale scale, sph_exact_sum sum) {
+    return (double)sum * scale.from_quanta;
 }
 
 /* A wall event of a step: particle, wall 2 axis + side, displacement / D, the group
@@ -116,6 +129,7 @@ struct hsbd_spheres {
     double *drift_mu;          /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
     double *field_x, *field_f; /* N: coordinates along the field axis, forces */
     sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
+    sph_exact_scale virial_scale, wall_scale; /* the quanta of those sums */
     hsbd_spheres_stats stats;
 };
 
