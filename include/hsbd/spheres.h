@@ -66,7 +66,7 @@ typedef struct hsbd_spheres_params {
     /* How a step's events run (docs/spheres.md): through one time-ordered calendar for
      * the whole box, or group by group (the particles predicted to meet in the step, each
      * group in time order on its own), which keeps large systems in cache. The two give
-     * bit-identical trajectories and statistics (tests/unit/test_spheres.c); AUTO (0)
+     * bit-identical trajectories, collisions and virial (tests/unit/test_spheres.c); AUTO (0)
      * takes groups from HSBD_SPHERES_GROUPS_MIN_N particles on (on threads from
      * HSBD_SPHERES_GROUPS_MIN_N_THREADS), unless they grow too large to gain. */
     hsbd_spheres_event_order event_order;
