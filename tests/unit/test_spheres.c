@@ -869,6 +869,65 @@ static void test_gr_weights(void) {
     }
 }
 
+/* AUTO follows the thread count from HSBD_SPHERES_GROUPS_MIN_N_THREADS on: on one thread it
+ * does the global calendar's work (its stale events, no re-runs), on two the groups' (the
+ * stale events and re-runs of GROUPS on two threads), and every result is the same bit for
+ * bit in all four runs. */
+static void test_auto_follows_threads(void) {
+    enum { STEPS = 8 };
+    const size_t n = HSBD_SPHERES_GROUPS_MIN_N_THREADS;
+    const double side = cbrt((double)n * PI / 6 / 0.3);
+    hsbd_spheres_params p = {.n = n,
+                             .dimension = 3,
+                             .box = {side, side, side},
+                             .sigma = 1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = 1e-3,
+                             .seed = 21,
+                             .hard_core = 1};
+    static const hsbd_spheres_event_order order[4] = {HSBD_EVENTS_GLOBAL, HSBD_EVENTS_AUTO,
+                                                      HSBD_EVENTS_GROUPS, HSBD_EVENTS_AUTO};
+    static const int threads[4] = {1, 1, 2, 2};
+    hsbd_spheres *s[4] = {0};
+    hsbd_spheres_stats st[4];
+    hsbd_error err;
+    for (int k = 0; k < 4; ++k) {
+        p.event_order = order[k];
+        p.threads = threads[k];
+        s[k] = hsbd_spheres_alloc(&p, &err);
+        CHECK(s[k] && hsbd_spheres_init_lattice(s[k], &err) == HSBD_OK, "auto: init: %s",
+              err.message);
+        for (int step = 0; s[k] && step < STEPS; ++step)
+            CHECK(hsbd_spheres_step(s[k]) == HSBD_OK, "auto: step");
+        if (!s[k]) return;
+        st[k] = hsbd_spheres_get_stats(s[k]);
+    }
+    const hsbd_spheres_view v0 = hsbd_spheres_get_view(s[0]);
+    for (int k = 1; k < 4; ++k) {
+        const hsbd_spheres_view v = hsbd_spheres_get_view(s[k]);
+        CHECK(!memcmp(v0.x, v.x, 3 * n * sizeof *v.x) &&
+                  !memcmp(v0.image, v.image, 3 * n * sizeof *v.image) &&
+                  st[0].collisions == st[k].collisions && st[0].virial == st[k].virial &&
+                  st[0].shell_updates == st[k].shell_updates,
+              "auto: run %d differs from the global calendar's", k);
+    }
+    CHECK(st[1].stale_events == st[0].stale_events && st[1].group_reruns == 0,
+          "auto on one thread did not take the global calendar");
+    CHECK(st[3].stale_events == st[2].stale_events && st[3].group_reruns == st[2].group_reruns &&
+              st[2].group_reruns > 0,
+          "auto on two threads did not take the groups (stale events %llu, groups %llu; re-runs "
+          "%llu, groups %llu)",
+          (unsigned long long)st[3].stale_events, (unsigned long long)st[2].stale_events,
+          (unsigned long long)st[3].group_reruns, (unsigned long long)st[2].group_reruns);
+    printf("auto: N %zu, %d steps: stale events %llu (global calendar), %llu (groups, %llu "
+           "re-runs)\n",
+           n, STEPS, (unsigned long long)st[0].stale_events, (unsigned long long)st[2].stale_events,
+           (unsigned long long)st[2].group_reruns);
+    for (int k = 0; k < 4; ++k)
+        hsbd_spheres_free(s[k]);
+}
+
 int main(void) {
     test_collision_rule();
     test_contact_time();
@@ -885,5 +944,6 @@ int main(void) {
     test_compress();
     test_gr_weights();
     test_threads();
+    test_auto_follows_threads();
     return test_finish("test_spheres");
 }
