@@ -47,8 +47,13 @@ static inline sph_exact_scale sph_exact_scale_for(double unit) {
 }
 static inline sph_exact_sum sph_exact_term(sph_exact_scale scale, double v) {
     double q = v * scale.to_quanta; /* exact: a power of two */
+    if (fabs(q) < 0x1p52) { /* to the nearest integer, ties to even, without library calls */
+        const double shift = copysign(0x1p52, q);
+        return (int64_t)((q + shift) - shift);
+    }
+    if (fabs(q) < 0x1p63) return (int64_t)q; /* from 2^52 on a double is an integer */
     if (!(fabs(q) <= 0x1p120)) q = isnan(q) ? 0.0 : copysign(0x1p120, q);
-    return (sph_exact_sum)nearbyint(q);
+    return (sph_exact_sum)q;
 }
 static inline double sph_exact_value(sph_exact_scale scale, sph_exact_sum sum) {
     return (double)sum * scale.from_quanta;

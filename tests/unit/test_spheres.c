@@ -6,8 +6,8 @@
  * sort invisible (the same run bit for bit with and without it), the free-particle
  * mode, polydisperse diameters (moments within their sampling error), the compression to
  * dense states without overlaps (and its refusal near jamming), the g(r) weights of
- * the virial route, and threads that change no bit (1, 2 and 4 threads, the global
- * calendar, groups, walls with a field). */
+ * the virial route, threads that change no bit (1, 2 and 4 threads, the global calendar,
+ * groups, walls with a field), and the exact sums behind the virial and wall impulses. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -19,6 +19,7 @@
 #include "hsbd/spheres.h"
 #include "spheres/calendar.h"
 #include "spheres/kernels.h"
+#include "spheres/state.h"
 
 static const double PI = 3.14159265358979323846;
 
@@ -928,7 +929,52 @@ static void test_auto_follows_threads(void) {
         hsbd_spheres_free(s[k]);
 }
 
+/* The exact sums' terms (src/spheres/state.h): the nearest multiple of the quantum, ties to
+ * even, as nearbyint gives it, from 2^-70 to 2^130 quanta of either sign (2^52 and 2^63
+ * are where the rounding takes other paths), saturated beyond 2^120, NaN as 0; and a sum
+ * of 10^4 terms the same bit for bit in reverse order and with the two halves swapped. */
+static void test_exact_sums(void) {
+    const sph_exact_scale unit = sph_exact_scale_for(1.0), odd = sph_exact_scale_for(3e-7);
+    CHECK(unit.to_quanta == 0x1p64 && odd.to_quanta * 0x1p-22 == 0x1p64,
+          "exact sums: the quantum of 3e-7 units is %g", odd.from_quanta);
+    uint64_t state = 0x9E3779B97F4A7C15ull;
+    int wrong = 0;
+    for (int k = 0; k < 200000; ++k) {
+        state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+        const double mantissa = 1.0 + (double)(state >> 11) * 0x1p-53;
+        double q = ldexp(mantissa, (int)(state % 200) - 70) * (state & 1 << 20 ? -1 : 1);
+        if (k % 7 == 0) q = trunc(q) + copysign(0.5, q); /* a tie */
+        const double sat = fabs(q) <= 0x1p120 ? q : copysign(0x1p120, q);
+        wrong += sph_exact_term(unit, q * 0x1p-64) != (sph_exact_sum)nearbyint(sat);
+    }
+    CHECK(!wrong, "exact sums: %d of 200000 terms not rounded as nearbyint", wrong);
+    CHECK(sph_exact_term(unit, NAN) == 0 &&
+              sph_exact_term(unit, INFINITY) == (sph_exact_sum)0x1p120,
+          "exact sums: NaN or infinity");
+    static double terms[10000];
+    sph_exact_sum forward = 0, backward = 0, swapped = 0;
+    double plain_forward = 0, plain_backward = 0;
+    for (int k = 0; k < 10000; ++k) {
+        state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+        terms[k] = ldexp((double)(state >> 11) * 0x1p-53, -(int)(state % 30));
+        forward += sph_exact_term(odd, terms[k]);
+        plain_forward += terms[k];
+    }
+    for (int k = 9999; k >= 0; --k) {
+        backward += sph_exact_term(odd, terms[k]);
+        plain_backward += terms[k];
+        swapped += sph_exact_term(odd, terms[(k + 5000) % 10000]);
+    }
+    CHECK(forward == backward && forward == swapped, "exact sums: the order changed the sum");
+    const double value = sph_exact_value(odd, forward);
+    CHECK(fabs(value - plain_forward) <= 1e-12 * plain_forward,
+          "exact sums: %.17g against the plain sum %.17g", value, plain_forward);
+    printf("exact sums: 10^4 terms %.17g in either order (plain double sums %.17g and %.17g)\n",
+           value, plain_forward, plain_backward);
+}
+
 int main(void) {
+    test_exact_sums();
     test_collision_rule();
     test_contact_time();
     test_predict_row_kernels();
