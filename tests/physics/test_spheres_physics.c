@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include "../test_util.h"
+#include "../unit/sphere_checks.h"
 #include "hsbd/observe.h"
 #include "hsbd/spheres.h"
 #include "hsbd/theory.h"
@@ -89,16 +90,7 @@ static void check_within(const char *what, double sim, double err, double theory
 
 static void test_monodisperse(int dim, double phi, unsigned seed) {
     const size_t n = 1000;
-    const double side = dim == 3 ? cbrt((double)n * PI / 6 / phi) : sqrt((double)n * PI / 4 / phi);
-    const hsbd_spheres_params p = {.n = n,
-                                   .dimension = dim,
-                                   .box = {side, side, side},
-                                   .sigma = 1,
-                                   .diffusion = 1,
-                                   .kT = 1,
-                                   .dt = 1e-3,
-                                   .seed = seed,
-                                   .hard_core = 1};
+    const hsbd_spheres_params p = fluid_params(dim, n, phi, seed);
     const outcome o = run_case(&p, 2.0, 8.0, 0);
     const double z = dim == 3 ? hsbd_hs_z_klm(phi) : hsbd_hd_z_virial(phi);
     const double g = dim == 3 ? hsbd_hs_contact_klm(phi) : hsbd_hd_contact_virial(phi);

@@ -1,5 +1,5 @@
-/* Helpers of the spheres tests that compare states: an FNV-1a hash of the positions and
- * image counters a view shows (user order), and the smallest gap over all pairs. */
+/* Helpers of the spheres tests: an FNV-1a hash of the positions and image counters a view
+ * shows (user order), the smallest gap over all pairs, and a one-size fluid's parameters. */
 #ifndef HSBD_TEST_SPHERE_CHECKS_H
 #define HSBD_TEST_SPHERE_CHECKS_H
 
@@ -40,6 +40,22 @@ static inline double brute_min_gap(const hsbd_spheres_view *v) {
             worst = fmin(worst, (sqrt(r2) - sij) / sij);
         }
     return worst;
+}
+
+/* n hard spheres (dim 3) or disks (dim 2), sigma = D = kT = 1, at packing fraction phi in
+ * a cubic or square periodic box, dt 1e-3. */
+static inline hsbd_spheres_params fluid_params(int dim, size_t n, double phi, uint64_t seed) {
+    const double pi = 3.14159265358979323846;
+    const double side = dim == 3 ? cbrt((double)n * pi / 6 / phi) : sqrt((double)n * pi / 4 / phi);
+    return (hsbd_spheres_params){.n = n,
+                                 .dimension = dim,
+                                 .box = {side, side, side},
+                                 .sigma = 1,
+                                 .diffusion = 1,
+                                 .kT = 1,
+                                 .dt = 1e-3,
+                                 .seed = seed,
+                                 .hard_core = 1};
 }
 
 #endif

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "../test_util.h"
+#include "sphere_checks.h"
 #include "hsbd/observe.h"
 #include "hsbd/rng.h"
 #include "hsbd/spheres.h"
@@ -367,24 +368,6 @@ static void test_cells_near_kernels(void) {
     hsbd_cells_free(&cells);
 }
 
-/* smallest gap over all pairs, relative to sigma_ij (brute force, minimum image) */
-static double brute_min_gap(const hsbd_spheres_view *v) {
-    double worst = INFINITY;
-    for (size_t i = 0; i < v->n; ++i)
-        for (size_t j = i + 1; j < v->n; ++j) {
-            double r2 = 0;
-            for (int a = 0; a < v->dimension; ++a) {
-                double d = v->x[3 * j + a] - v->x[3 * i + a];
-                d -= v->box[a] * nearbyint(d / v->box[a]);
-                r2 += d * d;
-            }
-            const double sij = 0.5 * (v->sigma[i] + v->sigma[j]);
-            const double gap = (sqrt(r2) - sij) / sij;
-            if (gap < worst) worst = gap;
-        }
-    return worst;
-}
-
 static void run_no_overlap(const char *name, hsbd_spheres_params p, int lattice, int steps) {
     hsbd_error err;
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
@@ -694,17 +677,9 @@ static void compare_thread_counts(const char *name, hsbd_spheres_params p, int s
 }
 
 static void test_threads(void) {
-    const double side = cbrt(4000 * PI / 6 / 0.3);
-    hsbd_spheres_params p = {.n = 4000,
-                             .dimension = 3,
-                             .box = {side, side, side},
-                             .sigma = 1,
-                             .diffusion = 1,
-                             .kT = 1,
-                             .dt = 1e-3,
-                             .seed = 12,
-                             .hard_core = 1,
-                             .event_order = HSBD_EVENTS_GLOBAL};
+    hsbd_spheres_params p = fluid_params(3, 4000, 0.3, 12);
+    const double side = p.box[0];
+    p.event_order = HSBD_EVENTS_GLOBAL;
     compare_thread_counts("global calendar, phi 0.3", p, 150);
     p.event_order = HSBD_EVENTS_GROUPS;
     compare_thread_counts("groups, phi 0.3", p, 150);
@@ -847,16 +822,8 @@ static void test_compress(void) {
 static void test_gr_weights(void) {
     for (int dim = 2; dim <= 3; ++dim) {
         const size_t n = 300;
-        const double phi = 0.2, side = pow(n * (dim == 3 ? PI / 6 : PI / 4) / phi, 1.0 / dim);
-        const hsbd_spheres_params p = {.n = n,
-                                       .dimension = dim,
-                                       .box = {side, side, side},
-                                       .sigma = 1,
-                                       .diffusion = 1,
-                                       .kT = 1,
-                                       .dt = 1e-3,
-                                       .seed = 4,
-                                       .hard_core = 1};
+        const double phi = 0.2;
+        const hsbd_spheres_params p = fluid_params(dim, n, phi, 4);
         hsbd_error err;
         hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
         const hsbd_spheres_view v = hsbd_spheres_get_view(s);
@@ -877,16 +844,7 @@ static void test_gr_weights(void) {
 static void test_auto_follows_threads(void) {
     enum { STEPS = 8 };
     const size_t n = HSBD_SPHERES_GROUPS_MIN_N_THREADS;
-    const double side = cbrt((double)n * PI / 6 / 0.3);
-    hsbd_spheres_params p = {.n = n,
-                             .dimension = 3,
-                             .box = {side, side, side},
-                             .sigma = 1,
-                             .diffusion = 1,
-                             .kT = 1,
-                             .dt = 1e-3,
-                             .seed = 21,
-                             .hard_core = 1};
+    hsbd_spheres_params p = fluid_params(3, n, 0.3, 21);
     static const hsbd_spheres_event_order order[4] = {HSBD_EVENTS_GLOBAL, HSBD_EVENTS_AUTO,
                                                       HSBD_EVENTS_GROUPS, HSBD_EVENTS_AUTO};
     static const int threads[4] = {1, 1, 2, 2};
