@@ -628,16 +628,9 @@ static void test_event_groups(void) {
     compare_event_orders("disks phi 0.6", d, 200, 20, HSBD_EVENTS_GROUPS);
     /* a long box, on two threads: 8 slabs along z, so the groups' first pass runs both its
      * rounds (taking in pending groups) and the shells move slab by slab */
-    hsbd_spheres_params l = {.n = 4950,
-                             .dimension = 3,
-                             .box = {12, 12, 60},
-                             .sigma = 1,
-                             .diffusion = 1,
-                             .kT = 1,
-                             .dt = 1e-3,
-                             .seed = 8,
-                             .hard_core = 1,
-                             .threads = 2};
+    hsbd_spheres_params l = fluid_params(3, 4950, 0.3, 8);
+    l.box[0] = l.box[1] = 12, l.box[2] = 60; /* phi 0.3 */
+    l.threads = 2;
     compare_event_orders("spheres phi 0.3, a long box", l, 150, 1, HSBD_EVENTS_GROUPS);
 }
 
