@@ -163,7 +163,7 @@ int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, const char *name, int64_t length, hs
     const size_t unused = (size_t)(g->index_capacity - g->entries) * GSD_ENTRY_BYTES;
     if (reserve(g, unused) != 0)
         return hsbd_error_set(err, HSBD_ENOMEM, "GSD trajectory: out of memory");
-    memset(g->buf, 0, unused);
+    if (unused) memset(g->buf, 0, unused); /* none when the index was full (buf may be NULL) */
     if (write_header(g) != 0 ||
         write_at(g, g->index_location + g->entries * GSD_ENTRY_BYTES, g->buf, unused) != 0 ||
         fseeko(f, 0, SEEK_END) != 0)

@@ -1,7 +1,8 @@
 /* The GSD writer's resume: a file cut back to its length at some moment and continued
  * with the layout it had then (what hsbd resume does with a checkpoint) must hold exactly
  * the bytes it had at that moment, also when the index moved (and the header changed)
- * after it, and continuing must then give the bytes of a file never cut. Also: the
+ * after it, and continuing must then give the bytes of a file never cut; the moment is
+ * taken with room for two frames in the index and with the index exactly full. Also: the
  * layout of a new file (header fields, index at 256 holding 128 entries, the name list),
  * entries sorted by frame, and the index moving twice as large when full. */
 #include <stdint.h>
@@ -55,29 +56,24 @@ static uint64_t le(const unsigned char *p, int bytes) {
     return v;
 }
 
-int main(void) {
+/* Writes frames to a file never cut and to one cut back to the moment its index had room
+ * for `room` more entries, and continued from there; both must end with the same bytes. */
+static void cut_and_continue(uint64_t room) {
     hsbd_error err;
     FILE *ref = tmpfile(), *cut = tmpfile();
     hsbd_gsd gr, gc;
     CHECK(ref && cut, "tmpfile");
-    if (!ref || !cut) return test_finish("test_gsd_layer");
+    if (!ref || !cut) return;
     CHECK(hsbd_gsd_start(&gr, ref, "ref", &err) == HSBD_OK, "%s", err.message);
     CHECK(hsbd_gsd_start(&gc, cut, "cut", &err) == HSBD_OK, "%s", err.message);
-    long len0;
-    unsigned char *empty = contents(ref, &len0);
-    CHECK(len0 == 256 + 128 * 32 + 16 * 64, "a new file has %ld bytes", len0);
-    CHECK(le(empty, 8) == 0x65DF65DF65DF65DFull && le(empty + 8, 8) == 256 &&
-              le(empty + 16, 8) == 128 && le(empty + 24, 8) == 256 + 128 * 32 &&
-              le(empty + 32, 8) == 16 && le(empty + 40, 4) == (1u << 16 | 4u) &&
-              le(empty + 44, 4) == 2u << 16 && !memcmp(empty + 112, "hoomd", 6),
-          "header fields");
-    CHECK(!memcmp(empty + 256 + 128 * 32, "configuration/step", 19), "the name list");
-    free(empty);
-
-    /* frames until the index has room for two more: the moment of the "checkpoint" */
+    /* frames until the index has room for exactly `room` more entries: the moment of the
+     * "checkpoint" (the first frame writes 11 entries, later ones 7: in the index of 128
+     * entries the moment never comes, in the moved one of 256 it does) */
     uint64_t k = 0;
-    while (gc.entries + 3 * 8 <= gc.index_capacity)
+    while (gc.entries + room != gc.index_capacity && k < 100)
         frame(&gr, k), frame(&gc, k), ++k;
+    CHECK(gc.entries + room == gc.index_capacity, "%llu entries at the checkpoint",
+          (unsigned long long)gc.entries);
     const hsbd_gsd saved = gc;
     long len_saved;
     unsigned char *at_checkpoint = contents(cut, &len_saved);
@@ -124,5 +120,29 @@ int main(void) {
     hsbd_gsd_free(&gc);
     fclose(ref);
     fclose(cut);
+}
+
+int main(void) {
+    hsbd_error err;
+    FILE *f = tmpfile();
+    hsbd_gsd g;
+    CHECK(f != NULL, "tmpfile");
+    if (!f) return test_finish("test_gsd_layer");
+    CHECK(hsbd_gsd_start(&g, f, "new", &err) == HSBD_OK, "%s", err.message);
+    long len0;
+    unsigned char *empty = contents(f, &len0);
+    CHECK(len0 == 256 + 128 * 32 + 16 * 64, "a new file has %ld bytes", len0);
+    CHECK(le(empty, 8) == 0x65DF65DF65DF65DFull && le(empty + 8, 8) == 256 &&
+              le(empty + 16, 8) == 128 && le(empty + 24, 8) == 256 + 128 * 32 &&
+              le(empty + 32, 8) == 16 && le(empty + 40, 4) == (1u << 16 | 4u) &&
+              le(empty + 44, 4) == 2u << 16 && !memcmp(empty + 112, "hoomd", 6),
+          "header fields");
+    CHECK(!memcmp(empty + 256 + 128 * 32, "configuration/step", 19), "the name list");
+    free(empty);
+    hsbd_gsd_free(&g);
+    fclose(f);
+    /* room for two frames, and none */
+    cut_and_continue(14);
+    cut_and_continue(0);
     return test_finish("test_gsd_layer");
 }
