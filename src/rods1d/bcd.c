@@ -1,9 +1,11 @@
 /* Brownian cluster dynamics step: free end points, then one ring isotonic regression. */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/vmath.h"
 #include "hsbd/isotonic.h"
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
@@ -595,30 +597,70 @@ static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t
 
 enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pairs align */
 
+/* flags[j] = whether gap j (z[j + 1] - z[j] at the start, y[j + 1] - y[j] at the free end,
+ * relative diffusion times dt d[j], or d_one when d is NULL) may cross zero */
+static inline __attribute__((always_inline)) void
+gap_flags_loop(const double *restrict z, const double *restrict y, const double *restrict d,
+               double d_one, size_t m, uint8_t *restrict flags) {
+    if (d)
+        for (size_t j = 0; j < m; ++j)
+            flags[j] = (uint8_t)bridge_may_cross(z[j + 1] - z[j], y[j + 1] - y[j], d[j]);
+    else
+        for (size_t j = 0; j < m; ++j)
+            flags[j] = (uint8_t)bridge_may_cross(z[j + 1] - z[j], y[j + 1] - y[j], d_one);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/* The same loop compiled for AVX2, which the compiler vectorises (four gaps at a time; the
+ * same subtractions, products and comparisons lane by lane, no FMA: the same flags). */
+__attribute__((target("avx2"))) static void gap_flags_avx2(const double *restrict z,
+                                                           const double *restrict y,
+                                                           const double *restrict d, double d_one,
+                                                           size_t m, uint8_t *restrict flags) {
+    gap_flags_loop(z, y, d, d_one, m, flags);
+}
+#endif
+
+static void gap_flags(const double *restrict z, const double *restrict y, const double *restrict d,
+                      double d_one, size_t m, uint8_t *restrict flags) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (hsbd_cpu_has_avx2()) {
+        gap_flags_avx2(z, y, d, d_one, m, flags);
+        return;
+    }
+#endif
+    gap_flags_loop(z, y, d, d_one, m, flags);
+}
+
 /* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in three
  * passes that give the same bits as bridge_push gap by gap: the gaps that may cross
- * collected without branches, their uniforms (four Philox counters at a time with AVX2: a
- * gap's number depends only on its index, hsbd/rng.h), then their bridge minima (scalar
- * libm log and sqrt). */
+ * listed (a flag per gap in a loop the compiler vectorises, then the indices of the set
+ * flags, eight flags at a time), their uniforms (four Philox counters at a time with
+ * AVX2: a gap's number depends only on its index, hsbd/rng.h), then their bridge minima
+ * (scalar libm log and sqrt). Only the listed gaps are computed again after the test
+ * (the same subtractions, so the same bits): in dilute systems they are few. */
 static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
                            double *restrict push) {
-    double u[GAP_CHUNK], g0[GAP_CHUNK], g1[GAP_CHUNK], d[GAP_CHUNK];
+    double u[GAP_CHUNK], d[GAP_CHUNK];
     unsigned idx[GAP_CHUNK];
+    uint8_t may_cross[GAP_CHUNK + 8];
     const double *restrict z = r->z + first, *restrict y = r->y + first;
     const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
-    size_t count = 0;
     if (r->species)
         for (size_t j = 0; j < m; ++j)
             d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
-    else
-        for (size_t j = 0; j < m; ++j)
-            d[j] = d_one;
-    for (size_t j = 0; j < m; ++j) {
-        g0[j] = z[j + 1] - z[j];
-        g1[j] = y[j + 1] - y[j];
-        push[j] = 0.0;
-        idx[count] = (unsigned)j;
-        count += (size_t)bridge_may_cross(g0[j], g1[j], d[j]);
+    gap_flags(z, y, r->species ? d : NULL, d_one, m, may_cross);
+    memset(may_cross + m, 0, 8);
+    memset(push, 0, m * sizeof *push);
+    size_t count = 0;
+    for (size_t j0 = 0; j0 < m; j0 += 8) {
+        uint64_t flags;
+        memcpy(&flags, may_cross + j0, sizeof flags);
+        if (!flags) continue;
+        for (size_t j = j0; j < j0 + 8; ++j) {
+            idx[count] = (unsigned)j;
+            count += may_cross[j];
+        }
     }
     if (10 * count > 3 * m) { /* over 30 % listed: one run of counters costs less */
         double every[GAP_CHUNK];
@@ -631,13 +673,15 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
     size_t crossing = 0; /* the listed gaps whose uniform does not rule the crossing out */
     for (size_t k = 0; k < count; ++k) {
         const size_t j = idx[k];
+        const double dj = r->species ? d[j] : d_one;
         idx[crossing] = (unsigned)j;
         u[crossing] = u[k];
-        crossing += (size_t)!bridge_surely_clear(g0[j], g1[j], d[j], u[k]);
+        crossing += (size_t)!bridge_surely_clear(z[j + 1] - z[j], y[j + 1] - y[j], dj, u[k]);
     }
     for (size_t k = 0; k < crossing; ++k) {
         const size_t j = idx[k];
-        push[j] = bridge_push_with(g0[j], g1[j], d[j], u[k]);
+        const double dj = r->species ? d[j] : d_one;
+        push[j] = bridge_push_with(z[j + 1] - z[j], y[j + 1] - y[j], dj, u[k]);
     }
 }
 
