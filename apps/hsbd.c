@@ -139,7 +139,7 @@ static void run_help(void) {
            "  --replica K run replica K of an ensemble alone (same as --set run.replica=K;\n"
            "              join replicas with hsbd merge)\n"
            "  --threads N threads of the run (same as --set run.threads=N; default: the\n"
-           "              cores the process may use; rods only, same results for every N)\n"
+           "              cores the process may use; the same results for every N)\n"
            "  --defaults  no configuration file: every key at its default (runs/defaults);\n"
            "              a file that sets no key is refused\n"
            "  --force     write into an existing, non-empty run directory\n"

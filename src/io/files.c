@@ -86,7 +86,8 @@ static int is_run_output(const char *name) {
         "msd.tsv",         "clusters.tsv",         "current.tsv",        "gr.tsv",
         "fs.tsv",          "summary.json",         "trajectory.xyz",     "trajectory.gsd",
         "checkpoint.hsbd", "checkpoint.prev.hsbd", "theory.tsv",         "percus.tsv",
-        "plot.png",        ".hsbd-probe"};
+        "plot.png",        ".hsbd-probe",          "density_phases.tsv", "density_x.tsv",
+        "density_y.tsv",   "density_z.tsv"};
     char base[256];
     snprintf(base, sizeof base, "%s", name);
     const size_t len = strlen(base);

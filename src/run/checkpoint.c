@@ -134,7 +134,11 @@ int run_checkpoint_write(run *r, hsbd_error *err) {
     hsbd_writer_free(&w);
     if (rc != HSBD_OK) return rc;
     /* the previous checkpoint stays until the new one is complete */
-    if (access(path, F_OK) == 0 && rename(path, prev) != 0)
+    if (r->newest_unusable) { /* never rotate an unusable file over the good previous one */
+        if (remove(path) != 0 && errno != ENOENT)
+            return hsbd_error_set(err, HSBD_EIO, "cannot remove '%s': %s", path, strerror(errno));
+        r->newest_unusable = 0;
+    } else if (access(path, F_OK) == 0 && rename(path, prev) != 0)
         return hsbd_error_set(err, HSBD_EIO, "cannot rename '%s' to '%s': %s", path, prev,
                               strerror(errno));
     if (rename(part, path) != 0)

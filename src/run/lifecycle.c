@@ -469,6 +469,12 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     size_t next = 0;
     if (rc == HSBD_OK && nsets > RUN_MAX_RESUME_SETS)
         rc = hsbd_error_set(err, HSBD_EINPUT, "resume: too many --set");
+    for (size_t k = 0; k < nsets && rc == HSBD_OK; ++k) /* the two kept keys are not the user's */
+        if (strncmp(sets[k], "run.t_total=", 12))
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "resume: --set %s: a resumed run keeps its configuration; "
+                                "allowed: --set run.t_total=T (a longer run)",
+                                sets[k]);
     if (rc == HSBD_OK && nsets > 0) {
         hsbd_config *old = malloc(sizeof *old);
         rc = old ? config_from_source(&src, NULL, 0, absdir, old, err)
@@ -509,6 +515,8 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
         rc = hsbd_error_set(err, rd.oom ? HSBD_ENOMEM : HSBD_EINPUT, "%s: %s", ck.path,
                             rd.bad ? rd.why : "data after the end");
     if (rc == HSBD_OK) {
+        const char *base = strrchr(ck.path, '/');
+        r->newest_unusable = base && !strcmp(base + 1, HSBD_CHECKPOINT_PREV);
         snprintf(r->cwd, sizeof r->cwd, "%s", src.cwd);
         r->ninputs = src.ninputs;
         memcpy(r->inputs, src.inputs, sizeof src.inputs);
@@ -545,15 +553,18 @@ int run_checkpoint_try_load(const char *dir, hsbd_error *err) {
 /* summary.json, written last, says the run's results are all committed (a run stopped
  * after its final checkpoint but before its results, e.g. by kill -9, has none or an old
  * one: resuming it writes them). */
-static int results_written(const char *dir) {
-    char path[HSBD_PATH_MAX + 16], line[256];
+static int results_written(const char *dir, uint64_t steps) {
+    char path[HSBD_PATH_MAX + 16], line[256], want[64];
     snprintf(path, sizeof path, "%s/summary.json", dir);
+    snprintf(want, sizeof want, "  \"steps\": %llu,", (unsigned long long)steps);
     FILE *f = fopen(path, "r");
-    int done = 0;
-    while (f && !done && fgets(line, sizeof line, f))
-        done = strstr(line, "\"completed\": true") != NULL;
+    int done = 0, same = 0; /* an extension's results: the summary of its own steps */
+    while (f && fgets(line, sizeof line, f)) {
+        done |= strstr(line, "\"completed\": true") != NULL;
+        same |= strncmp(line, want, strlen(want)) == 0;
+    }
     if (f) fclose(f);
-    return done;
+    return done && same;
 }
 
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
@@ -564,19 +575,34 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     run r = {.opt = opt};
     resumed_source rs = {0};
     int rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
+    /* from here on the stream files are the stopped run's: kept whatever happens (release()
+     * removes the files of a run that never started) */
+    r.started = 1;
     if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg) &&
-        results_written(dir))
+        results_written(dir, r.steps_done)) {
+        /* an extension killed before its first checkpoint left the streams under their
+         * temporary names, perhaps longer: back to the completed run's bytes and names */
+        int moved = 0;
+        for (size_t k = 0; k < r.nstreams; ++k) {
+            char path[HSBD_PATH_MAX + 80];
+            snprintf(path, sizeof path, "%s/%s", dir, r.streams[k].name);
+            moved |= access(path, F_OK) != 0;
+        }
+        hsbd_error ignored;
+        if (moved && reopen_streams(&r, &ignored) == HSBD_OK)
+            for (size_t k = 0; k < r.nstreams; ++k)
+                hsbd_outfile_commit(&r.streams[k].file, &ignored);
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: the run in '%s' is complete (%llu of %llu steps); to "
                             "extend it: --set run.t_total=T with T > %g",
                             dir, (unsigned long long)r.steps_done,
                             (unsigned long long)hsbd_config_steps(cfg), cfg->run.t_total);
+    }
     if (rc == HSBD_OK && r.stage == RUN_DONE) /* extended, or its results unwritten */
         r.stage = RUN_PRODUCING;
     if (rc == HSBD_OK) rc = reopen_streams(&r, err);
     if (rc == HSBD_OK) {
         r.resumes += 1;
-        r.started = 1;
         rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     unload(&r, cfg, &rs);

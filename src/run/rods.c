@@ -132,7 +132,7 @@ static int check_sticky_step(const run *r, rods_model *m, const hsbd_rods_params
     const double dt = fmax(cfg->run.dt, hsbd_config_dt_equil(cfg));
     m->sticky_ratio = mu * fbig * dt / cfg->contact.epsilon;
     const double dt_limit = cfg->contact.epsilon / (mu * fbig);
-    if (m->sticky_ratio > 1.0 && !r->opt->force)
+    if (m->sticky_ratio > 1.0 && !r->opt->force && !r->resuming) /* accepted at the start */
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: run.dt = %g: the sticky force moves a rod by mu max|f| dt = "
                               "%.3g epsilon per step (Antonov Eq. 33 needs << 1); allowed: dt "

@@ -8,8 +8,11 @@
 # The kill moments are random (bash's RANDOM, seeded, over the run's wall time); each
 # case is killed several times, once with SIGTERM (a graceful stop) and otherwise with
 # SIGKILL, which may hit a checkpoint being written or a frame half-written.
-# Also: a damaged newest checkpoint falls back to the previous one, damaged or foreign
-# checkpoints are refused with exit 2, a completed run is refused unless extended.
+# Also: a damaged newest checkpoint falls back to the previous one (and is never rotated
+# over it), damaged or foreign checkpoints are refused with exit 2, a completed run is
+# refused unless extended; an extension stopped before its first checkpoint or before its
+# results, and a resume refused for a damaged stream, lose nothing; a run started with
+# --force past the sticky step check resumes; --force replaces every output of a run.
 set -u
 HSBD=${1:?usage: test_resume.sh path/to/hsbd [model]}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -185,6 +188,7 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     # run derived from its own length), the means too; the error blocks keep their length,
     # so there are twice as many
     "$HSBD" run rods.ini --quiet --set run.t_total=1 --out ext 2>/dev/null
+    cp -r ext ext-1
     "$HSBD" run rods.ini --quiet --set run.t_total=2 --set sample.msd_max_lag=0.1 \
         --set output.trajectory_every=0.1 --out ext-ref 2>/dev/null
     if "$HSBD" resume ext --set run.t_total=2 --quiet 2>err && cmp -s ext/trajectory.xyz ext-ref/trajectory.xyz &&
@@ -206,6 +210,49 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     if [ $? = 2 ] && grep -q "replicas" err; then ok; else bad "extending replicas: $(cat err)"; fi
     "$HSBD" resume dmg --set system.N=10 --quiet 2>err
     if [ $? = 2 ] && grep -q "run.t_total" err; then ok; else bad "resume --set other key: $(cat err)"; fi
+    # the two keys an extension keeps for itself are not the user's to set
+    cp -r ext-1 kept && "$HSBD" resume kept --set run.t_total=2 --set output.trajectory_every=0.5 --quiet 2>err
+    if [ $? = 2 ] && grep -q "output.trajectory_every" err; then ok; else bad "resume --set kept key: $(cat err)"; fi
+    # an extension stopped after its final checkpoint but before its results (the summary
+    # still the first run's): resuming writes the extension's results
+    cp -r ext late-ext && cp ext-1/summary.json late-ext/ && rm late-ext/density.tsv &&
+        mv late-ext/trajectory.xyz late-ext/trajectory.xyz.part
+    if "$HSBD" resume late-ext --quiet 2>err && cmp -s late-ext/trajectory.xyz ext/trajectory.xyz &&
+        cmp -s late-ext/density.tsv ext/density.tsv && grep -q '"steps": 20000' late-ext/summary.json
+    then ok; else bad "extension's results after its final checkpoint: $(cat err)"; fi
+    # an extension stopped before its first checkpoint: the completed run is refused again,
+    # with its streams back under their names and at their lengths
+    cp -r ext-1 early-ext && mv early-ext/trajectory.xyz early-ext/trajectory.xyz.part &&
+        mv early-ext/current.tsv early-ext/current.tsv.part &&
+        head -c 5000 ext/trajectory.xyz >>early-ext/trajectory.xyz.part && echo "1.5 0 0" >>early-ext/current.tsv.part
+    "$HSBD" resume early-ext --quiet 2>err
+    if [ $? = 2 ] && grep -q "is complete" err && cmp -s early-ext/trajectory.xyz ext-1/trajectory.xyz &&
+        cmp -s early-ext/current.tsv ext-1/current.tsv && ! ls early-ext/*.part >/dev/null 2>&1
+    then ok; else bad "extension stopped before its first checkpoint: $(cat err)"; fi
+    # a resume refused because a stream is damaged keeps the other streams' data
+    "$HSBD" run rods.ini --quiet --set run.t_total=0.5 --set output.trajectory=gsd --out refused 2>/dev/null
+    mv refused/current.tsv refused-current.tsv
+    "$HSBD" resume refused --set run.t_total=1 --quiet 2>err
+    if [ $? = 2 ] && { [ -s refused/trajectory.gsd ] || [ -s refused/trajectory.gsd.part ]; }; then ok; else
+        bad "refused resume: exit $? $(cat err); $(ls refused)"; fi
+    # after falling back to checkpoint.prev.hsbd the damaged newest is never rotated over it
+    "$HSBD" run rods.ini --quiet --set run.t_total=1 --set output.checkpoint_every=0.5 --out fb 2>/dev/null
+    cp fb/checkpoint.prev.hsbd fb-prev.hsbd
+    printf 'XXXX' | dd of=fb/checkpoint.hsbd bs=1 seek=200 conv=notrunc 2>/dev/null
+    cp fb/checkpoint.hsbd fb-damaged.hsbd
+    if "$HSBD" resume fb --quiet 2>err && ! cmp -s fb/checkpoint.prev.hsbd fb-damaged.hsbd &&
+        "$HSBD" resume fb --set run.t_total=1.5 --quiet 2>err; then ok; else bad "fall-back rotation: $(cat err)"; fi
+    # a run started with --force past the sticky step check resumes (and extends)
+    "$HSBD" run rods.ini --quiet --force --set contact.gamma=1 --set run.dt=1e-3 --set run.t_total=0.5 \
+        --set run.t_equil=0.1 --out sticky-force 2>/dev/null
+    if "$HSBD" resume sticky-force --set run.t_total=1 --quiet 2>err; then ok; else bad "resume after --force: $(cat err)"; fi
+fi
+
+if [ -z "$ONLY" ] || [ "$ONLY" = spheres ]; then
+    # --force replaces every file a run wrote, the density profiles between walls included
+    walls="--set system.boundary=walls,periodic,walls --set field.type=tilt --set field.force=-0.5 --set species.coupling=1,2 --set run.t_total=0.1 --set run.t_equil=0"
+    "$HSBD" run spheres.ini --quiet $walls --out sw 2>/dev/null
+    if "$HSBD" run spheres.ini --quiet $walls --out sw --force 2>err; then ok; else bad "--force over walls outputs: $(cat err)"; fi
 fi
 
 echo "test_resume: $pass passed, $fail failed"
