@@ -101,8 +101,8 @@ struct run {
     uint64_t equil_done;     /* equilibration steps over all replicas */
     size_t replicas_started; /* sample.blocking = replicas: blocks begun */
     double wall_equil, wall_prod, cpu_equil, cpu_prod;
-    uint64_t resumes; /* times this run was continued from a checkpoint */
-    int resuming;     /* built to load a checkpoint: no initial state is made */
+    uint64_t resumes;    /* times this run was continued from a checkpoint */
+    int resuming;        /* built to load a checkpoint: no initial state is made */
     int newest_unusable; /* resumed from checkpoint.prev.hsbd: the newest is not to be kept */
     int completed;
     int started; /* the dynamics began: stream files are kept for a resume */
