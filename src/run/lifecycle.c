@@ -328,7 +328,7 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
 
 /* The configuration again from its source: the file's text (loaded from a copy under
  * the same name in a temporary directory), the overrides in order, then the resume's own
- * (run.t_total only) and the run directory. */
+ * (the user's run.t_total and the two keys an extension keeps) and the run directory. */
 static int config_from_source(const run_source_copy *src, const char *const *sets, size_t nsets,
                               const char *dir, hsbd_config *cfg, hsbd_error *err) {
     hsbd_config_defaults(cfg);
@@ -362,15 +362,8 @@ static int config_from_source(const run_source_copy *src, const char *const *set
     }
     for (size_t k = 0; k < src->nsets && rc == HSBD_OK; ++k)
         rc = hsbd_config_set(cfg, src->sets[k], "the run's command line", err);
-    for (size_t k = 0; k < nsets && rc == HSBD_OK; ++k) {
-        if (strncmp(sets[k], "run.t_total=", 12) && strncmp(sets[k], "sample.msd_max_lag=", 19) &&
-            strncmp(sets[k], "output.trajectory_every=", 24))
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "resume: --set %s: a resumed run keeps its configuration; "
-                                  "allowed: --set run.t_total=T (a longer run)",
-                                  sets[k]);
+    for (size_t k = 0; k < nsets && rc == HSBD_OK; ++k) /* checked by load_checkpoint */
         rc = hsbd_config_set(cfg, sets[k], "hsbd resume --set", err);
-    }
     char out[HSBD_PATH_MAX + 16];
     snprintf(out, sizeof out, "output.dir=%s", dir);
     if (rc == HSBD_OK) rc = hsbd_config_set(cfg, out, "hsbd resume", err);
