@@ -34,6 +34,25 @@ int hsbd_outfile_commit(hsbd_outfile *o, hsbd_error *err) {
     return HSBD_OK;
 }
 
+int hsbd_outfile_can_reopen(const char *dir, const char *name, int64_t length, hsbd_error *err) {
+    char path[HSBD_PATH_MAX + 64], tmp[HSBD_PATH_MAX + 72];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    snprintf(tmp, sizeof tmp, "%s.part", path);
+    struct stat st;
+    const char *found = stat(tmp, &st) == 0 ? tmp : stat(path, &st) == 0 ? path : NULL;
+    if (!found)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "cannot continue '%s': neither it nor '%s' can be opened (%s)", path,
+                              tmp, strerror(errno));
+    if (!S_ISREG(st.st_mode) || access(found, R_OK | W_OK) != 0)
+        return hsbd_error_set(err, HSBD_EINPUT, "cannot continue '%s': not a writable file", found);
+    if (st.st_size < length)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "cannot continue '%s': it has %lld bytes, the checkpoint counts %lld",
+                              found, (long long)st.st_size, (long long)length);
+    return HSBD_OK;
+}
+
 int hsbd_outfile_reopen(hsbd_outfile *o, const char *dir, const char *name, int64_t length,
                         hsbd_error *err) {
     snprintf(o->path, sizeof o->path, "%s/%s", dir, name);

@@ -613,10 +613,9 @@ gap_flags_loop(const double *restrict z, const double *restrict y, const double 
 #if defined(__x86_64__) && defined(__GNUC__)
 /* The same loop compiled for AVX2, which the compiler vectorises (four gaps at a time; the
  * same subtractions, products and comparisons lane by lane, no FMA: the same flags). */
-__attribute__((target("avx2"))) static void gap_flags_avx2(const double *restrict z,
-                                                           const double *restrict y,
-                                                           const double *restrict d, double d_one,
-                                                           size_t m, uint8_t *restrict flags) {
+__attribute__((target("avx2,no-fma"))) static void
+gap_flags_avx2(const double *restrict z, const double *restrict y, const double *restrict d,
+               double d_one, size_t m, uint8_t *restrict flags) {
     gap_flags_loop(z, y, d, d_one, m, flags);
 }
 #endif

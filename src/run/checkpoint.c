@@ -216,6 +216,7 @@ int run_checkpoint_read(const char *dir, run_checkpoint_data *ck, hsbd_error *er
     const int got_prev = read_one(prev, ck, why2, sizeof why2);
     if (got_prev == -2) return hsbd_error_set(err, HSBD_ENOMEM, "'%s': %s", prev, why2);
     if (got_prev == 0) {
+        ck->fell_back = 1;
         fprintf(stderr, "hsbd: warning: '%s' is not usable (%s); continuing from '%s'\n", newest,
                 why1, prev);
         return HSBD_OK;

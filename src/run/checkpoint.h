@@ -25,6 +25,7 @@ typedef struct run_checkpoint_data {
     unsigned char *data;
     size_t len;
     char path[HSBD_PATH_MAX + 32];
+    int fell_back; /* the newest was not usable: this is checkpoint.prev.hsbd */
 } run_checkpoint_data;
 int run_checkpoint_read(const char *dir, run_checkpoint_data *ck, hsbd_error *err);
 void run_checkpoint_data_free(run_checkpoint_data *ck);

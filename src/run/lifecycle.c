@@ -388,7 +388,13 @@ static int check_inputs(const run_source_copy *src, hsbd_error *err) {
     return HSBD_OK;
 }
 
+/* Every stream file cut back to its length at the checkpoint and open for appending;
+ * all are checked first, so a refusal leaves every file as it was. */
 static int reopen_streams(run *r, hsbd_error *err) {
+    for (size_t k = 0; k < r->nstreams; ++k)
+        if (hsbd_outfile_can_reopen(r->cfg->output.dir, r->streams[k].name, r->streams[k].committed,
+                                    err) != HSBD_OK)
+            return err->status;
     for (size_t k = 0; k < r->nstreams; ++k) {
         run_stream *s = &r->streams[k];
         if (hsbd_outfile_reopen(&s->file, r->cfg->output.dir, s->name, s->committed, err) !=
@@ -508,8 +514,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
         rc = hsbd_error_set(err, rd.oom ? HSBD_ENOMEM : HSBD_EINPUT, "%s: %s", ck.path,
                             rd.bad ? rd.why : "data after the end");
     if (rc == HSBD_OK) {
-        const char *base = strrchr(ck.path, '/');
-        r->newest_unusable = base && !strcmp(base + 1, HSBD_CHECKPOINT_PREV);
+        r->newest_unusable = ck.fell_back;
         snprintf(r->cwd, sizeof r->cwd, "%s", src.cwd);
         r->ninputs = src.ninputs;
         memcpy(r->inputs, src.inputs, sizeof src.inputs);
@@ -560,6 +565,25 @@ static int results_written(const char *dir, uint64_t steps) {
     return done && same;
 }
 
+/* A finished run whose extension stopped before its first checkpoint: its streams are
+ * under their temporary names, perhaps longer; back to the finished run's bytes and names
+ * (a warning names what cannot be restored, which is then left as it is). */
+static void restore_streams(run *r, const char *dir) {
+    int moved = 0;
+    for (size_t k = 0; k < r->nstreams; ++k) {
+        char path[HSBD_PATH_MAX + 80];
+        snprintf(path, sizeof path, "%s/%s", dir, r->streams[k].name);
+        moved |= access(path, F_OK) != 0;
+    }
+    hsbd_error why;
+    int rc = moved ? reopen_streams(r, &why) : HSBD_OK;
+    for (size_t k = 0; k < r->nstreams && moved && rc == HSBD_OK; ++k)
+        rc = hsbd_outfile_commit(&r->streams[k].file, &why);
+    if (rc != HSBD_OK)
+        fprintf(stderr, "hsbd: warning: the finished run's stream files stay as they are: %s\n",
+                why.message);
+}
+
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
                 hsbd_error *err) {
     hsbd_error_clear(err);
@@ -573,18 +597,7 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     r.started = 1;
     if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg) &&
         results_written(dir, r.steps_done)) {
-        /* an extension killed before its first checkpoint left the streams under their
-         * temporary names, perhaps longer: back to the completed run's bytes and names */
-        int moved = 0;
-        for (size_t k = 0; k < r.nstreams; ++k) {
-            char path[HSBD_PATH_MAX + 80];
-            snprintf(path, sizeof path, "%s/%s", dir, r.streams[k].name);
-            moved |= access(path, F_OK) != 0;
-        }
-        hsbd_error ignored;
-        if (moved && reopen_streams(&r, &ignored) == HSBD_OK)
-            for (size_t k = 0; k < r.nstreams; ++k)
-                hsbd_outfile_commit(&r.streams[k].file, &ignored);
+        restore_streams(&r, dir);
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: the run in '%s' is complete (%llu of %llu steps); to "
                             "extend it: --set run.t_total=T with T > %g",

@@ -229,15 +229,19 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     if [ $? = 2 ] && grep -q "is complete" err && cmp -s early-ext/trajectory.xyz ext-1/trajectory.xyz &&
         cmp -s early-ext/current.tsv ext-1/current.tsv && ! ls early-ext/*.part >/dev/null 2>&1
     then ok; else bad "extension stopped before its first checkpoint: $(cat err)"; fi
-    # a resume refused because a stream is damaged keeps the other streams' data
+    # a resume refused because a stream file is missing touches no file: every stream is
+    # checked before any is renamed or cut back (an extension, and a finished run's restore)
     "$HSBD" run rods.ini --quiet --set run.t_total=0.5 --set output.trajectory=gsd --out refused 2>/dev/null
     mv refused/current.tsv refused-current.tsv
+    cp refused/trajectory.gsd refused-trajectory.gsd
     "$HSBD" resume refused --set run.t_total=1 --quiet 2>err
-    if [ $? = 2 ] && { [ -s refused/trajectory.gsd ] || [ -s refused/trajectory.gsd.part ]; }; then ok; else
-        bad "refused resume: exit $? $(cat err); $(ls refused)"; fi
+    rc=$?
+    "$HSBD" resume refused --quiet 2>>err
+    rc2=$?
+    if [ $rc = 2 ] && [ $rc2 = 2 ] && grep -q "current.tsv" err && cmp -s refused/trajectory.gsd refused-trajectory.gsd &&
+        [ ! -e refused/trajectory.gsd.part ]; then ok; else bad "refused resume: $(cat err); $(ls refused)"; fi
     # after falling back to checkpoint.prev.hsbd the damaged newest is never rotated over it
     "$HSBD" run rods.ini --quiet --set run.t_total=1 --set output.checkpoint_every=0.5 --out fb 2>/dev/null
-    cp fb/checkpoint.prev.hsbd fb-prev.hsbd
     printf 'XXXX' | dd of=fb/checkpoint.hsbd bs=1 seek=200 conv=notrunc 2>/dev/null
     cp fb/checkpoint.hsbd fb-damaged.hsbd
     if "$HSBD" resume fb --quiet 2>err && ! cmp -s fb/checkpoint.prev.hsbd fb-damaged.hsbd &&

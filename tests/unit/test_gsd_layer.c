@@ -63,12 +63,17 @@ static void cut_and_continue(uint64_t room) {
     FILE *ref = tmpfile(), *cut = tmpfile();
     hsbd_gsd gr, gc;
     CHECK(ref && cut, "tmpfile");
-    if (!ref || !cut) return;
+    if (!ref || !cut) {
+        if (ref) fclose(ref);
+        if (cut) fclose(cut);
+        return;
+    }
     CHECK(hsbd_gsd_start(&gr, ref, "ref", &err) == HSBD_OK, "%s", err.message);
     CHECK(hsbd_gsd_start(&gc, cut, "cut", &err) == HSBD_OK, "%s", err.message);
     /* frames until the index has room for exactly `room` more entries: the moment of the
-     * "checkpoint" (the first frame writes 11 entries, later ones 7: in the index of 128
-     * entries the moment never comes, in the moved one of 256 it does) */
+     * "checkpoint" (the first frame writes 11 entries, later ones 7: the index of 128
+     * entries has room for 19 after 15 frames and is never full, the moved one of 256 is
+     * full after 36) */
     uint64_t k = 0;
     while (gc.entries + room != gc.index_capacity && k < 100)
         frame(&gr, k), frame(&gc, k), ++k;
@@ -141,7 +146,9 @@ int main(void) {
     free(empty);
     hsbd_gsd_free(&g);
     fclose(f);
-    /* room for two frames, and none */
+    /* in the first index (128 entries: 11 + 7 k never fill it), and in the moved one with
+     * room for two frames and with none */
+    cut_and_continue(19);
     cut_and_continue(14);
     cut_and_continue(0);
     return test_finish("test_gsd_layer");
