@@ -191,7 +191,7 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     cp -r ext ext-1
     "$HSBD" run rods.ini --quiet --set run.t_total=2 --set sample.msd_max_lag=0.1 \
         --set output.trajectory_every=0.1 --out ext-ref 2>/dev/null
-    if "$HSBD" resume ext --set run.t_total=2 --quiet 2>err && cmp -s ext/trajectory.xyz ext-ref/trajectory.xyz &&
+    if "$HSBD" resume ext --set "run.t_total = 2" --quiet 2>err && cmp -s ext/trajectory.xyz ext-ref/trajectory.xyz &&
         cmp -s ext/msd.tsv ext-ref/msd.tsv &&
         diff -q <(grep -v '^#' ext/current.tsv) <(grep -v '^#' ext-ref/current.tsv) >/dev/null &&
         diff -q <(grep -v '^#' ext/density.tsv | cut -f1,2) <(grep -v '^#' ext-ref/density.tsv | cut -f1,2) >/dev/null &&
