@@ -29,7 +29,8 @@ HSBD_API int hsbd_outfile_open(hsbd_outfile *o, const char *dir, const char *nam
 HSBD_API int hsbd_outfile_reopen(hsbd_outfile *o, const char *dir, const char *name, int64_t length,
                                  hsbd_error *err);
 /* Whether hsbd_outfile_reopen would find the file (either name) with at least `length`
- * bytes, touching nothing: HSBD_OK, or HSBD_EINPUT with its message. */
+ * bytes, touching nothing: HSBD_OK, or HSBD_EINPUT with its message (the reopen's own
+ * first check). */
 HSBD_API int hsbd_outfile_can_reopen(const char *dir, const char *name, int64_t length,
                                      hsbd_error *err);
 /* Flush, fsync, close and rename; reports write errors (disk full...). */

@@ -55,23 +55,16 @@ int hsbd_outfile_can_reopen(const char *dir, const char *name, int64_t length, h
 
 int hsbd_outfile_reopen(hsbd_outfile *o, const char *dir, const char *name, int64_t length,
                         hsbd_error *err) {
+    if (hsbd_outfile_can_reopen(dir, name, length, err) != HSBD_OK) return err->status;
     snprintf(o->path, sizeof o->path, "%s/%s", dir, name);
     snprintf(o->tmp, sizeof o->tmp, "%s.part", o->path);
     struct stat st;
     if (stat(o->tmp, &st) != 0 && rename(o->path, o->tmp) != 0)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "cannot continue '%s': neither it nor '%s' can be opened (%s)",
-                              o->path, o->tmp, strerror(errno));
+        return hsbd_error_set(err, HSBD_EIO, "cannot rename '%s' to '%s': %s", o->path, o->tmp,
+                              strerror(errno));
     o->f = fopen(o->tmp, "r+");
     if (!o->f)
         return hsbd_error_set(err, HSBD_EIO, "cannot open '%s': %s", o->tmp, strerror(errno));
-    if (fseeko(o->f, 0, SEEK_END) != 0 || ftello(o->f) < length) {
-        const long long have = (long long)ftello(o->f);
-        fclose(o->f), o->f = NULL;
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "cannot continue '%s': it has %lld bytes, the checkpoint counts %lld",
-                              o->tmp, have, (long long)length);
-    }
     if (ftruncate(fileno(o->f), (off_t)length) != 0 || fseeko(o->f, length, SEEK_SET) != 0) {
         fclose(o->f), o->f = NULL;
         return hsbd_error_set(err, HSBD_EIO, "cannot cut '%s' back to %lld bytes: %s", o->tmp,
