@@ -693,20 +693,31 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
     return mi / (mi + rod_mobility(r, nb));
 }
 
-/* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at the last one, n - 2), in
- * batches of GAP_CHUNK from lo. */
-static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt) {
-    if (hi > r->par.n - 1) hi = r->par.n - 1;
-    for (size_t first = lo; first < hi; first += GAP_CHUNK)
-        push_gap_batch(r, first, hi - first < GAP_CHUNK ? hi - first : GAP_CHUNK, kt_dt,
-                       r->push + first);
-}
-
 /* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push. */
 static void take_half_pushes(hsbd_rods *r, size_t lo, size_t hi) {
     const double *y = r->y, *push = r->push;
     for (size_t i = lo; i < hi; ++i)
         r->ypush[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
+}
+
+/* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at the last one, n - 2), in
+ * batches of GAP_CHUNK from lo. With one species the rods between two gaps of a batch
+ * take their halves at once, while the batch's end points and pushes are in cache; the
+ * first rod of each batch waits for the batch before (take_batch_edges). */
+static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt) {
+    if (hi > r->par.n - 1) hi = r->par.n - 1;
+    for (size_t first = lo; first < hi; first += GAP_CHUNK) {
+        const size_t m = hi - first < GAP_CHUNK ? hi - first : GAP_CHUNK;
+        push_gap_batch(r, first, m, kt_dt, r->push + first);
+        if (!r->species) take_half_pushes(r, first + 1, first + m);
+    }
+}
+
+/* One species: the first rod of every batch but the first (its left gap is the last of
+ * the batch before) takes its halves. */
+static void take_batch_edges(hsbd_rods *r) {
+    for (size_t first = GAP_CHUNK; first < r->par.n - 1; first += GAP_CHUNK)
+        take_half_pushes(r, first, first + 1);
 }
 
 /* Reflect rule: for every gap that may have touched zero during the step, draw the
@@ -721,27 +732,18 @@ static void reflect_gaps(hsbd_rods *r) {
     const uint64_t seed = r->par.seed, step = r->step;
     const double *z = r->z, *y = r->y;
     double *push = r->push;
-    /* interior rods of one species take half of each neighbouring push */
+    /* interior rods of one species take half of each neighbouring push (the batches) */
     const size_t first_general = r->species ? n : 1;
     const int threads = step_threads(r, n);
-    if (threads > 1) { /* one parallel region, a barrier between pushes and their use */
+    if (threads > 1) {
         const long nbatches = (long)((n - 1 + GAP_CHUNK - 1) / GAP_CHUNK);
-#pragma omp parallel num_threads(threads)
-        {
-#pragma omp for schedule(static)
-            for (long b = 0; b < nbatches; ++b)
-                push_gap_batches(r, (size_t)b * GAP_CHUNK, (size_t)(b + 1) * GAP_CHUNK, kt_dt);
-#pragma omp for schedule(static)
-            for (long b = 0; b < nbatches; ++b) {
-                const size_t lo = (size_t)b * GAP_CHUNK, hi = lo + GAP_CHUNK;
-                take_half_pushes(r, lo > first_general ? lo : first_general,
-                                 hi < n - 1 ? hi : n - 1);
-            }
-        }
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (long b = 0; b < nbatches; ++b)
+            push_gap_batches(r, (size_t)b * GAP_CHUNK, (size_t)(b + 1) * GAP_CHUNK, kt_dt);
     } else {
         push_gap_batches(r, 0, n - 1, kt_dt);
-        take_half_pushes(r, first_general, n - 1);
     }
+    if (!r->species) take_batch_edges(r);
     if (r->walls) { /* the rod's own D against each wall */
         const double d_last = rod_mobility(r, n - 1) * kt_dt, d_first = rod_mobility(r, 0) * kt_dt;
         push[n - 1] = bridge_push(lf - z[n - 1], lf - y[n - 1], d_last, seed, step, n - 1);
