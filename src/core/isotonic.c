@@ -14,9 +14,11 @@ typedef struct pava_block {
 /* The blocks of one chunk of HSBD_PAVA_CHUNK elements: slots [lo, hi) of the block array
  * (chunk c's own pass fills them from slot c K), the first starting at virtual element
  * index `start`. Virtual index j >= n stands for element j - n seen through the ring's
- * periodic shift. */
+ * periodic shift. `pooled`: the last block is the result of pooling in the join or the
+ * ring's closure, so its fit must be written again. */
 typedef struct pava_segment {
     size_t lo, hi, start;
+    int pooled;
 } pava_segment;
 
 /* The fitted blocks are the blocks of the live segments, in order: a deque of segment
@@ -27,9 +29,8 @@ struct hsbd_pava {
     pava_block *block;
     pava_segment *seg;
     size_t *live;
-    size_t *before; /* blocks in the live segments before live[lh + i] */
+    size_t *before; /* blocks in the live segments before live[lh + i]; then the total */
     size_t nblocks; /* of the last solve */
-    size_t *size;   /* size[k]: elements of block k of the last solve */
 };
 
 static size_t chunks_of(size_t n) {
@@ -46,8 +47,7 @@ hsbd_pava *hsbd_pava_alloc(size_t nmax) {
     p->seg = malloc(nchunks * sizeof *p->seg);
     p->live = malloc(nchunks * sizeof *p->live);
     p->before = malloc((nchunks + 1) * sizeof *p->before);
-    p->size = malloc((nmax + 1) * sizeof *p->size);
-    if (!p->block || !p->seg || !p->live || !p->before || !p->size) {
+    if (!p->block || !p->seg || !p->live || !p->before) {
         hsbd_pava_free(p);
         return NULL;
     }
@@ -60,7 +60,6 @@ void hsbd_pava_free(hsbd_pava *p) {
     free(p->seg);
     free(p->live);
     free(p->before);
-    free(p->size);
     free(p);
 }
 
@@ -139,6 +138,7 @@ static inline void deque_push_back(hsbd_pava *p, size_t segment, size_t slot, co
     if (s->lo == s->hi) p->live[p->lt++] = segment; /* it had emptied */
     p->block[slot] = *b;
     s->hi = slot + 1;
+    s->pooled = 1;
 }
 
 /* Pools `cur` (following the last block) backwards while the last block violates it, and
@@ -178,36 +178,40 @@ static void join_chunks(hsbd_pava *p, size_t nchunks) {
     }
 }
 
-/* Chunk c's own pass. */
-static void push_chunk(hsbd_pava *p, size_t c, size_t n, const double *y, const double *w) {
+/* Chunk c's own pass, then the fit of its blocks as they stand, written while they are
+ * in cache: the join and the ring's closure change only the blocks they pool, whose fit
+ * write_pooled writes again (fit may alias y: the chunk has read its own elements). */
+static void push_chunk(hsbd_pava *p, size_t c, size_t n, const double *y, const double *w,
+                       double *fit) {
     const size_t first = c * HSBD_PAVA_CHUNK;
     const size_t len = n - first < HSBD_PAVA_CHUNK ? n - first : HSBD_PAVA_CHUNK;
     pava_segment *s = &p->seg[c];
     s->lo = s->start = first;
+    s->pooled = 0;
     s->hi = w ? push_all(p->block, first, len, y + first, w + first, 1)
               : push_all(p->block, first, len, y + first, NULL, 0);
-}
-
-/* The fit of the blocks of live segment k, and their sizes; a block reaching past n wraps to
- * the start of the array at mean - shift. */
-static void write_segment(hsbd_pava *p, size_t k, size_t n, double shift, double *restrict fit) {
-    const pava_segment *s = &p->seg[p->live[k]];
-    size_t j = s->start;
-    size_t *restrict size = p->size;
-    const size_t to_index = p->before[k - p->lh] - s->lo; /* slot b is block b + to_index */
-    const size_t last = s->hi - 1;
-    /* all blocks but the segment's last end inside [0, n): a tight loop */
-    for (size_t b = s->lo; b < last; ++b) {
+    size_t j = first;
+    for (size_t b = s->lo; b < s->hi; ++b) {
         const double m = block_mean(&p->block[b]);
         const size_t end = j + p->block[b].len;
-        size[b + to_index] = p->block[b].len;
         do
             fit[j] = m;
         while (++j < end);
     }
-    const double m = block_mean(&p->block[last]);
-    const size_t end = j + p->block[last].len;
-    size[last + to_index] = p->block[last].len;
+}
+
+/* The fit of the last block of live segment k when pooling made it: its elements end
+ * where the next live segment's begin (the last segment's where the first one's begin,
+ * one period on); one reaching past n wraps to the start of the array at mean - shift. */
+static void write_pooled(const hsbd_pava *p, size_t k, size_t n, double shift,
+                         double *restrict fit) {
+    const pava_segment *s = &p->seg[p->live[k]];
+    if (!s->pooled) return;
+    const size_t end =
+        k + 1 < p->lt ? p->seg[p->live[k + 1]].start : p->seg[p->live[p->lh]].start + n;
+    const pava_block *top = &p->block[s->hi - 1];
+    const double m = block_mean(top);
+    size_t j = end - top->len;
     for (; j < end && j < n; ++j)
         fit[j] = m;
     for (; j < end; ++j)
@@ -236,6 +240,7 @@ static void count_blocks(hsbd_pava *p) {
         p->before[k - p->lh] = total;
         total += p->seg[p->live[k]].hi - p->seg[p->live[k]].lo;
     }
+    p->before[p->lt - p->lh] = total;
     p->nblocks = total;
 }
 
@@ -246,34 +251,26 @@ static void join_and_close(hsbd_pava *p, size_t nchunks, int ring, double shift)
     count_blocks(p);
 }
 
-/* One solve: the chunks' passes, the join, on a ring the closure, then the fit. On threads
- * the passes and the fit are shared out and the rest runs on one thread. (The serial path
- * has no work-sharing construct: called from inside another parallel region, one would
- * bind to that region's team.) */
+/* One solve: the chunks' passes with their fits, the join, on a ring the closure, then the
+ * fit of the pooled blocks. On threads the passes are shared out and the rest runs on one
+ * thread. (The serial path has no work-sharing construct: called from inside another
+ * parallel region, one would bind to that region's team.) */
 static size_t solve(hsbd_pava *p, size_t n, const double *y, const double *w, int ring,
                     double shift, double *fit) {
     if (n == 0) return p->nblocks = 0;
     const size_t nchunks = chunks_of(n);
     const int threads = nchunks > 1 ? p->threads : 1;
     if (threads > 1) {
-#pragma omp parallel num_threads(threads)
-        {
-#pragma omp for schedule(static)
-            for (long c = 0; c < (long)nchunks; ++c)
-                push_chunk(p, (size_t)c, n, y, w);
-#pragma omp single
-            join_and_close(p, nchunks, ring, shift);
-#pragma omp for schedule(static)
-            for (long k = (long)p->lh; k < (long)p->lt; ++k)
-                write_segment(p, (size_t)k, n, shift, fit);
-        }
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (long c = 0; c < (long)nchunks; ++c)
+            push_chunk(p, (size_t)c, n, y, w, fit);
     } else {
         for (size_t c = 0; c < nchunks; ++c)
-            push_chunk(p, c, n, y, w);
-        join_and_close(p, nchunks, ring, shift);
-        for (size_t k = p->lh; k < p->lt; ++k)
-            write_segment(p, k, n, shift, fit);
+            push_chunk(p, c, n, y, w, fit);
     }
+    join_and_close(p, nchunks, ring, shift);
+    for (size_t k = p->lh; k < p->lt; ++k)
+        write_pooled(p, k, n, shift, fit);
     return p->nblocks;
 }
 
@@ -286,6 +283,15 @@ size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w, 
     return solve(p, n, y, w, 1, shift, fit);
 }
 
+/* The live segment holding block k, by bisection of the block counts before each. */
 size_t hsbd_pava_block_size(const hsbd_pava *p, size_t k) {
-    return p->size[k];
+    size_t lo = 0, hi = p->lt - p->lh; /* before[lo] <= k < before[hi] */
+    while (hi - lo > 1) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (p->before[mid] <= k)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return p->block[p->seg[p->live[p->lh + lo]].lo + (k - p->before[lo])].len;
 }
