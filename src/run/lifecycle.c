@@ -326,38 +326,23 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
 
 /* ---- resume ---- */
 
-/* The configuration again from its source: the file's text (loaded from a copy under
- * the same name in a temporary directory), the overrides in order, then the resume's own
- * (the user's run.t_total and the two keys an extension keeps) and the run directory. */
+/* The configuration again from its source: the file's text (read from the checkpoint's
+ * copy in memory under the file's name, which messages then give), the overrides in order,
+ * then the resume's own (the user's run.t_total and the two keys an extension keeps) and
+ * the run directory. */
 static int config_from_source(const run_source_copy *src, const char *const *sets, size_t nsets,
                               const char *dir, hsbd_config *cfg, hsbd_error *err) {
     hsbd_config_defaults(cfg);
     int rc = HSBD_OK;
     if (src->has_file) {
-        char tmp[] = "/tmp/hsbd-resume-XXXXXX";
-        if (!mkdtemp(tmp))
-            return hsbd_error_set(err, HSBD_EIO, "resume: cannot make a temporary directory: %s",
-                                  strerror(errno));
-        const char *base = strrchr(src->name, '/');
-        base = base ? base + 1 : src->name;
-        if (!*base || !strcmp(base, ".") || !strcmp(base, "..")) {
-            rmdir(tmp);
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "resume: the checkpoint names its configuration file '%.200s', "
-                                  "which is no file name",
-                                  src->name);
-        }
-        char path[sizeof tmp + HSBD_PATH_MAX];
-        snprintf(path, sizeof path, "%s/%s", tmp, base);
-        FILE *f = fopen(path, "wb");
-        rc = f && fwrite(src->text, 1, src->text_len, f) == src->text_len ? HSBD_OK : HSBD_EIO;
-        if (f) fclose(f);
-        if (rc == HSBD_OK)
-            rc = hsbd_config_load_file(cfg, path, err);
-        else
-            hsbd_error_set(err, rc, "resume: cannot write '%s'", path);
-        remove(path);
-        rmdir(tmp);
+        FILE *f = src->text_len ? fmemopen(src->text, src->text_len, "r") : NULL;
+        if (!f)
+            return hsbd_error_set(err, HSBD_EIO,
+                                  "resume: cannot read the copy of '%.200s' the checkpoint "
+                                  "holds: %s",
+                                  src->name, src->text_len ? strerror(errno) : "it is empty");
+        rc = hsbd_config_load_stream(cfg, f, src->name, err);
+        fclose(f);
         if (rc != HSBD_OK) return rc;
     }
     for (size_t k = 0; k < src->nsets && rc == HSBD_OK; ++k)
