@@ -31,6 +31,7 @@ struct hsbd_pava {
     size_t *live;
     size_t *before; /* blocks in the live segments before live[lh + i]; then the total */
     size_t nblocks; /* of the last solve */
+    size_t hint;    /* the live segment (from lh) of the last block size asked for */
 };
 
 static size_t chunks_of(size_t n) {
@@ -242,6 +243,7 @@ static void count_blocks(hsbd_pava *p) {
     }
     p->before[p->lt - p->lh] = total;
     p->nblocks = total;
+    p->hint = 0;
 }
 
 /* Between the chunks' passes and the fit: the join, on a ring the closure, the count. */
@@ -283,15 +285,26 @@ size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const double *w, 
     return solve(p, n, y, w, 1, shift, fit);
 }
 
-/* The live segment holding block k, by bisection of the block counts before each. */
-size_t hsbd_pava_block_size(const hsbd_pava *p, size_t k) {
-    size_t lo = 0, hi = p->lt - p->lh; /* before[lo] <= k < before[hi] */
+/* The live segment i holding block k (before[i] <= k < before[i + 1]): the last one
+ * asked for or the next (blocks asked for in order), else by bisection. */
+static size_t segment_of_block(const hsbd_pava *p, size_t k) {
+    const size_t nlive = p->lt - p->lh, *before = p->before;
+    size_t i = p->hint < nlive ? p->hint : 0;
+    if (before[i] <= k && k < before[i + 1]) return i;
+    if (i + 1 < nlive && before[i + 1] <= k && k < before[i + 2]) return i + 1;
+    size_t lo = 0, hi = nlive;
     while (hi - lo > 1) {
         const size_t mid = lo + (hi - lo) / 2;
-        if (p->before[mid] <= k)
+        if (before[mid] <= k)
             lo = mid;
         else
             hi = mid;
     }
-    return p->block[p->seg[p->live[p->lh + lo]].lo + (k - p->before[lo])].len;
+    return lo;
+}
+
+size_t hsbd_pava_block_size(hsbd_pava *p, size_t k) {
+    const size_t i = segment_of_block(p, k);
+    p->hint = i;
+    return p->block[p->seg[p->live[p->lh + i]].lo + (k - p->before[i])].len;
 }

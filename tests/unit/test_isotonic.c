@@ -169,6 +169,12 @@ static void compare_with_reference(size_t n, int ring, int weighted, int shape, 
             for (size_t k = 0; k < nb && k < nref; ++k)
                 same_sizes &= hsbd_pava_block_size(p, k) == blk[head + k].len;
             CHECK(same_sizes, "%s n %zu shape %d: block sizes differ", what, n, shape);
+            /* backwards and by strides: the lookups that do not follow the last one */
+            for (size_t k = nb < nref ? nb : nref; k-- > 0;)
+                same_sizes &= hsbd_pava_block_size(p, k) == blk[head + k].len;
+            for (size_t k = 0, m = nb < nref ? nb : nref; m && k < 3 * m; k += 997)
+                same_sizes &= hsbd_pava_block_size(p, k % m) == blk[head + k % m].len;
+            CHECK(same_sizes, "%s n %zu shape %d: block sizes out of order differ", what, n, shape);
             double worst = 0;
             for (size_t i = 0; i < n; ++i)
                 worst = fmax(worst, fabs(fit[i] - ref[i]));
