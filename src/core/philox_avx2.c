@@ -1,4 +1,4 @@
-/* Philox4x32-10 for four counters at once (AVX2, see CMakeLists.txt): the same function as
+/* Philox4x32-10 for four or eight counters at once (AVX2, see CMakeLists.txt): the same function as
  * Random123's philox4x32 (tests/unit/test_rng.c compares them bit for bit), each 32-bit
  * word in the low half of a 64-bit lane so that _mm256_mul_epu32 gives the full product. */
 #include "core/vmath.h"
@@ -30,49 +30,72 @@ static inline __m256d exact_u53_to_double(__m256i a) {
     return _mm256_add_pd(_mm256_mul_pd(dhi, two32), dlo); /* exact: an integer < 2^53 */
 }
 
-/* The uniform pairs of the four counters c[0..3] (index pairs) into u1[0..3], u2[0..3]. */
-static inline void philox4_pairs(uint64_t seed, uint32_t stream, uint64_t step, const uint64_t c[4],
-                                 double *restrict u1, double *restrict u2) {
-    const __m256i step_lo = _mm256_set1_epi64x((uint32_t)step);
-    const __m256i step_hi = _mm256_set1_epi64x((uint32_t)(step >> 32));
-    const __m256i str = _mm256_set1_epi64x(stream);
-    const __m256i w0 = _mm256_set1_epi64x(0x9E3779B9), w1 = _mm256_set1_epi64x(0xBB67AE85);
+/* Groups of four counters run together: their rounds interleave, since one group's chain
+ * of ten rounds is bound by the multiplies' latency on its own. */
+enum { PHILOX_GROUPS = 2 };
+
+/* The 53-bit uniform of the words (hi, lo), as in src/core/rng.c: (a + 1/2) 2^-53. */
+static inline __m256d uniform_of_words(__m256i hi, __m256i lo) {
+    const __m256i a = _mm256_srli_epi64(_mm256_or_si256(_mm256_slli_epi64(hi, 32), lo), 11);
+    return _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(a), _mm256_set1_pd(0.5)),
+                         _mm256_set1_pd(0x1.0p-53));
+}
+
+/* The uniform pairs of the 4 `groups` counters c[] (index pairs) into u1[], u2[];
+ * groups <= PHILOX_GROUPS, a constant at each call. */
+static inline void philox_pairs(uint64_t seed, uint32_t stream, uint64_t step, const uint64_t *c,
+                                int groups, double *restrict u1, double *restrict u2) {
     const __m256i low = _mm256_set1_epi64x(0xffffffff);
-    const __m256d half = _mm256_set1_pd(0.5), scale = _mm256_set1_pd(0x1.0p-53);
-    {
-        __m256i x[4] = {_mm256_and_si256(_mm256_setr_epi64x((int64_t)c[0], (int64_t)c[1],
-                                                            (int64_t)c[2], (int64_t)c[3]),
-                                         low),
-                        step_lo, step_hi, str};
-        __m256i key0 = _mm256_set1_epi64x((uint32_t)seed);
-        __m256i key1 = _mm256_set1_epi64x((uint32_t)(seed >> 32));
-        for (int round = 0; round < 10; ++round) {
-            if (round) { /* the key bump, modulo 2^32 in the low halves */
-                key0 = _mm256_and_si256(_mm256_add_epi64(key0, w0), low);
-                key1 = _mm256_and_si256(_mm256_add_epi64(key1, w1), low);
-            }
-            philox_round(x, key0, key1);
+    const __m256i w0 = _mm256_set1_epi64x(0x9E3779B9), w1 = _mm256_set1_epi64x(0xBB67AE85);
+    __m256i x[PHILOX_GROUPS][4];
+    for (int g = 0; g < groups; ++g) {
+        const uint64_t *cg = c + 4 * g;
+        x[g][0] = _mm256_and_si256(
+            _mm256_setr_epi64x((int64_t)cg[0], (int64_t)cg[1], (int64_t)cg[2], (int64_t)cg[3]),
+            low);
+        x[g][1] = _mm256_set1_epi64x((uint32_t)step);
+        x[g][2] = _mm256_set1_epi64x((uint32_t)(step >> 32));
+        x[g][3] = _mm256_set1_epi64x(stream);
+    }
+    __m256i key0 = _mm256_set1_epi64x((uint32_t)seed);
+    __m256i key1 = _mm256_set1_epi64x((uint32_t)(seed >> 32));
+    for (int round = 0; round < 10; ++round) {
+        if (round) { /* the key bump, modulo 2^32 in the low halves */
+            key0 = _mm256_and_si256(_mm256_add_epi64(key0, w0), low);
+            key1 = _mm256_and_si256(_mm256_add_epi64(key1, w1), low);
         }
-        /* 53 bits from (v0, v1) and from (v2, v3), as in src/core/rng.c */
-        const __m256i a = _mm256_srli_epi64(_mm256_or_si256(_mm256_slli_epi64(x[0], 32), x[1]), 11);
-        const __m256i b = _mm256_srli_epi64(_mm256_or_si256(_mm256_slli_epi64(x[2], 32), x[3]), 11);
-        _mm256_storeu_pd(u1, _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(a), half), scale));
-        _mm256_storeu_pd(u2, _mm256_mul_pd(_mm256_add_pd(exact_u53_to_double(b), half), scale));
+        for (int g = 0; g < groups; ++g)
+            philox_round(x[g], key0, key1);
+    }
+    for (int g = 0; g < groups; ++g) { /* 53 bits from (v0, v1) and from (v2, v3) */
+        _mm256_storeu_pd(u1 + 4 * g, uniform_of_words(x[g][0], x[g][1]));
+        _mm256_storeu_pd(u2 + 4 * g, uniform_of_words(x[g][2], x[g][3]));
     }
 }
 
 void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k0,
                                     size_t npairs, double *restrict u1, double *restrict u2) {
-    for (size_t j = 0; j + 4 <= npairs; j += 4) {
-        const uint64_t c[4] = {k0 + j, k0 + j + 1, k0 + j + 2, k0 + j + 3};
-        philox4_pairs(seed, stream, step, c, u1 + j, u2 + j);
+    uint64_t c[4 * PHILOX_GROUPS];
+    size_t j = 0;
+    for (; j + 4 * PHILOX_GROUPS <= npairs; j += 4 * PHILOX_GROUPS) {
+        for (int q = 0; q < 4 * PHILOX_GROUPS; ++q)
+            c[q] = k0 + j + (uint64_t)q;
+        philox_pairs(seed, stream, step, c, PHILOX_GROUPS, u1 + j, u2 + j);
+    }
+    for (; j + 4 <= npairs; j += 4) {
+        for (int q = 0; q < 4; ++q)
+            c[q] = k0 + j + (uint64_t)q;
+        philox_pairs(seed, stream, step, c, 1, u1 + j, u2 + j);
     }
 }
 
 void hsbd_philox_uniform_pairs_at_avx2(uint64_t seed, uint32_t stream, uint64_t step,
                                        const uint64_t *k, size_t npairs, double *restrict u1,
                                        double *restrict u2) {
-    for (size_t j = 0; j + 4 <= npairs; j += 4)
-        philox4_pairs(seed, stream, step, k + j, u1 + j, u2 + j);
+    size_t j = 0;
+    for (; j + 4 * PHILOX_GROUPS <= npairs; j += 4 * PHILOX_GROUPS)
+        philox_pairs(seed, stream, step, k + j, PHILOX_GROUPS, u1 + j, u2 + j);
+    for (; j + 4 <= npairs; j += 4)
+        philox_pairs(seed, stream, step, k + j, 1, u1 + j, u2 + j);
 }
 #endif

@@ -14,7 +14,7 @@ static void philox_uniform_pairs(uint64_t seed, uint32_t stream, uint64_t step, 
     const double scale = 0x1.0p-53;
     size_t j = 0;
 #if defined(__x86_64__)
-    if (hsbd_cpu_has_avx2()) { /* the same numbers, four counters at a time */
+    if (hsbd_cpu_has_avx2()) { /* the same numbers, 4 or 8 counters at a time */
         j = npairs / 4 * 4;
         hsbd_philox_uniform_pairs_avx2(seed, stream, step, k0, j, u1, u2);
     }
@@ -79,14 +79,14 @@ void hsbd_rng_uniforms_at(uint64_t seed, uint32_t stream, uint64_t step, size_t 
                           const unsigned *offset, size_t n, double *out) {
     size_t k = 0;
 #if defined(__x86_64__)
-    if (hsbd_cpu_has_avx2()) { /* four counters at a time */
-        for (; k + 4 <= n; k += 4) {
-            uint64_t c[4];
-            double u1[4], u2[4];
-            for (int q = 0; q < 4; ++q)
+    if (hsbd_cpu_has_avx2()) { /* eight counters at a time */
+        for (; k + 8 <= n; k += 8) {
+            uint64_t c[8];
+            double u1[8], u2[8];
+            for (int q = 0; q < 8; ++q)
                 c[q] = (base + offset[k + q]) / 2;
-            hsbd_philox_uniform_pairs_at_avx2(seed, stream, step, c, 4, u1, u2);
-            for (int q = 0; q < 4; ++q)
+            hsbd_philox_uniform_pairs_at_avx2(seed, stream, step, c, 8, u1, u2);
+            for (int q = 0; q < 8; ++q)
                 out[k + q] = (base + offset[k + q]) % 2 ? u2[q] : u1[q];
         }
     }

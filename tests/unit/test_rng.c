@@ -34,7 +34,7 @@ static void test_batching_invariance(void) {
     CHECK(all[5] == a, "same (seed, stream, step, index) must give the same draw");
 }
 
-/* hsbd_rng_uniforms (four counters at a time with AVX2) against Random123's philox4x32
+/* hsbd_rng_uniforms (eight, then four, counters at a time with AVX2) against Random123's philox4x32
  * called here, bit for bit, across the 2^32 wrap of the index pair and a 64-bit step. */
 static void test_uniforms_match_random123(void) {
     const uint64_t seed = 0x0123456789abcdefull, step = 0x100000003ull;
@@ -58,7 +58,7 @@ static void test_uniforms_match_random123(void) {
 
 /* uniforms of listed indices (the reflect rule's gaps that may cross) equal those of the
  * index ranges bit for bit: any order, repeats, odd and even indices, a count that is
- * not a multiple of four, a base index past 2^32 pairs */
+ * not a multiple of eight, a base index past 2^32 pairs */
 static void test_uniforms_at_listed_indices(void) {
     const uint64_t seed = 77, step = 12345;
     const size_t bases[2] = {1000, (size_t)1 << 34};
