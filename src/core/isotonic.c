@@ -1,6 +1,11 @@
 #include "hsbd/isotonic.h"
 
+#include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 /* A block of pooled elements: weighted sum and total weight (its mean is sum/weight,
  * computed only when the fit is written: the pooling loop compares means by
@@ -29,9 +34,11 @@ struct hsbd_pava {
     pava_block *block;
     pava_segment *seg;
     size_t *live;
-    size_t *before; /* blocks in the live segments before live[lh + i]; then the total */
-    size_t nblocks; /* of the last solve */
-    size_t hint;    /* the live segment (from lh) of the last block size asked for */
+    size_t *before;      /* blocks in the live segments before live[lh + i]; then the total */
+    uint64_t *flag;      /* a bit per element: scratch of push_all (chunk c: from c K) */
+    size_t *pooled_slot; /* per element: the pooled blocks' slots of push_all */
+    size_t nblocks;      /* of the last solve */
+    size_t hint;         /* the live segment (from lh) of the last block size asked for */
 };
 
 static size_t chunks_of(size_t n) {
@@ -48,7 +55,9 @@ hsbd_pava *hsbd_pava_alloc(size_t nmax) {
     p->seg = malloc(nchunks * sizeof *p->seg);
     p->live = malloc(nchunks * sizeof *p->live);
     p->before = malloc((nchunks + 1) * sizeof *p->before);
-    if (!p->block || !p->seg || !p->live || !p->before) {
+    p->flag = malloc((nmax / 64 + 2) * sizeof *p->flag);
+    p->pooled_slot = malloc((nmax + 1) * sizeof *p->pooled_slot);
+    if (!p->block || !p->seg || !p->live || !p->before || !p->flag || !p->pooled_slot) {
         hsbd_pava_free(p);
         return NULL;
     }
@@ -61,6 +70,8 @@ void hsbd_pava_free(hsbd_pava *p) {
     free(p->seg);
     free(p->live);
     free(p->before);
+    free(p->flag);
+    free(p->pooled_slot);
     free(p);
 }
 
@@ -79,31 +90,104 @@ static inline void pool(pava_block *a, const pava_block *b) {
     a->len += b->len;
 }
 
-/* Push every element as a block and pool backwards while the last two violate. The top
- * block stays in registers and is stored only when a new block starts, so the common
- * no-pooling path carries no store-to-load dependency from one element to the next.
- * `weighted` is a compile-time constant at each call site, so both variants inline. */
-static inline size_t push_all(pava_block *restrict blk, size_t head, size_t n,
-                              const double *restrict y, const double *restrict w, int weighted) {
-    if (n == 0) return head;
-    size_t t = head; /* blocks below the top: blk[head .. t) */
-    pava_block top = {weighted ? w[0] * y[0] : y[0], weighted ? w[0] : 1.0, 1};
-    for (size_t i = 1; i < n; ++i) {
-        const double wi = weighted ? w[i] : 1.0;
-        const pava_block cur = {wi * y[i], wi, 1};
-        if (!violates(&top, &cur)) {
-            blk[t++] = top;
-            top = cur;
-            continue;
+/* Element i as a block of its own. */
+static inline pava_block singleton(const double *restrict y, const double *restrict w, size_t i,
+                                   int weighted) {
+    return (pava_block){weighted ? w[i] * y[i] : y[i], weighted ? w[i] : 1.0, 1};
+}
+
+/* Bit i of flag[] set where singletons i and i + 1 violate (the comparison `violates`
+ * makes, with the same products), for i < n - 1; bit n - 1 set stops the scans of push_all
+ * at the end. Two elements per SSE2 comparison where the compiler targets it. */
+static void singleton_violations(size_t n, const double *restrict y, const double *restrict w,
+                                 int weighted, uint64_t *restrict flag) {
+    for (size_t word = 0; word * 64 < n; ++word) {
+        const size_t lo = word * 64, hi = lo + 64 < n ? lo + 64 : n; /* pairs (i, i+1), i < hi */
+        uint64_t bits = 0;
+        size_t i = lo;
+#if defined(__SSE2__)
+        /* the pairs (i, i + 1) and (i + 1, i + 2), y[i + 2] up to y[last] */
+        const size_t last = hi < n ? hi : n - 1;
+        for (; i + 2 <= last; i += 2) {
+            __m128d left = _mm_loadu_pd(y + i), right = _mm_loadu_pd(y + i + 1);
+            if (weighted) {
+                const __m128d wl = _mm_loadu_pd(w + i), wr = _mm_loadu_pd(w + i + 1);
+                left = _mm_mul_pd(_mm_mul_pd(wl, left), wr);
+                right = _mm_mul_pd(_mm_mul_pd(wr, right), wl);
+            }
+            bits |= (uint64_t)_mm_movemask_pd(_mm_cmpge_pd(left, right)) << (i - lo);
         }
-        pool(&top, &cur);
-        while (t > head && violates(&blk[t - 1], &top)) {
-            pava_block below = blk[--t];
-            pool(&below, &top);
-            top = below;
+#endif
+        for (; i < hi && i + 1 < n; ++i) {
+            const int v = weighted ? (w[i] * y[i]) * w[i + 1] >= (w[i + 1] * y[i + 1]) * w[i]
+                                   : y[i] >= y[i + 1];
+            bits |= (uint64_t)v << (i - lo);
         }
+        if (hi == n) bits |= (uint64_t)1 << (n - 1 - lo); /* the stop */
+        flag[word] = bits;
     }
-    blk[t++] = top;
+}
+
+/* The first set bit at or after r (there is one: bit n - 1). */
+static inline size_t next_flag(const uint64_t *flag, size_t r) {
+    size_t word = r / 64;
+    uint64_t bits = flag[word] >> (r % 64);
+    if (bits) return r + (size_t)__builtin_ctzll(bits);
+    while (!flag[++word]) {
+    }
+    return word * 64 + (size_t)__builtin_ctzll(flag[word]);
+}
+
+/* Pools `top` (just joined by an element) with the blocks below it while they violate;
+ * a pooled block that leaves the stack leaves the list of pooled slots too. */
+static inline pava_block pool_down(pava_block *restrict blk, size_t head, size_t *t,
+                                   const size_t *restrict pooled, size_t *npooled, pava_block top) {
+    while (*t > head && violates(&blk[*t - 1], &top)) {
+        pava_block below = blk[--*t];
+        if (*npooled && pooled[*npooled - 1] == *t) --*npooled;
+        pool(&below, &top);
+        top = below;
+    }
+    return top;
+}
+
+/* PAVA of y[0 .. n) into blk[head ..), returning the end slot: every element pushed as a
+ * block, pooled backwards while the last two violate; the operations and their order are
+ * those of that plain pass, so are the bits. Most elements do not violate their left
+ * neighbour, so runs of singletons are copied without comparing blocks: while the top is
+ * the singleton of element r and flag[r] is clear, element r + 1 cannot pool with it. The
+ * slots of the pooled blocks on the stack go to pooled[] (increasing), their count to
+ * *npooled: the fit of every other block is its element's own mean. */
+static inline size_t push_all(pava_block *restrict blk, size_t head, size_t n,
+                              const double *restrict y, const double *restrict w, int weighted,
+                              const uint64_t *restrict flag, size_t *restrict pooled,
+                              size_t *npooled) {
+    if (n == 0) return head;
+    size_t t = head, r = 0, np = 0;
+    for (;;) {
+        const size_t v = next_flag(flag, r); /* up to v, no singleton pools with the next */
+        for (; r < v; ++r)
+            blk[t++] = singleton(y, w, r, weighted);
+        if (r == n - 1) { /* the last element, a singleton */
+            blk[t++] = singleton(y, w, r, weighted);
+            break;
+        }
+        pava_block top = singleton(y, w, r, weighted), cur = singleton(y, w, r + 1, weighted);
+        pool(&top, &cur); /* they violate: flag[r] */
+        top = pool_down(blk, head, &t, pooled, &np, top);
+        size_t i = r + 2;
+        for (; i < n; ++i) { /* the top is a pooled block */
+            cur = singleton(y, w, i, weighted);
+            if (!violates(&top, &cur)) break;
+            pool(&top, &cur);
+            top = pool_down(blk, head, &t, pooled, &np, top);
+        }
+        pooled[np++] = t;
+        blk[t++] = top;
+        if (i == n) break;
+        r = i; /* the top is singleton i */
+    }
+    *npooled = np;
     return t;
 }
 
@@ -179,6 +263,28 @@ static void join_chunks(hsbd_pava *p, size_t nchunks) {
     }
 }
 
+/* The fit of a chunk's blocks as they stand after its pass (elements y[0 .. n) in slots
+ * from `head`): each singleton's own mean, then the pooled blocks' means over their
+ * elements (a pooled block of length m shifts the elements of the later slots by m - 1). */
+static void write_chunk_fit(const pava_block *restrict blk, size_t head, size_t n, const double *y,
+                            const double *restrict w, const size_t *restrict pooled, size_t npooled,
+                            double *fit) {
+    if (w)
+        for (size_t i = 0; i < n; ++i) /* = block_mean of the singleton, to the bit */
+            fit[i] = (w[i] * y[i]) / w[i];
+    else if (fit != y)
+        memcpy(fit, y, n * sizeof *fit);
+    size_t shift = 0;
+    for (size_t k = 0; k < npooled; ++k) {
+        const pava_block *b = &blk[pooled[k]];
+        const double m = block_mean(b);
+        const size_t start = pooled[k] - head + shift;
+        for (size_t j = start; j < start + b->len; ++j)
+            fit[j] = m;
+        shift += b->len - 1;
+    }
+}
+
 /* Chunk c's own pass, then the fit of its blocks as they stand, written while they are
  * in cache: the join and the ring's closure change only the blocks they pool, whose fit
  * write_pooled writes again (fit may alias y: the chunk has read its own elements). */
@@ -186,19 +292,20 @@ static void push_chunk(hsbd_pava *p, size_t c, size_t n, const double *y, const 
                        double *fit) {
     const size_t first = c * HSBD_PAVA_CHUNK;
     const size_t len = n - first < HSBD_PAVA_CHUNK ? n - first : HSBD_PAVA_CHUNK;
+    const double *yc = y + first, *wc = w ? w + first : NULL;
+    uint64_t *flag = p->flag + first / 64;
+    size_t *pooled = p->pooled_slot + first, npooled = 0;
     pava_segment *s = &p->seg[c];
     s->lo = s->start = first;
     s->pooled = 0;
-    s->hi = w ? push_all(p->block, first, len, y + first, w + first, 1)
-              : push_all(p->block, first, len, y + first, NULL, 0);
-    size_t j = first;
-    for (size_t b = s->lo; b < s->hi; ++b) {
-        const double m = block_mean(&p->block[b]);
-        const size_t end = j + p->block[b].len;
-        do
-            fit[j] = m;
-        while (++j < end);
+    if (w) {
+        singleton_violations(len, yc, wc, 1, flag);
+        s->hi = push_all(p->block, first, len, yc, wc, 1, flag, pooled, &npooled);
+    } else {
+        singleton_violations(len, yc, NULL, 0, flag);
+        s->hi = push_all(p->block, first, len, yc, NULL, 0, flag, pooled, &npooled);
     }
+    write_chunk_fit(p->block, first, len, yc, wc, pooled, npooled, fit + first);
 }
 
 /* The fit of the last block of live segment k when pooling made it: its elements end

@@ -110,13 +110,14 @@ static double uniform(uint64_t *state) {
     return (double)((z ^ (z >> 31)) >> 11) * 0x1p-53;
 }
 
-enum { SHAPE_NOISY, SHAPE_ROUGH, SHAPE_SAWTOOTH, SHAPE_WRAP, SHAPES };
+enum { SHAPE_NOISY, SHAPE_ROUGH, SHAPE_SAWTOOTH, SHAPE_WRAP, SHAPE_TIES, SHAPES };
 
 /* End points of a step-like sequence on [0, shift): an increasing line with noise that
  * pools a few neighbours (or, rough, blocks of tens to hundreds); a sawtooth whose long
  * falling teeth are blocks across several chunks (a whole chunk swallowed at a seam); or
  * noise with the last elements far right and the first far left, so that a ring pools
- * across the wrap. */
+ * across the wrap; or values on a coarse grid, so that equal neighbours (which pool) are
+ * common and runs of them long. */
 static void make_sequence(int shape, size_t n, double shift, uint64_t *rng, double *y) {
     for (size_t i = 0; i < n; ++i) {
         const double base = shift * ((double)i + 0.5) / (double)n;
@@ -128,6 +129,9 @@ static void make_sequence(int shape, size_t n, double shift, uint64_t *rng, doub
             y[i] -= 2.0 * shift * (double)(i % tooth) / (double)n;
         }
     }
+    if (shape == SHAPE_TIES)
+        for (size_t i = 0; i < n; ++i)
+            y[i] = floor(y[i] / (20.0 * shift / (double)n)) * (20.0 * shift / (double)n);
     if (shape == SHAPE_WRAP)
         for (size_t i = 0; i < n / 50; ++i) {
             y[n - 1 - i] += 0.02 * shift;
@@ -158,11 +162,15 @@ static void compare_with_reference(size_t n, int ring, int weighted, int shape, 
         for (size_t k = 0; k < blk[b].len; ++k, ++j)
             ref[j % n] = ref_mean(&blk[b]) - (j >= n ? shift : 0.0);
     const char *what = ring ? "ring" : "line";
+    /* With ties a seam's rounding may decide whether two equal means pool: across chunks
+     * the blocks (not the fit) may then differ from the one pass. */
+    const int same_blocks = shape != SHAPE_TIES || n <= HSBD_PAVA_CHUNK;
+    size_t nb1 = 0;
     for (int threads = 1; threads <= 4; ++threads) {
         hsbd_pava_set_threads(p, threads);
         const size_t nb =
             ring ? hsbd_pava_ring(p, n, y, wt, shift, fit) : hsbd_pava_line(p, n, y, wt, fit);
-        if (threads == 1) {
+        if (threads == 1 && same_blocks) {
             CHECK(nb == nref, "%s n %zu shape %d: %zu blocks, one pass %zu", what, n, shape, nb,
                   nref);
             size_t same_sizes = 1;
@@ -175,6 +183,9 @@ static void compare_with_reference(size_t n, int ring, int weighted, int shape, 
             for (size_t k = 0, m = nb < nref ? nb : nref; m && k < 3 * m; k += 997)
                 same_sizes &= hsbd_pava_block_size(p, k % m) == blk[head + k % m].len;
             CHECK(same_sizes, "%s n %zu shape %d: block sizes out of order differ", what, n, shape);
+        }
+        if (threads == 1) {
+            nb1 = nb;
             double worst = 0;
             for (size_t i = 0; i < n; ++i)
                 worst = fmax(worst, fabs(fit[i] - ref[i]));
@@ -196,7 +207,7 @@ static void compare_with_reference(size_t n, int ring, int weighted, int shape, 
             CHECK(memcmp(yy, fit1, n * sizeof *yy) == 0, "%s n %zu: in place differs", what, n);
             free(yy);
         } else {
-            CHECK(nb == nref && memcmp(fit, fit1, n * sizeof *fit) == 0,
+            CHECK(nb == nb1 && memcmp(fit, fit1, n * sizeof *fit) == 0,
                   "%s n %zu shape %d: %d threads differ from one", what, n, shape, threads);
         }
     }
