@@ -79,14 +79,14 @@ void hsbd_rng_uniforms_at(uint64_t seed, uint32_t stream, uint64_t step, size_t 
                           const unsigned *offset, size_t n, double *out) {
     size_t k = 0;
 #if defined(__x86_64__)
-    if (hsbd_cpu_has_avx2()) { /* eight counters at a time */
-        for (; k + 8 <= n; k += 8) {
-            uint64_t c[8];
-            double u1[8], u2[8];
-            for (int q = 0; q < 8; ++q)
+    if (hsbd_cpu_has_avx2()) { /* twelve counters at a time */
+        for (; k + 12 <= n; k += 12) {
+            uint64_t c[12];
+            double u1[12], u2[12];
+            for (int q = 0; q < 12; ++q)
                 c[q] = (base + offset[k + q]) / 2;
-            hsbd_philox_uniform_pairs_at_avx2(seed, stream, step, c, 8, u1, u2);
-            for (int q = 0; q < 8; ++q)
+            hsbd_philox_uniform_pairs_at_avx2(seed, stream, step, c, 12, u1, u2);
+            for (int q = 0; q < 12; ++q)
                 out[k + q] = (base + offset[k + q]) % 2 ? u2[q] : u1[q];
         }
     }

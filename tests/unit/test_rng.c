@@ -34,13 +34,14 @@ static void test_batching_invariance(void) {
     CHECK(all[5] == a, "same (seed, stream, step, index) must give the same draw");
 }
 
-/* hsbd_rng_uniforms (eight, then four, counters at a time with AVX2) against Random123's philox4x32
- * called here, bit for bit, across the 2^32 wrap of the index pair and a 64-bit step. */
+/* hsbd_rng_uniforms (twelve, then four, counters at a time with AVX2) against Random123's
+ * philox4x32 called here, bit for bit, across the 2^32 wrap of the index pair and a 64-bit step. */
 static void test_uniforms_match_random123(void) {
     const uint64_t seed = 0x0123456789abcdefull, step = 0x100000003ull;
     const uint32_t stream = 5;
-    const size_t first = 2 * (size_t)0xfffffff0u + 1, n = 123;
-    double u[123];
+    const size_t first = 2 * (size_t)0xfffffff0u + 1,
+                 n = 139; /* 70 pairs: five runs of twelve counters, two of four, two alone */
+    double u[139];
     hsbd_rng_uniforms(seed, stream, step, first, n, u);
     const philox4x32_key_t key = {{(uint32_t)seed, (uint32_t)(seed >> 32)}};
     for (size_t k = 0; k < n; ++k) {
@@ -58,7 +59,7 @@ static void test_uniforms_match_random123(void) {
 
 /* uniforms of listed indices (the reflect rule's gaps that may cross) equal those of the
  * index ranges bit for bit: any order, repeats, odd and even indices, a count that is
- * not a multiple of eight, a base index past 2^32 pairs */
+ * not a multiple of twelve, a base index past 2^32 pairs */
 static void test_uniforms_at_listed_indices(void) {
     const uint64_t seed = 77, step = 12345;
     const size_t bases[2] = {1000, (size_t)1 << 34};
