@@ -43,8 +43,9 @@ HSBD_API size_t hsbd_pava_ring(hsbd_pava *p, size_t n, const double *y, const do
                                double shift, double *fit);
 
 /* Blocks of the last call, in order: size of block k (0 <= k < number of blocks). O(1)
- * when the blocks are asked for in order, O(log(n / HSBD_PAVA_CHUNK)) otherwise (it keeps
- * where the last one was, hence the non-const object). */
+ * when the blocks are asked for in order (a bisection over the few blocks of more than one
+ * element when one is passed), O(log n) otherwise (it keeps where the last one was, hence
+ * the non-const object). */
 HSBD_API size_t hsbd_pava_block_size(hsbd_pava *p, size_t k);
 
 #endif

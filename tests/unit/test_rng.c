@@ -63,19 +63,22 @@ static void test_uniforms_match_random123(void) {
 static void test_uniforms_at_listed_indices(void) {
     const uint64_t seed = 77, step = 12345;
     const size_t bases[2] = {1000, (size_t)1 << 34};
-    for (int b = 0; b < 2; ++b) {
-        unsigned offset[203];
-        for (size_t k = 0; k < 203; ++k)
-            offset[k] = (unsigned)((k * 7919u + 13u * (k % 3)) % 500u);
-        offset[5] = offset[4]; /* a repeat */
-        double got[203], range[500];
-        hsbd_rng_uniforms_at(seed, HSBD_STREAM_CONTACT, step, bases[b], offset, 203, got);
-        hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, bases[b], 500, range);
-        int bad = 0;
-        for (size_t k = 0; k < 203; ++k)
-            bad += memcmp(&got[k], &range[offset[k]], sizeof got[k]) != 0;
-        CHECK(bad == 0, "%d listed uniforms differ from the range's (base %zu)", bad, bases[b]);
-    }
+    const size_t counts[3] = {203, 5, 1}; /* groups of twelve, then a padded group of four */
+    for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 3; ++c) {
+            unsigned offset[203];
+            for (size_t k = 0; k < 203; ++k)
+                offset[k] = (unsigned)((k * 7919u + 13u * (k % 3)) % 500u);
+            offset[5] = offset[4]; /* a repeat */
+            double got[203], range[500];
+            hsbd_rng_uniforms_at(seed, HSBD_STREAM_CONTACT, step, bases[b], offset, counts[c], got);
+            hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, bases[b], 500, range);
+            int bad = 0;
+            for (size_t k = 0; k < counts[c]; ++k)
+                bad += memcmp(&got[k], &range[offset[k]], sizeof got[k]) != 0;
+            CHECK(bad == 0, "%d of %zu listed uniforms differ from the range's (base %zu)", bad,
+                  counts[c], bases[b]);
+        }
 }
 
 static void test_normal_moments(void) {
