@@ -96,7 +96,11 @@ void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t ste
             c[q] = k0 + j + (uint64_t)q;
         philox_pairs(&s, c, PHILOX_GROUPS, u1 + j, u2 + j);
     }
-    for (; j + 4 <= npairs; j += 4) {
+    if (npairs - j == 8) { /* a tail of eight: both groups in one interleaved call */
+        for (int q = 0; q < 8; ++q)
+            c[q] = k0 + j + (uint64_t)q;
+        philox_pairs(&s, c, 2, u1 + j, u2 + j);
+    } else if (npairs - j == 4) {
         for (int q = 0; q < 4; ++q)
             c[q] = k0 + j + (uint64_t)q;
         philox_pairs(&s, c, 1, u1 + j, u2 + j);
@@ -110,7 +114,9 @@ void hsbd_philox_uniform_pairs_at_avx2(uint64_t seed, uint32_t stream, uint64_t 
     size_t j = 0;
     for (; j + 4 * PHILOX_GROUPS <= npairs; j += 4 * PHILOX_GROUPS)
         philox_pairs(&s, k + j, PHILOX_GROUPS, u1 + j, u2 + j);
-    for (; j + 4 <= npairs; j += 4)
+    if (npairs - j == 8)
+        philox_pairs(&s, k + j, 2, u1 + j, u2 + j);
+    else if (npairs - j == 4)
         philox_pairs(&s, k + j, 1, u1 + j, u2 + j);
 }
 #endif

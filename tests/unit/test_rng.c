@@ -34,26 +34,30 @@ static void test_batching_invariance(void) {
     CHECK(all[5] == a, "same (seed, stream, step, index) must give the same draw");
 }
 
-/* hsbd_rng_uniforms (twelve, then four, counters at a time with AVX2) against Random123's
- * philox4x32 called here, bit for bit, across the 2^32 wrap of the index pair and a 64-bit step. */
+/* hsbd_rng_uniforms (twelve counters at a time with AVX2, then a tail of eight or four)
+ * against Random123's philox4x32 called here, bit for bit, across the 2^32 wrap of the
+ * index pair and a 64-bit step: 139 uniforms are 70 pairs (five runs of twelve counters,
+ * a tail of eight, two alone), 131 are 66 (a tail of four). */
 static void test_uniforms_match_random123(void) {
     const uint64_t seed = 0x0123456789abcdefull, step = 0x100000003ull;
     const uint32_t stream = 5;
-    const size_t first = 2 * (size_t)0xfffffff0u + 1,
-                 n = 139; /* 70 pairs: five runs of twelve counters, two of four, two alone */
-    double u[139];
-    hsbd_rng_uniforms(seed, stream, step, first, n, u);
-    const philox4x32_key_t key = {{(uint32_t)seed, (uint32_t)(seed >> 32)}};
-    for (size_t k = 0; k < n; ++k) {
-        const uint64_t index = first + k, pair = index / 2;
-        const philox4x32_ctr_t ctr = {
-            {(uint32_t)pair, (uint32_t)step, (uint32_t)(step >> 32), stream}};
-        const philox4x32_ctr_t r = philox4x32(ctr, key);
-        const uint64_t bits = index % 2 ? (((uint64_t)r.v[2] << 32) | r.v[3]) >> 11
-                                        : (((uint64_t)r.v[0] << 32) | r.v[1]) >> 11;
-        const double want = ((double)bits + 0.5) * 0x1.0p-53;
-        CHECK(memcmp(&u[k], &want, sizeof want) == 0, "index %zu: %.17g, Random123 %.17g", index,
-              u[k], want);
+    const size_t first = 2 * (size_t)0xfffffff0u + 1, lengths[2] = {139, 131};
+    for (int l = 0; l < 2; ++l) {
+        const size_t n = lengths[l];
+        double u[139];
+        hsbd_rng_uniforms(seed, stream, step, first, n, u);
+        const philox4x32_key_t key = {{(uint32_t)seed, (uint32_t)(seed >> 32)}};
+        for (size_t k = 0; k < n; ++k) {
+            const uint64_t index = first + k, pair = index / 2;
+            const philox4x32_ctr_t ctr = {
+                {(uint32_t)pair, (uint32_t)step, (uint32_t)(step >> 32), stream}};
+            const philox4x32_ctr_t r = philox4x32(ctr, key);
+            const uint64_t bits = index % 2 ? (((uint64_t)r.v[2] << 32) | r.v[3]) >> 11
+                                            : (((uint64_t)r.v[0] << 32) | r.v[1]) >> 11;
+            const double want = ((double)bits + 0.5) * 0x1.0p-53;
+            CHECK(memcmp(&u[k], &want, sizeof want) == 0,
+                  "n %zu, index %zu: %.17g, Random123 %.17g", n, index, u[k], want);
+        }
     }
 }
 
