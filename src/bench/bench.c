@@ -59,6 +59,14 @@ static double wall_seconds(void) {
 enum { BENCH_BLOCK = 1000 };
 static const double bench_warm_time = 10.0;
 
+/* the field-free equilibrium sample, then `steps` steps; 0 on success */
+static int run_from_field_free(hsbd_rods *r, uint64_t steps) {
+    hsbd_rods_init_equilibrium(r);
+    for (uint64_t k = 0; k < steps; ++k)
+        if (hsbd_rods_step(r, NULL) != HSBD_OK) return -1;
+    return 0;
+}
+
 /* A stationary state of the case's system in r. The field-free equilibrium it starts from
  * relaxes into the field for a few time units (at first about ten times as many gaps can
  * close within a step as later: the reflect rule's cost depends on it), so every case first
@@ -68,27 +76,16 @@ static const double bench_warm_time = 10.0;
  * success. Free particles (no hard core) start from the field-free sample: their cost does
  * not depend on the state. */
 static int bench_rods_warm(hsbd_rods *r, const hsbd_rods_params *p) {
+    if (!p->hard_core) return run_from_field_free(r, 0); /* every state costs the same */
     const uint64_t steps = (uint64_t)llround(bench_warm_time / p->dt);
-    if (!p->hard_core) { /* free particles: every state costs the same */
-        hsbd_rods_init_equilibrium(r);
-        return 0;
-    }
-    if (p->n <= BENCH_BLOCK) {
-        hsbd_rods_init_equilibrium(r);
-        for (uint64_t k = 0; k < steps; ++k)
-            if (hsbd_rods_step(r, NULL) != HSBD_OK) return -1;
-        return 0;
-    }
+    if (p->n <= BENCH_BLOCK) return run_from_field_free(r, steps);
     hsbd_rods_params q = *p;
     q.n = BENCH_BLOCK;
     q.length = p->length * (double)BENCH_BLOCK / (double)p->n;
     hsbd_error err;
     hsbd_rods *block = hsbd_rods_alloc(&q, &err);
     double *x = malloc(p->n * sizeof *x);
-    int rc = block && x && p->n % BENCH_BLOCK == 0 ? 0 : -1;
-    if (!rc) hsbd_rods_init_equilibrium(block);
-    for (uint64_t k = 0; k < steps && !rc; ++k)
-        rc = hsbd_rods_step(block, NULL) != HSBD_OK ? -1 : 0;
+    int rc = block && x && p->n % BENCH_BLOCK == 0 ? run_from_field_free(block, steps) : -1;
     if (!rc) {
         const hsbd_rods_view v = hsbd_rods_get_view(block);
         for (size_t i = 0; i < BENCH_BLOCK; ++i) {

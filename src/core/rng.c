@@ -14,7 +14,7 @@ static void philox_uniform_pairs(uint64_t seed, uint32_t stream, uint64_t step, 
     const double scale = 0x1.0p-53;
     size_t j = 0;
 #if defined(__x86_64__)
-    if (hsbd_cpu_has_avx2()) { /* the same numbers, 4 or 8 counters at a time */
+    if (hsbd_cpu_has_avx2()) { /* the same numbers, twelve counters at a time */
         j = npairs / 4 * 4;
         hsbd_philox_uniform_pairs_avx2(seed, stream, step, k0, j, u1, u2);
     }

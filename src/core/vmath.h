@@ -27,8 +27,8 @@ void hsbd_vmath_scaled_sinpi_avx2(size_t n, const double *restrict t, double sca
 
 /* Whether this CPU has AVX2 (the integer kernels below need nothing else). */
 int hsbd_cpu_has_avx2(void);
-/* src/core/rng.c's uniform pairs for counters k0 .. k0 + npairs - 1, twelve at a time and
- * four in the tail (philox_avx2.c, -mavx2); npairs a multiple of 4. */
+/* src/core/rng.c's uniform pairs for counters k0 .. k0 + npairs - 1, twelve at a time, then
+ * a tail of eight or four (philox_avx2.c, -mavx2); npairs a multiple of 4. */
 void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k0,
                                     size_t npairs, double *restrict u1, double *restrict u2);
 /* The same for the counters k[0 .. npairs-1] (npairs a multiple of 4). */
