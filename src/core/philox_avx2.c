@@ -107,16 +107,55 @@ void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t ste
     }
 }
 
-void hsbd_philox_uniform_pairs_at_avx2(uint64_t seed, uint32_t stream, uint64_t step,
-                                       const uint64_t *k, size_t npairs, double *restrict u1,
-                                       double *restrict u2) {
+/* The uniforms of the indices base + offset[k], k < valid <= 4 `groups`, into out[]: index i
+ * is the first word pair of counter i / 2 when i is even, the second when odd (as
+ * src/core/rng.c hands the pairs out). groups <= PHILOX_GROUPS is a constant at each call;
+ * a short run (valid < 4 groups) reads and writes only its entries, through masks. */
+static inline void philox_listed(const philox_setup *s, uint64_t base, const unsigned *offset,
+                                 int groups, size_t valid, double *restrict out) {
+    const int whole = valid == (size_t)(4 * groups);
+    __m256i x[PHILOX_GROUPS][4], odd[PHILOX_GROUPS];
+    __m128i below[PHILOX_GROUPS]; /* the lanes with 4 g + lane < valid */
+    for (int g = 0; g < groups; ++g) {
+        const int *og = (const int *)(const void *)(offset + 4 * g);
+        below[g] = _mm_cmpgt_epi32(_mm_set1_epi32((int)valid - 4 * g), _mm_setr_epi32(0, 1, 2, 3));
+        const __m128i o = whole ? _mm_loadu_si128((const __m128i *)(const void *)og)
+                                : _mm_maskload_epi32(og, below[g]);
+        const __m256i index =
+            _mm256_add_epi64(_mm256_set1_epi64x((int64_t)base), _mm256_cvtepu32_epi64(o));
+        odd[g] = _mm256_cmpeq_epi64(_mm256_and_si256(index, _mm256_set1_epi64x(1)),
+                                    _mm256_set1_epi64x(1));
+        x[g][0] = _mm256_srli_epi64(index, 1); /* the counter; the multiplies read 32 bits */
+        x[g][1] = s->step_lo;
+        x[g][2] = s->step_hi;
+        x[g][3] = s->stream;
+    }
+    for (int round = 0; round < 10; ++round)
+        for (int g = 0; g < groups; ++g)
+            philox_round(x[g], s->key[round][0], s->key[round][1]);
+    for (int g = 0; g < groups; ++g) { /* (v0, v1) for an even index, (v2, v3) for an odd */
+        const __m256i hi = _mm256_blendv_epi8(x[g][0], x[g][2], odd[g]);
+        const __m256i lo = _mm256_blendv_epi8(x[g][1], x[g][3], odd[g]);
+        const __m256d u = uniform_of_words(hi, lo);
+        if (whole)
+            _mm256_storeu_pd(out + 4 * g, u);
+        else
+            _mm256_maskstore_pd(out + 4 * g, _mm256_cvtepi32_epi64(below[g]), u);
+    }
+}
+
+void hsbd_philox_uniforms_at_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
+                                  const unsigned *offset, size_t n, double *restrict out) {
     const philox_setup s = philox_setup_of(seed, stream, step);
     size_t j = 0;
-    for (; j + 4 * PHILOX_GROUPS <= npairs; j += 4 * PHILOX_GROUPS)
-        philox_pairs(&s, k + j, PHILOX_GROUPS, u1 + j, u2 + j);
-    if (npairs - j == 8)
-        philox_pairs(&s, k + j, 2, u1 + j, u2 + j);
-    else if (npairs - j == 4)
-        philox_pairs(&s, k + j, 1, u1 + j, u2 + j);
+    for (; j + 4 * PHILOX_GROUPS <= n; j += 4 * PHILOX_GROUPS)
+        philox_listed(&s, base, offset + j, PHILOX_GROUPS, 4 * PHILOX_GROUPS, out + j);
+    const size_t tail = n - j; /* in one interleaved call of as few groups as hold it */
+    if (tail > 8)
+        philox_listed(&s, base, offset + j, 3, tail, out + j);
+    else if (tail > 4)
+        philox_listed(&s, base, offset + j, 2, tail, out + j);
+    else if (tail > 0)
+        philox_listed(&s, base, offset + j, 1, tail, out + j);
 }
 #endif

@@ -77,24 +77,13 @@ void hsbd_rng_uniforms(uint64_t seed, uint32_t stream, uint64_t step, size_t fir
 
 void hsbd_rng_uniforms_at(uint64_t seed, uint32_t stream, uint64_t step, size_t base,
                           const unsigned *offset, size_t n, double *out) {
-    size_t k = 0;
 #if defined(__x86_64__)
-    if (hsbd_cpu_has_avx2()) { /* twelve counters at a time; the last group of four padded */
-        while (k < n) {
-            const size_t take = n - k < 12 ? n - k : 12;
-            const size_t npairs = (take + 3) / 4 * 4;
-            uint64_t c[12];
-            double u1[12], u2[12];
-            for (size_t q = 0; q < npairs; ++q)
-                c[q] = (base + offset[k + (q < take ? q : take - 1)]) / 2;
-            hsbd_philox_uniform_pairs_at_avx2(seed, stream, step, c, npairs, u1, u2);
-            for (size_t q = 0; q < take; ++q)
-                out[k + q] = (base + offset[k + q]) % 2 ? u2[q] : u1[q];
-            k += take;
-        }
+    if (hsbd_cpu_has_avx2()) { /* twelve indices at a time, each picks its half of a pair */
+        hsbd_philox_uniforms_at_avx2(seed, stream, step, base, offset, n, out);
+        return;
     }
 #endif
-    for (; k < n; ++k) {
+    for (size_t k = 0; k < n; ++k) {
         const size_t index = base + offset[k];
         double u1, u2;
         philox_uniform_pair(seed, stream, step, index / 2, &u1, &u2);

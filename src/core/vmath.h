@@ -31,9 +31,9 @@ int hsbd_cpu_has_avx2(void);
  * a tail of eight or four (philox_avx2.c, -mavx2); npairs a multiple of 4. */
 void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t k0,
                                     size_t npairs, double *restrict u1, double *restrict u2);
-/* The same for the counters k[0 .. npairs-1] (npairs a multiple of 4). */
-void hsbd_philox_uniform_pairs_at_avx2(uint64_t seed, uint32_t stream, uint64_t step,
-                                       const uint64_t *k, size_t npairs, double *restrict u1,
-                                       double *restrict u2);
+/* hsbd_rng_uniforms_at: the uniforms of the indices base + offset[k], k < n, twelve at a
+ * time, the tail in one call. */
+void hsbd_philox_uniforms_at_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
+                                  const unsigned *offset, size_t n, double *restrict out);
 
 #endif

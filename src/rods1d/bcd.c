@@ -10,6 +10,7 @@
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
 #include "rods1d/checkpoint.h"
+#include "rods1d/gaps.h"
 
 enum { STEP_CHUNK = 256 }; /* rods per inner batch; even, so RNG pairs align */
 
@@ -556,11 +557,6 @@ static void recenter(hsbd_rods *r) {
  * variance 2 d_rel dt (d_rel: relative diffusion), drawn with the uniform u:
  * P(min < m) = exp(-(g0 - m)(g1 - m) / (d_rel dt)). Returns the push -m > 0 that reflects
  * the gap at zero (Skorokhod; design note 7), or 0. */
-/* a gap may have touched zero: its crossing probability exp(-g0 g1 / (d_rel dt)) is not
- * below 2e-9 */
-static inline int bridge_may_cross(double g0, double g1, double d_rel_dt) {
-    return !(g1 > 0) | !(g0 * g1 > 20.0 * d_rel_dt); /* no branch: | evaluates both */
-}
 
 /* A gap that may cross whose uniform u shows, without a log, that its bridge minimum stays
  * >= 0: bridge_push_with would return +0.0. The minimum is < 0 when -ln u > g0 g1 / d_rel_dt,
@@ -597,40 +593,6 @@ static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t
 
 enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pairs align */
 
-/* flags[j] = whether gap j (z[j + 1] - z[j] at the start, y[j + 1] - y[j] at the free end,
- * relative diffusion times dt d[j], or d_one when d is NULL) may cross zero */
-static inline __attribute__((always_inline)) void
-gap_flags_loop(const double *restrict z, const double *restrict y, const double *restrict d,
-               double d_one, size_t m, uint8_t *restrict flags) {
-    if (d)
-        for (size_t j = 0; j < m; ++j)
-            flags[j] = (uint8_t)bridge_may_cross(z[j + 1] - z[j], y[j + 1] - y[j], d[j]);
-    else
-        for (size_t j = 0; j < m; ++j)
-            flags[j] = (uint8_t)bridge_may_cross(z[j + 1] - z[j], y[j + 1] - y[j], d_one);
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-/* The same loop compiled for AVX2, which the compiler vectorises (four gaps at a time; the
- * same subtractions, products and comparisons lane by lane, no FMA: the same flags). */
-__attribute__((target("avx2,no-fma"))) static void
-gap_flags_avx2(const double *restrict z, const double *restrict y, const double *restrict d,
-               double d_one, size_t m, uint8_t *restrict flags) {
-    gap_flags_loop(z, y, d, d_one, m, flags);
-}
-#endif
-
-static void gap_flags(const double *restrict z, const double *restrict y, const double *restrict d,
-                      double d_one, size_t m, uint8_t *restrict flags) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (hsbd_cpu_has_avx2()) {
-        gap_flags_avx2(z, y, d, d_one, m, flags);
-        return;
-    }
-#endif
-    gap_flags_loop(z, y, d, d_one, m, flags);
-}
-
 /* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in three
  * passes that give the same bits as bridge_push gap by gap: the gaps that may cross
  * listed (a flag per gap in a loop the compiler vectorises, then the indices of the set
@@ -642,25 +604,13 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
                            double *restrict push) {
     double u[GAP_CHUNK], d[GAP_CHUNK];
     unsigned idx[GAP_CHUNK];
-    uint8_t may_cross[GAP_CHUNK + 8];
     const double *restrict z = r->z + first, *restrict y = r->y + first;
     const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
     if (r->species)
         for (size_t j = 0; j < m; ++j)
             d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
-    gap_flags(z, y, r->species ? d : NULL, d_one, m, may_cross);
-    memset(may_cross + m, 0, 8);
+    const size_t count = gap_list_may_cross(z, y, r->species ? d : NULL, d_one, m, idx);
     memset(push, 0, m * sizeof *push);
-    size_t count = 0;
-    for (size_t j0 = 0; j0 < m; j0 += 8) {
-        uint64_t flags;
-        memcpy(&flags, may_cross + j0, sizeof flags);
-        if (!flags) continue;
-        for (size_t j = j0; j < j0 + 8; ++j) {
-            idx[count] = (unsigned)j;
-            count += may_cross[j];
-        }
-    }
     if (10 * count > 3 * m) { /* over 30 % listed: one run of counters costs less */
         double every[GAP_CHUNK];
         hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, every);

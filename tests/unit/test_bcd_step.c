@@ -11,6 +11,8 @@
 #include "hsbd/isotonic.h"
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
+#include "core/vmath.h"
+#include "rods1d/gaps.h"
 
 enum { NMAX = 12 };
 
@@ -369,7 +371,62 @@ static void test_default_contact_rule(void) {
           cfg.system.contact_rule);
 }
 
+/* The reflect rule's list of the gaps that may cross: the scalar and the AVX2 version list
+ * exactly the gaps bridge_may_cross accepts, in order, for every batch length (whole
+ * groups of eight and tails), one diffusion for all or one per gap, and gaps at the edges
+ * of the test: closed or overlapping at the end, -0, NaN, infinite, and products on both
+ * sides of the bound. */
+static void test_gap_list(void) {
+    enum { M = 203 };
+    test_rng rng = {.seed = 31, .draw = 0};
+    double z[M + 1], y[M + 1], d[M];
+    unsigned want[M], got[M];
+    int bad_scalar = 0, bad_avx2 = 0, listed = 0, total = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+        const double d_one = 1e-4 * (1 + trial % 3);
+        z[0] = y[0] = 0;
+        for (size_t j = 0; j < M; ++j) {
+            const double u = uniform(&rng), g0 = 0.05 * uniform(&rng);
+            double g1 = g0 + 0.02 * normal(&rng);
+            if (u < 0.03)
+                g1 = 0.0;
+            else if (u < 0.06)
+                g1 = -0.0;
+            else if (u < 0.08)
+                g1 = NAN;
+            else if (u < 0.10)
+                g1 = INFINITY;
+            else if (u < 0.15)
+                g1 = 20.0 * d_one / g0; /* the product at the bound */
+            z[j + 1] = z[j] + g0;
+            y[j + 1] = y[j] + g1; /* y's differences give g1 back up to rounding */
+            d[j] = d_one * (0.5 + uniform(&rng));
+        }
+        for (size_t m = (size_t)trial; m <= M; m += 41) {
+            for (int per_gap = 0; per_gap <= 1; ++per_gap) {
+                const double *dd = per_gap ? d : NULL;
+                size_t count = 0;
+                for (size_t j = 0; j < m; ++j)
+                    if (bridge_may_cross(z[j + 1] - z[j], y[j + 1] - y[j], dd ? dd[j] : d_one))
+                        want[count++] = (unsigned)j;
+                listed += (int)count, total += (int)m;
+                size_t n = gap_list_may_cross_scalar(z, y, dd, d_one, m, got);
+                bad_scalar += n != count || memcmp(got, want, count * sizeof *got) != 0;
+                if (hsbd_cpu_has_avx2()) {
+                    n = gap_list_may_cross_avx2(z, y, dd, d_one, m, got);
+                    bad_avx2 += n != count || memcmp(got, want, count * sizeof *got) != 0;
+                }
+            }
+        }
+    }
+    CHECK(bad_scalar == 0, "scalar gap list wrong in %d batches", bad_scalar);
+    CHECK(bad_avx2 == 0, "AVX2 gap list wrong in %d batches", bad_avx2);
+    CHECK(listed > total / 10 && listed < total, "%d of %d gaps listed: the test is not mixed",
+          listed, total);
+}
+
 int main(void) {
+    test_gap_list();
     test_default_contact_rule();
     test_fragmentation_brute_force();
     test_ring_step_vs_oracle();

@@ -67,9 +67,11 @@ static void test_uniforms_match_random123(void) {
 static void test_uniforms_at_listed_indices(void) {
     const uint64_t seed = 77, step = 12345;
     const size_t bases[2] = {1000, (size_t)1 << 34};
-    const size_t counts[3] = {203, 5, 1}; /* groups of twelve, then a padded group of four */
+    /* groups of twelve and a tail of three groups, the last one padded; tails of two
+     * groups and of one; no tail */
+    const size_t counts[5] = {203, 5, 1, 8, 24};
     for (int b = 0; b < 2; ++b)
-        for (int c = 0; c < 3; ++c) {
+        for (int c = 0; c < 5; ++c) {
             unsigned offset[203];
             for (size_t k = 0; k < 203; ++k)
                 offset[k] = (unsigned)((k * 7919u + 13u * (k % 3)) % 500u);
