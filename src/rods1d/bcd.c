@@ -595,11 +595,11 @@ enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pair
 
 /* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in three
  * passes that give the same bits as bridge_push gap by gap: the gaps that may cross
- * listed (a flag per gap in a loop the compiler vectorises, then the indices of the set
- * flags, eight flags at a time), their uniforms (four Philox counters at a time with
- * AVX2: a gap's number depends only on its index, hsbd/rng.h), then their bridge minima
- * (scalar libm log and sqrt). Only the listed gaps are computed again after the test
- * (the same subtractions, so the same bits): in dilute systems they are few. */
+ * listed (gaps.h, eight at a time), their uniforms (twelve Philox counters at a time with
+ * AVX2, one per listed gap: a gap's number depends only on its index, hsbd/rng.h), the
+ * test that rules most crossings out, then the bridge minima of the rest (scalar libm log
+ * and sqrt). Only the listed gaps are computed again after the first pass (the same
+ * subtractions, so the same bits). */
 static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
                            double *restrict push) {
     double u[GAP_CHUNK], d[GAP_CHUNK];
@@ -611,7 +611,7 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
             d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
     const size_t count = gap_list_may_cross(z, y, r->species ? d : NULL, d_one, m, idx);
     memset(push, 0, m * sizeof *push);
-    if (10 * count > 3 * m) { /* over 30 % listed: one run of counters costs less */
+    if (4 * count > 3 * m) { /* over 3/4 listed: one run of counters costs less */
         double every[GAP_CHUNK];
         hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, every);
         for (size_t k = 0; k < count; ++k)
