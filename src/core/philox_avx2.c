@@ -43,25 +43,34 @@ static inline __m256d uniform_of_words(__m256i hi, __m256i lo) {
                          _mm256_set1_pd(0x1.0p-53));
 }
 
-/* What every counter of one call shares: the ten round keys and the other three words. */
+/* What every counter of one call shares: the key of the first round (the later ones add
+ * the Weyl bumps, modulo 2^32 in the low halves) and the other three words. */
 typedef struct philox_setup {
-    __m256i key[10][2];
+    __m256i key0, key1;
     __m256i step_lo, step_hi, stream;
 } philox_setup;
 
 static philox_setup philox_setup_of(uint64_t seed, uint32_t stream, uint64_t step) {
     philox_setup s;
-    uint32_t k0 = (uint32_t)seed, k1 = (uint32_t)(seed >> 32);
-    for (int round = 0; round < 10; ++round) { /* the key bump, modulo 2^32 */
-        s.key[round][0] = _mm256_set1_epi64x(k0);
-        s.key[round][1] = _mm256_set1_epi64x(k1);
-        k0 += 0x9E3779B9u;
-        k1 += 0xBB67AE85u;
-    }
+    s.key0 = _mm256_set1_epi64x((uint32_t)seed);
+    s.key1 = _mm256_set1_epi64x((uint32_t)(seed >> 32));
     s.step_lo = _mm256_set1_epi64x((uint32_t)step);
     s.step_hi = _mm256_set1_epi64x((uint32_t)(step >> 32));
     s.stream = _mm256_set1_epi64x(stream);
     return s;
+}
+
+/* Ten rounds on the `groups` counters x[][4], the round keys made on the way in registers
+ * (32-bit adds: the bump is modulo 2^32). */
+static inline void philox_rounds(const philox_setup *s, __m256i x[][4], int groups) {
+    const __m256i bump0 = _mm256_set1_epi64x(0x9E3779B9), bump1 = _mm256_set1_epi64x(0xBB67AE85);
+    __m256i k0 = s->key0, k1 = s->key1;
+    for (int round = 0; round < 10; ++round) {
+        for (int g = 0; g < groups; ++g)
+            philox_round(x[g], k0, k1);
+        k0 = _mm256_add_epi32(k0, bump0);
+        k1 = _mm256_add_epi32(k1, bump1);
+    }
 }
 
 /* The uniform pairs of the 4 `groups` counters c[] (index pairs) into u1[], u2[];
@@ -77,9 +86,7 @@ static inline void philox_pairs(const philox_setup *s, const uint64_t *c, int gr
         x[g][2] = s->step_hi;
         x[g][3] = s->stream;
     }
-    for (int round = 0; round < 10; ++round)
-        for (int g = 0; g < groups; ++g)
-            philox_round(x[g], s->key[round][0], s->key[round][1]);
+    philox_rounds(s, x, groups);
     for (int g = 0; g < groups; ++g) { /* 53 bits from (v0, v1) and from (v2, v3) */
         _mm256_storeu_pd(u1 + 4 * g, uniform_of_words(x[g][0], x[g][1]));
         _mm256_storeu_pd(u2 + 4 * g, uniform_of_words(x[g][2], x[g][3]));
@@ -130,9 +137,7 @@ static inline void philox_listed(const philox_setup *s, uint64_t base, const uns
         x[g][2] = s->step_hi;
         x[g][3] = s->stream;
     }
-    for (int round = 0; round < 10; ++round)
-        for (int g = 0; g < groups; ++g)
-            philox_round(x[g], s->key[round][0], s->key[round][1]);
+    philox_rounds(s, x, groups);
     for (int g = 0; g < groups; ++g) { /* (v0, v1) for an even index, (v2, v3) for an odd */
         const __m256i hi = _mm256_blendv_epi8(x[g][0], x[g][2], odd[g]);
         const __m256i lo = _mm256_blendv_epi8(x[g][1], x[g][3], odd[g]);

@@ -595,6 +595,7 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
             d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
     const size_t count = gap_list_may_cross(z, y, r->species ? d : NULL, d_one, m, idx, g0, g1);
     memset(push, 0, m * sizeof *push);
+    if (count == 0) return;  /* the common case in small dilute systems */
     if (4 * count > 3 * m) { /* over 3/4 listed: one run of counters costs less */
         double every[GAP_CHUNK];
         hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, every);
@@ -603,7 +604,8 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
     } else {
         hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
     }
-    if (r->species) /* the listed gaps' diffusions, in place: d[k] <= d[idx[k]] as k <= idx[k] */
+    /* the listed gaps' diffusions, in place (k <= idx[k]: each read before it is overwritten) */
+    if (r->species)
         for (size_t k = 0; k < count; ++k)
             d[k] = d[idx[k]];
     const size_t crossing =
