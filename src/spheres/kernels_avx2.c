@@ -158,28 +158,59 @@ static inline uint32_t half_scan4(const sph_scan_query *q, const contact4 *c, co
     return hits;
 }
 
+/* The pairs of the half scan go through a flat list, in row order: every row's first 16
+ * entries (a row has room for at least 16) are copied with two vector stores and the list
+ * advanced by the row's upper count, so no branch depends on the varying count; the pairs
+ * then go four at a time, the same groups of four as pair by pair. */
+enum { SCAN_FLAT = 512 };
+
+/* The whole groups of four of the list's `count` pairs; the rest (< 4) moved to the front.
+ * Returns the new count, hits updated. */
+static inline uint32_t scan_flat(const sph_scan_query *q, const contact4 *c, int32_t *fi,
+                                 int32_t *fj, uint32_t count, uint32_t *hits, int32_t *hit_i,
+                                 int32_t *hit_j, double *hit_t) {
+    uint32_t g = 0;
+    for (; g + 4 <= count; g += 4)
+        *hits = half_scan4(q, c, fi + g, fj + g, 4, *hits, hit_i, hit_j, hit_t);
+    for (uint32_t l = g; l < count; ++l)
+        fi[l - g] = fi[l], fj[l - g] = fj[l];
+    return count - g;
+}
+
 uint32_t sph_half_scan_avx2(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
                             int32_t *hit_j, double *hit_t) {
     contact4 c;
     contact4_init(&c, q->box, q->tmax);
-    int32_t pi[4], pj[4];
-    uint32_t pending = 0, hits = 0;
+    int32_t fi[SCAN_FLAT + 16], fj[SCAN_FLAT + 16];
+    uint32_t count = 0, hits = 0;
     for (size_t i = i0; i < i1; ++i) {
         const int32_t *row = q->nb + i * q->nb_cap;
         const uint32_t m = q->nb_upper[i];
+        if (count + 16 + m > SCAN_FLAT)
+            count = scan_flat(q, &c, fi, fj, count, &hits, hit_i, hit_j, hit_t);
+        if (m <= 16) { /* the common case: without a branch on m */
+            const __m256i self = _mm256_set1_epi32((int32_t)i);
+            _mm256_storeu_si256((__m256i *)(void *)(fi + count), self);
+            _mm256_storeu_si256((__m256i *)(void *)(fi + count + 8), self);
+            _mm256_storeu_si256((__m256i *)(void *)(fj + count),
+                                _mm256_loadu_si256((const __m256i *)(const void *)row));
+            _mm256_storeu_si256((__m256i *)(void *)(fj + count + 8),
+                                _mm256_loadu_si256((const __m256i *)(const void *)(row + 8)));
+            count += m;
+            continue;
+        }
         for (uint32_t k = 0; k < m; ++k) {
-            pi[pending] = (int32_t)i;
-            pj[pending] = row[k];
-            if (++pending == 4) {
-                hits = half_scan4(q, &c, pi, pj, 4, hits, hit_i, hit_j, hit_t);
-                pending = 0;
-            }
+            fi[count] = (int32_t)i;
+            fj[count] = row[k];
+            if (++count == SCAN_FLAT)
+                count = scan_flat(q, &c, fi, fj, count, &hits, hit_i, hit_j, hit_t);
         }
     }
-    if (pending) {
-        for (uint32_t l = pending; l < 4; ++l)
-            pi[l] = pi[0], pj[l] = pj[0];
-        hits = half_scan4(q, &c, pi, pj, pending, hits, hit_i, hit_j, hit_t);
+    count = scan_flat(q, &c, fi, fj, count, &hits, hit_i, hit_j, hit_t);
+    if (count) { /* the last pairs, the missing lanes repeating the first */
+        for (uint32_t l = count; l < 4; ++l)
+            fi[l] = fi[0], fj[l] = fj[0];
+        hits = half_scan4(q, &c, fi, fj, count, hits, hit_i, hit_j, hit_t);
     }
     return hits;
 }
