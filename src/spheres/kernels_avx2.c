@@ -215,6 +215,11 @@ uint32_t sph_half_scan_avx2(const sph_scan_query *q, size_t i0, size_t i1, int32
     return hits;
 }
 
+/* The places of the set bits of a 4-bit mask in order, one per byte (then zeros). */
+static const uint32_t set_lane_places4[16] = {
+    0x00000000, 0x00000000, 0x00000001, 0x00000100, 0x00000002, 0x00000200, 0x00000201, 0x00020100,
+    0x00000003, 0x00000300, 0x00000301, 0x00030100, 0x00000302, 0x00030200, 0x00030201, 0x03020100};
+
 uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int nlist,
                              const double c[3], const double box_in[3], const double *sigma,
                              double reach_base, int32_t *out) {
@@ -238,22 +243,23 @@ uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int n
         for (uint32_t u = 0; u == 0 || u < m; u += 4) {
             const uint32_t lanes = m - u < 4 ? m - u : 4;
             const int32_t slot[4] = {(int32_t)u, (int32_t)u + 1, (int32_t)u + 2, (int32_t)u + 3};
-            int32_t who[4]; /* empty slots: particle 0, masked out below */
-            for (uint32_t l = 0; l < 4; ++l)
-                who[l] = l < lanes ? id[u + l] : 0;
+            const __m128i filled = /* the lanes below the count; empty slots read particle 0 */
+                _mm_cmpgt_epi32(_mm_set1_epi32((int32_t)lanes), _mm_setr_epi32(0, 1, 2, 3));
+            const __m128i who =
+                _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(id + u)), filled);
             __m256d r[3];
             load_transposed(p, slot, r);
             for (int a = 0; a < 3; ++a)
                 r[a] = wrap4(_mm256_sub_pd(r[a], centre[a]), box[a], half[a], neg_half[a]);
-            const __m256d sj =
-                _mm256_setr_pd(sigma[who[0]], sigma[who[1]], sigma[who[2]], sigma[who[3]]);
+            const __m256d sj = _mm256_i32gather_pd(sigma, who, 8);
             const __m256d reach = _mm256_add_pd(base, _mm256_mul_pd(one_half, sj));
             const __m256d near = _mm256_cmp_pd(dot4(r, r), _mm256_mul_pd(reach, reach), _CMP_LT_OQ);
             const int mask = _mm256_movemask_pd(near) & ((1 << lanes) - 1);
-            for (int l = 0; l < 4; ++l) { /* compaction without branches */
-                out[found] = who[l];
-                found += (uint32_t)(mask >> l) & 1;
-            }
+            /* the near lanes' ids to the front, stored at once (compaction without branches) */
+            const __m128i from = _mm_cvtepu8_epi32(_mm_cvtsi32_si128((int)set_lane_places4[mask]));
+            _mm_storeu_si128((__m128i *)(void *)(out + found),
+                             _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(who), from)));
+            found += (uint32_t)__builtin_popcount((unsigned)mask);
         }
     }
     return found;
