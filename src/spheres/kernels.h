@@ -61,7 +61,8 @@ sph_predict_row_fn sph_predict_row_select(void);
 /* The half scan at the start of a step, every particle at its position x (t = 0): the
  * pairs (i, j) with j among the first nb_upper[i] entries of row i, for i in [i0, i1),
  * r = minimum image of x_j - x_i; the pairs of many rows fill the vectors. Hits in i and row order
- * to hit_i, hit_j, hit_t (room for every pair); returns their number. */
+ * to hit_i, hit_j, hit_t (room for every pair); returns their number. Rows have room for at
+ * least 16 entries (the AVX2 version copies 16 at a time). */
 typedef struct sph_scan_query {
     const double *x, *v, *sigma; /* x, v: 3 per particle */
     const int32_t *nb;           /* rows of nb_cap entries */
