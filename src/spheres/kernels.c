@@ -33,17 +33,10 @@ uint32_t sph_half_scan_scalar(const sph_scan_query *q, size_t i0, size_t i1, int
                               int32_t *hit_j, double *hit_t) {
     uint32_t hits = 0;
     for (size_t i = i0; i < i1; ++i) {
-        const double *xi = q->x + 3 * i, *vi = q->v + 3 * i;
         const int32_t *row = q->nb + i * q->nb_cap;
         for (uint32_t k = 0; k < q->nb_upper[i]; ++k) {
             const int32_t j = row[k];
-            const double *xj = q->x + 3 * (size_t)j, *vj = q->v + 3 * (size_t)j;
-            double r[3], v[3];
-            for (int a = 0; a < 3; ++a) {
-                r[a] = hsbd_wrap_delta(xj[a] - xi[a], q->box[a]);
-                v[a] = vj[a] - vi[a];
-            }
-            const double tc = sph_contact_time(r, v, 0.5 * (q->sigma[i] + q->sigma[j]), q->tmax);
+            const double tc = sph_scan_pair_time(q, i, j);
             if (tc >= 0) {
                 hit_i[hits] = (int32_t)i;
                 hit_j[hits] = j;

@@ -71,6 +71,19 @@ typedef struct sph_scan_query {
     double box[3], tmax;
 } sph_scan_query;
 
+/* The contact time of the half scan's pair (i, j): sph_contact_time of the minimum image
+ * of x_j - x_i and of v_j - v_i, or -1. */
+static inline double sph_scan_pair_time(const sph_scan_query *q, size_t i, int32_t j) {
+    const double *xi = q->x + 3 * i, *vi = q->v + 3 * i;
+    const double *xj = q->x + 3 * (size_t)j, *vj = q->v + 3 * (size_t)j;
+    double r[3], v[3];
+    for (int a = 0; a < 3; ++a) {
+        r[a] = hsbd_wrap_delta(xj[a] - xi[a], q->box[a]);
+        v[a] = vj[a] - vi[a];
+    }
+    return sph_contact_time(r, v, 0.5 * (q->sigma[i] + q->sigma[j]), q->tmax);
+}
+
 typedef uint32_t (*sph_half_scan_fn)(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
                                      int32_t *hit_j, double *hit_t);
 uint32_t sph_half_scan_scalar(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,

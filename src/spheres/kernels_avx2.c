@@ -54,14 +54,12 @@ static inline void contact4_init(contact4 *c, const double box[3], double tmax) 
     c->sign = _mm256_set1_pd(-0.0);
 }
 
-/* Lanes < lanes whose pair reaches contact within tmax, from the unwrapped separations d
- * (wrapped here), relative velocities v and diameters sigma_i + sigma_j: bit l of the
- * result set and tc[l] the contact time (sph_contact_time on the lane). */
-static inline int contact_times4(const contact4 *c, __m256d d[3], const __m256d v[3],
-                                 __m256d sigma_sum, uint32_t lanes, double tc[4]) {
+/* The lanes < lanes whose pair passes sph_contact_hit, from the separations d (wrapped
+ * here, in place), relative velocities v and contact distances s, as bits. */
+static inline int hit_mask4(const contact4 *c, __m256d d[3], const __m256d v[3], __m256d s,
+                            uint32_t lanes) {
     for (int a = 0; a < 3; ++a)
         d[a] = wrap4(d[a], c->box[a], c->half[a], c->neg_half[a]);
-    const __m256d s = _mm256_mul_pd(c->one_half, sigma_sum);
     const __m256d b = dot4(d, v), vv = dot4(v, v);
     const __m256d g = _mm256_sub_pd(dot4(d, d), _mm256_mul_pd(s, s));
     /* sph_contact_hit, lane by lane */
@@ -74,7 +72,16 @@ static inline int contact_times4(const contact4 *c, __m256d d[3], const __m256d 
     const __m256d hit =
         _mm256_and_pd(_mm256_cmp_pd(b, c->zero, _CMP_LT_OQ),
                       _mm256_or_pd(_mm256_cmp_pd(f_end, c->zero, _CMP_LE_OQ), inside));
-    int mask = _mm256_movemask_pd(hit) & ((1 << lanes) - 1);
+    return _mm256_movemask_pd(hit) & ((1 << lanes) - 1);
+}
+
+/* Lanes < lanes whose pair reaches contact within tmax, from the unwrapped separations d
+ * (wrapped here), relative velocities v and diameters sigma_i + sigma_j: bit l of the
+ * result set and tc[l] the contact time (sph_contact_time on the lane). */
+static inline int contact_times4(const contact4 *c, __m256d d[3], const __m256d v[3],
+                                 __m256d sigma_sum, uint32_t lanes, double tc[4]) {
+    const __m256d s = _mm256_mul_pd(c->one_half, sigma_sum);
+    int mask = hit_mask4(c, d, v, s, lanes);
     if (__builtin_expect(!mask, 1)) return 0;
     double dl[3][4], vl[3][4], sl[4];
     for (int a = 0; a < 3; ++a) {
@@ -133,10 +140,26 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
     return hits;
 }
 
-/* Four pairs (pi[l], pj[l]) of the half scan; lanes >= `lanes` repeat lane 0. */
+/* The places of the set bits of a 4-bit mask in order, one per byte (then zeros). */
+static const uint32_t set_lane_places4[16] = {
+    0x00000000, 0x00000000, 0x00000001, 0x00000100, 0x00000002, 0x00000200, 0x00000201, 0x00020100,
+    0x00000003, 0x00000300, 0x00000301, 0x00030100, 0x00000302, 0x00030200, 0x00030201, 0x03020100};
+
+/* The ids of the lanes set in mask (four bits) moved to the front, stored at out (four
+ * entries, those past the popcount scratch): a compaction without branches. */
+static inline void store_set_lanes(__m128i ids, int mask, int32_t *out) {
+    const __m128i from = _mm_cvtepu8_epi32(_mm_cvtsi32_si128((int)set_lane_places4[mask]));
+    _mm_storeu_si128((__m128i *)(void *)out,
+                     _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(ids), from)));
+}
+
+/* Four pairs (pi[l], pj[l]) of the half scan; lanes >= `lanes` repeat lane 0. The pairs
+ * that pass the hit test are appended to ci, cj (no branch on the test, which about one
+ * vector in six passes: their contact times come after, pair by pair); returns the new
+ * count. */
 static inline uint32_t half_scan4(const sph_scan_query *q, const contact4 *c, const int32_t pi[4],
-                                  const int32_t pj[4], uint32_t lanes, uint32_t hits,
-                                  int32_t *hit_i, int32_t *hit_j, double *hit_t) {
+                                  const int32_t pj[4], uint32_t lanes, uint32_t count, int32_t *ci,
+                                  int32_t *cj) {
     __m256d xi[3], xj[3], vi[3], vj[3], d[3], v[3];
     load_transposed(q->x, pi, xi);
     load_transposed(q->x, pj, xj);
@@ -147,78 +170,92 @@ static inline uint32_t half_scan4(const sph_scan_query *q, const contact4 *c, co
         v[a] = _mm256_sub_pd(vj[a], vi[a]);
     }
     const __m256d sigma_sum = _mm256_add_pd(load4(q->sigma, pi), load4(q->sigma, pj));
-    double tc[4];
-    int found = contact_times4(c, d, v, sigma_sum, lanes, tc);
-    for (; found; found &= found - 1) {
-        const int l = __builtin_ctz((unsigned)found);
-        hit_i[hits] = pi[l];
-        hit_j[hits] = pj[l];
-        hit_t[hits++] = tc[l];
-    }
-    return hits;
+    const int mask = hit_mask4(c, d, v, _mm256_mul_pd(c->one_half, sigma_sum), lanes);
+    store_set_lanes(_mm_loadu_si128((const __m128i *)(const void *)pi), mask, ci + count);
+    store_set_lanes(_mm_loadu_si128((const __m128i *)(const void *)pj), mask, cj + count);
+    return count + (uint32_t)__builtin_popcount((unsigned)mask);
 }
 
 /* The pairs of the half scan go through a flat list, in row order: every row's first 16
  * entries (a row has room for at least 16) are copied with two vector stores and the list
  * advanced by the row's upper count, so no branch depends on the varying count; the pairs
- * then go four at a time, the same groups of four as pair by pair. */
+ * then go four at a time, the same groups of four as pair by pair, and those that pass
+ * the hit test get their contact times (sph_scan_pair_time, as the scalar scan). */
 enum { SCAN_FLAT = 512 };
 
+typedef struct scan_lists {
+    int32_t fi[SCAN_FLAT + 16], fj[SCAN_FLAT + 16]; /* the pairs to test */
+    int32_t ci[SCAN_FLAT + 4], cj[SCAN_FLAT + 4];   /* those that pass the hit test */
+} scan_lists;
+
+/* The contact times of the `passed` pairs that passed the hit test, the hits appended;
+ * returns the new number of hits. */
+static uint32_t scan_times(const sph_scan_query *q, const scan_lists *l, uint32_t passed,
+                           uint32_t hits, int32_t *hit_i, int32_t *hit_j, double *hit_t) {
+    for (uint32_t k = 0; k < passed; ++k) {
+        const double tc = sph_scan_pair_time(q, (size_t)l->ci[k], l->cj[k]);
+        if (tc >= 0) {
+            hit_i[hits] = l->ci[k];
+            hit_j[hits] = l->cj[k];
+            hit_t[hits++] = tc;
+        }
+    }
+    return hits;
+}
+
 /* The whole groups of four of the list's `count` pairs; the rest (< 4) moved to the front.
- * Returns the new count, hits updated. */
-static inline uint32_t scan_flat(const sph_scan_query *q, const contact4 *c, int32_t *fi,
-                                 int32_t *fj, uint32_t count, uint32_t *hits, int32_t *hit_i,
-                                 int32_t *hit_j, double *hit_t) {
-    uint32_t g = 0;
+ * Returns the new count, hits appended. */
+static inline uint32_t scan_flat(const sph_scan_query *q, const contact4 *c, scan_lists *l,
+                                 uint32_t count, uint32_t *hits, int32_t *hit_i, int32_t *hit_j,
+                                 double *hit_t) {
+    uint32_t g = 0, passed = 0;
     for (; g + 4 <= count; g += 4)
-        *hits = half_scan4(q, c, fi + g, fj + g, 4, *hits, hit_i, hit_j, hit_t);
-    for (uint32_t l = g; l < count; ++l)
-        fi[l - g] = fi[l], fj[l - g] = fj[l];
-    return count - g;
+        passed = half_scan4(q, c, l->fi + g, l->fj + g, 4, passed, l->ci, l->cj);
+    *hits = scan_times(q, l, passed, *hits, hit_i, hit_j, hit_t);
+    const uint32_t rest = count - g; /* < 4 */
+    for (uint32_t k = 0; k < rest && k < 4; ++k)
+        l->fi[k] = l->fi[g + k], l->fj[k] = l->fj[g + k];
+    return rest;
 }
 
 uint32_t sph_half_scan_avx2(const sph_scan_query *q, size_t i0, size_t i1, int32_t *hit_i,
                             int32_t *hit_j, double *hit_t) {
     contact4 c;
     contact4_init(&c, q->box, q->tmax);
-    int32_t fi[SCAN_FLAT + 16], fj[SCAN_FLAT + 16];
+    scan_lists l = {.ci = {0}}; /* written through vector stores the compiler cannot follow */
     uint32_t count = 0, hits = 0;
     for (size_t i = i0; i < i1; ++i) {
         const int32_t *row = q->nb + i * q->nb_cap;
         const uint32_t m = q->nb_upper[i];
         if (count + 16 + m > SCAN_FLAT)
-            count = scan_flat(q, &c, fi, fj, count, &hits, hit_i, hit_j, hit_t);
+            count = scan_flat(q, &c, &l, count, &hits, hit_i, hit_j, hit_t);
         if (m <= 16) { /* the common case: without a branch on m */
             const __m256i self = _mm256_set1_epi32((int32_t)i);
-            _mm256_storeu_si256((__m256i *)(void *)(fi + count), self);
-            _mm256_storeu_si256((__m256i *)(void *)(fi + count + 8), self);
-            _mm256_storeu_si256((__m256i *)(void *)(fj + count),
+            _mm256_storeu_si256((__m256i *)(void *)(l.fi + count), self);
+            _mm256_storeu_si256((__m256i *)(void *)(l.fi + count + 8), self);
+            _mm256_storeu_si256((__m256i *)(void *)(l.fj + count),
                                 _mm256_loadu_si256((const __m256i *)(const void *)row));
-            _mm256_storeu_si256((__m256i *)(void *)(fj + count + 8),
+            _mm256_storeu_si256((__m256i *)(void *)(l.fj + count + 8),
                                 _mm256_loadu_si256((const __m256i *)(const void *)(row + 8)));
             count += m;
             continue;
         }
         for (uint32_t k = 0; k < m; ++k) {
-            fi[count] = (int32_t)i;
-            fj[count] = row[k];
+            l.fi[count] = (int32_t)i;
+            l.fj[count] = row[k];
             if (++count == SCAN_FLAT)
-                count = scan_flat(q, &c, fi, fj, count, &hits, hit_i, hit_j, hit_t);
+                count = scan_flat(q, &c, &l, count, &hits, hit_i, hit_j, hit_t);
         }
     }
-    count = scan_flat(q, &c, fi, fj, count, &hits, hit_i, hit_j, hit_t);
+    count = scan_flat(q, &c, &l, count, &hits, hit_i, hit_j, hit_t);
     if (count) { /* the last pairs, the missing lanes repeating the first */
-        for (uint32_t l = count; l < 4; ++l)
-            fi[l] = fi[0], fj[l] = fj[0];
-        hits = half_scan4(q, &c, fi, fj, count, hits, hit_i, hit_j, hit_t);
+        for (uint32_t k = count; k < 4; ++k)
+            l.fi[k] = l.fi[0], l.fj[k] = l.fj[0];
+        const uint32_t passed = half_scan4(q, &c, l.fi, l.fj, count, 0, l.ci, l.cj);
+        hits = scan_times(q, &l, passed, hits, hit_i, hit_j, hit_t);
     }
     return hits;
 }
-
-/* The places of the set bits of a 4-bit mask in order, one per byte (then zeros). */
-static const uint32_t set_lane_places4[16] = {
-    0x00000000, 0x00000000, 0x00000001, 0x00000100, 0x00000002, 0x00000200, 0x00000201, 0x00020100,
-    0x00000003, 0x00000300, 0x00000301, 0x00030100, 0x00000302, 0x00030200, 0x00030201, 0x03020100};
 
 uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int nlist,
                              const double c[3], const double box_in[3], const double *sigma,
@@ -255,10 +292,7 @@ uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int n
             const __m256d reach = _mm256_add_pd(base, _mm256_mul_pd(one_half, sj));
             const __m256d near = _mm256_cmp_pd(dot4(r, r), _mm256_mul_pd(reach, reach), _CMP_LT_OQ);
             const int mask = _mm256_movemask_pd(near) & ((1 << lanes) - 1);
-            /* the near lanes' ids to the front, stored at once (compaction without branches) */
-            const __m128i from = _mm_cvtepu8_epi32(_mm_cvtsi32_si128((int)set_lane_places4[mask]));
-            _mm_storeu_si128((__m128i *)(void *)(out + found),
-                             _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(who), from)));
+            store_set_lanes(who, mask, out + (size_t)found); /* the near ids, at once */
             found += (uint32_t)__builtin_popcount((unsigned)mask);
         }
     }
