@@ -4,6 +4,10 @@
  * cell grid of the centres, re-centring one shell, and a full rebuild. */
 #include "spheres/neighbours.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,12 +56,30 @@ int sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j) {
     return 0;
 }
 
-void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
-    int32_t *row = s->nb + (size_t)i * s->nb_cap;
-    const uint32_t c = s->nb_count[i];
+/* The place of j in the row's first c entries (it is there at most once), or c. */
+static uint32_t row_find(const int32_t *row, uint32_t c, int32_t j) {
+#if defined(__SSE2__)
+    if (c <= 16) { /* a row has room for at least 16 entries: four vector compares */
+        const __m128i want = _mm_set1_epi32(j);
+        unsigned at = 0;
+        for (int q = 0; q < 4; ++q) {
+            const __m128i e = _mm_loadu_si128((const __m128i *)(const void *)(row + 4 * q));
+            at |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(e, want))) << (4 * q);
+        }
+        at &= (1u << c) - 1u; /* entries past the count are stale */
+        return at ? (uint32_t)__builtin_ctz(at) : c;
+    }
+#endif
     uint32_t k = c;
     for (uint32_t q = 0; q < c; ++q) /* no early exit: the position is unpredictable */
         k = row[q] == j ? q : k;
+    return k;
+}
+
+void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
+    int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    const uint32_t c = s->nb_count[i];
+    const uint32_t k = row_find(row, c, j);
     if (k == c) return;
     if (j > i) { /* keep the partition: last upper entry fills the hole */
         const uint32_t up = --s->nb_upper[i];
