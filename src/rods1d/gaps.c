@@ -106,6 +106,7 @@ AVX2_FN size_t gap_list_may_cross_avx2(const double *restrict z, const double *r
                              _mm256_cmp_pd(_mm256_mul_pd(start[h], end[h]), bound, _CMP_NGT_UQ));
             bits |= (unsigned)_mm256_movemask_pd(may) << (4 * h);
         }
+        if (!bits) continue; /* most bytes in dilute systems */
         store_places(bits, j, idx + count);
         const size_t low = (size_t)__builtin_popcount(bits & 15u);
         store_lanes(start[0], bits & 15u, g0 + count);
