@@ -553,6 +553,17 @@ static void recenter(hsbd_rods *r) {
     r->wraps += k;
 }
 
+/* A gap that may cross whose uniform u shows, without a log, that its bridge minimum stays
+ * >= 0: bridge_push_with would return +0.0. The minimum is < 0 when -ln u > g0 g1 / d_rel_dt,
+ * and -ln u <= (1 - u) / u, so 4 d_rel_dt (1 - u) < 4 g0 g1 u (times u > 0) rules the
+ * crossing out. The relative margin of 1e-12 covers every rounding of this test and of
+ * bridge_push_with (a few ulps, with libm's log within one), so the sign of the computed
+ * minimum is the one this test implies and the bits are those of bridge_push_with. */
+static inline int bridge_surely_clear(double g0, double g1, double d_rel_dt, double u) {
+    const double a = g0 + g1;
+    return 4.0 * d_rel_dt * (1.0 - u) * (1.0 + 1e-12) + 1e-12 * a * a * u < 4.0 * g0 * g1 * u;
+}
+
 /* The push that reflects a gap that may cross (gaps.h) at zero (Skorokhod; design note 7),
  * with its uniform u: -m when the bridge minimum m drawn with u is < 0, else +0.0, selected
  * by a mask (the same bits as the branch, without its mispredictions). */
@@ -579,21 +590,22 @@ static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t
 enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pairs align */
 
 /* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in passes
- * that give the same bits as bridge_push gap by gap: the gaps that may cross listed with
- * their values (gaps.h, eight at a time), their uniforms (twelve Philox counters at a time
- * with AVX2, one per listed gap: a gap's number depends only on its index, hsbd/rng.h),
- * the test that rules most crossings out (gaps.h), then the bridge minima of the rest
- * (scalar libm log and sqrt). */
+ * that give the same bits as bridge_push gap by gap: the gaps that may cross listed
+ * (gaps.h, eight at a time), their uniforms (twelve Philox counters at a time with AVX2,
+ * one per listed gap: a gap's number depends only on its index, hsbd/rng.h), the test
+ * that rules most crossings out, then the bridge minima of the rest (scalar libm log and
+ * sqrt). Only the listed gaps are computed again after the first pass (the same
+ * subtractions, so the same bits). */
 static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
                            double *restrict push) {
-    double u[GAP_CHUNK], d[GAP_CHUNK], g0[GAP_CHUNK], g1[GAP_CHUNK];
-    unsigned idx[GAP_CHUNK], keep[GAP_CHUNK];
+    double u[GAP_CHUNK], d[GAP_CHUNK];
+    unsigned idx[GAP_CHUNK];
     const double *restrict z = r->z + first, *restrict y = r->y + first;
     const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
     if (r->species)
         for (size_t j = 0; j < m; ++j)
             d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
-    const size_t count = gap_list_may_cross(z, y, r->species ? d : NULL, d_one, m, idx, g0, g1);
+    const size_t count = gap_list_may_cross(z, y, r->species ? d : NULL, d_one, m, idx);
     memset(push, 0, m * sizeof *push);
     if (count == 0) return;  /* the common case in small dilute systems */
     if (4 * count > 3 * m) { /* over 3/4 listed: one run of counters costs less */
@@ -604,15 +616,18 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
     } else {
         hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
     }
-    /* the listed gaps' diffusions, in place (k <= idx[k]: each read before it is overwritten) */
-    if (r->species)
-        for (size_t k = 0; k < count; ++k)
-            d[k] = d[idx[k]];
-    const size_t crossing =
-        gap_list_uncertain(g0, g1, r->species ? d : NULL, d_one, u, count, keep);
-    for (size_t c = 0; c < crossing; ++c) {
-        const size_t k = keep[c];
-        push[idx[k]] = bridge_push_with(g0[k], g1[k], r->species ? d[k] : d_one, u[k]);
+    size_t crossing = 0; /* the listed gaps whose uniform does not rule the crossing out */
+    for (size_t k = 0; k < count; ++k) {
+        const size_t j = idx[k];
+        const double dj = r->species ? d[j] : d_one;
+        idx[crossing] = (unsigned)j;
+        u[crossing] = u[k];
+        crossing += (size_t)!bridge_surely_clear(z[j + 1] - z[j], y[j + 1] - y[j], dj, u[k]);
+    }
+    for (size_t k = 0; k < crossing; ++k) {
+        const size_t j = idx[k];
+        const double dj = r->species ? d[j] : d_one;
+        push[j] = bridge_push_with(z[j + 1] - z[j], y[j + 1] - y[j], dj, u[k]);
     }
 }
 
