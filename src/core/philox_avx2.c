@@ -103,15 +103,13 @@ void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t ste
             c[q] = k0 + j + (uint64_t)q;
         philox_pairs(&s, c, PHILOX_GROUPS, u1 + j, u2 + j);
     }
-    if (npairs - j == 8) { /* a tail of eight: both groups in one interleaved call */
-        for (int q = 0; q < 8; ++q)
-            c[q] = k0 + j + (uint64_t)q;
+    const size_t tail = npairs - j; /* 0, 4 or 8: a tail of eight runs both groups at once */
+    for (size_t q = 0; q < tail; ++q)
+        c[q] = k0 + j + q;
+    if (tail == 8)
         philox_pairs(&s, c, 2, u1 + j, u2 + j);
-    } else if (npairs - j == 4) {
-        for (int q = 0; q < 4; ++q)
-            c[q] = k0 + j + (uint64_t)q;
+    else if (tail == 4)
         philox_pairs(&s, c, 1, u1 + j, u2 + j);
-    }
 }
 
 /* The uniforms of the indices base + offset[k], k < valid <= 4 `groups`, into out[]: index i
