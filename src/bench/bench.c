@@ -101,12 +101,17 @@ static int bench_rods_warm(hsbd_rods *r, const hsbd_rods_params *p) {
     return rc;
 }
 
-/* particle-steps per second of the bare integrator over at least `seconds` of the clock,
- * with the given contact rule (hard_core = 0: free particles, the rule is not used) on
- * `threads` threads */
-static double bench_rate_on(const bench_case *c, int hard_core, int contact_rule, double seconds,
-                            int threads, double (*clock)(void)) {
-    const size_t n = c->n ? c->n : (size_t)llround(c->rho * 100.0);
+/* the number of rods of a case: c->n, or the rods of L = 100 at density rho */
+static size_t bench_rods_n(const bench_case *c) {
+    return c->n ? c->n : (size_t)llround(c->rho * 100.0);
+}
+
+/* The case's rods with the given contact rule (hard_core = 0: free particles, the rule is
+ * not used) on `threads` threads, warmed up (bench_rods_warm, then one batch of steps), or
+ * NULL. */
+static hsbd_rods *bench_rods_system(const bench_case *c, int hard_core, int contact_rule,
+                                    int threads, uint64_t batch) {
+    const size_t n = bench_rods_n(c);
     const double L = c->n ? (double)c->n / c->rho : 100.0;
     hsbd_rods_params p = {.n = n,
                           .length = L,
@@ -126,25 +131,76 @@ static double bench_rate_on(const bench_case *c, int hard_core, int contact_rule
     if (c->field != BENCH_COSINE) hsbd_field_add(&p.field, tilt);
     hsbd_error err;
     hsbd_rods *r = hsbd_rods_alloc(&p, &err);
-    if (!r) return NAN;
-    if (bench_rods_warm(r, &p)) return hsbd_rods_free(r), NAN;
-    uint64_t batch = 1 + (uint64_t)(2e6 / (double)n), steps = 0;
-    for (uint64_t k = 0; k < batch; ++k)
-        if (hsbd_rods_step(r, NULL) != HSBD_OK) return hsbd_rods_free(r), NAN; /* warm-up */
+    if (!r) return NULL;
+    int rc = bench_rods_warm(r, &p);
+    for (uint64_t k = 0; k < batch && !rc; ++k)
+        rc = hsbd_rods_step(r, NULL) != HSBD_OK;
+    if (rc) hsbd_rods_free(r);
+    return rc ? NULL : r;
+}
+
+/* One system of a case, measured in turns with the case's other variants (bench_turns):
+ * the rods or the spheres (the other NULL), the threads it steps on, and what the turns
+ * added up. */
+typedef struct bench_variant {
+    hsbd_rods *rods;
+    hsbd_spheres *spheres;
+    int threads; /* spheres: set before each turn, so one system can be two variants */
+    uint64_t steps;
+    double elapsed;
+} bench_variant;
+
+/* Steps v in batches for at least `seconds` of `clock`; 0, or -1 when a step fails. */
+static int bench_variant_run_for(bench_variant *v, uint64_t batch, double seconds,
+                                 double (*clock)(void)) {
+    if (v->spheres) hsbd_spheres_set_threads(v->spheres, v->threads);
     const double t0 = clock();
     double t = t0;
     while (t - t0 < seconds) {
         for (uint64_t k = 0; k < batch; ++k)
-            if (hsbd_rods_step(r, NULL) != HSBD_OK) return hsbd_rods_free(r), NAN;
-        steps += batch;
+            if (v->rods ? hsbd_rods_step(v->rods, NULL) != HSBD_OK
+                        : hsbd_spheres_step(v->spheres) != HSBD_OK)
+                return -1;
+        v->steps += batch;
         t = clock();
     }
-    hsbd_rods_free(r);
-    return (double)n * (double)steps / (t - t0);
+    v->elapsed += t - t0;
+    return 0;
 }
 
-static double bench_rate(const bench_case *c, int hard_core, int contact_rule, double seconds) {
-    return bench_rate_on(c, hard_core, contact_rule, seconds, 1, now_seconds);
+/* The variants of a case take BENCH_TURNS turns each, in alternation, of seconds /
+ * BENCH_TURNS: this machine's speed drifts by up to 25 % within minutes, and variants run
+ * one after the other would see different drifts (a ratio below 1 for the same work was
+ * seen so). Every system must be there (non-NULL). 0, or -1 when a step fails. */
+enum { BENCH_TURNS = 6 };
+static int bench_turns(bench_variant *v, int count, uint64_t batch, double seconds,
+                       double (*clock)(void)) {
+    for (int k = 0; k < count; ++k)
+        if (!v[k].rods && !v[k].spheres) return -1;
+    for (int turn = 0; turn < BENCH_TURNS; ++turn)
+        for (int k = 0; k < count; ++k)
+            if (bench_variant_run_for(&v[k], batch, seconds / BENCH_TURNS, clock)) return -1;
+    return 0;
+}
+
+/* steps per second (of the turns' clock) of a measured variant */
+static double bench_variant_rate(const bench_variant *v) {
+    return (double)v->steps / v->elapsed;
+}
+
+/* rods steps of a case between two reads of the clock (a batch of about 2e6 rod-steps) */
+static uint64_t bench_rods_batch(size_t n) {
+    return 1 + (uint64_t)(2e6 / (double)n);
+}
+
+/* The rods variants v[0 .. count-1] (filled by the caller) measured in turns; frees them. 0,
+ * or -1 when one failed. */
+static int bench_rods_turns(bench_variant *v, int count, uint64_t batch, double seconds,
+                            double (*clock)(void)) {
+    const int rc = bench_turns(v, count, batch, seconds, clock);
+    for (int k = 0; k < count; ++k)
+        hsbd_rods_free(v[k].rods);
+    return rc;
 }
 
 static void sphere_bench_threads(const char *only, double seconds, int all, FILE *out);
@@ -153,14 +209,20 @@ void hsbd_bench_threads(const char *only, double seconds, FILE *out) {
     const int all = hsbd_threads_available();
     fprintf(out,
             "# rods, default rule (reflect), one thread against all %d threads the process may "
-            "use,\n# wall clock; M = 10^6 particle-steps per second; N >= 10^4 only\n"
+            "use,\n# wall clock, the two in turns; M = 10^6 particle-steps per second; N >= 10^4 "
+            "only\n"
             "%-26s %9s %12s %12s %8s\n",
             all, "case", "N", "1 thr. M/s", "all M/s", "speed-up");
     for (size_t k = 0; k < sizeof bench_cases / sizeof bench_cases[0]; ++k) {
         const bench_case *c = &bench_cases[k];
         if ((only && strcmp(only, c->name)) || c->n < 10000) continue;
-        const double one = bench_rate_on(c, 1, HSBD_CONTACT_REFLECT, seconds, 1, wall_seconds);
-        const double many = bench_rate_on(c, 1, HSBD_CONTACT_REFLECT, seconds, all, wall_seconds);
+        const uint64_t batch = bench_rods_batch(c->n);
+        bench_variant v[2] = {{.rods = bench_rods_system(c, 1, HSBD_CONTACT_REFLECT, 1, batch)},
+                              {.rods = bench_rods_system(c, 1, HSBD_CONTACT_REFLECT, all, batch)}};
+        const int rc = bench_rods_turns(v, 2, batch, seconds, wall_seconds);
+        const double n = (double)c->n;
+        const double one = rc ? NAN : n * bench_variant_rate(&v[0]),
+                     many = rc ? NAN : n * bench_variant_rate(&v[1]);
         fprintf(out, "%-26s %9zu %12.1f %12.1f %8.2f\n", c->name, c->n, one / 1e6, many / 1e6,
                 many / one);
         fflush(out);
@@ -225,42 +287,9 @@ static hsbd_spheres *sphere_bench_system(const sphere_bench_case *c, int hard_co
     return s;
 }
 
-/* Steps s for at least `seconds` of `clock`, adding the steps and the time taken to
- * *steps and *elapsed. Returns 0, or -1 when a step fails. */
-static int sphere_run_for(hsbd_spheres *s, size_t n, double seconds, double (*clock)(void),
-                          uint64_t *steps, double *elapsed) {
-    const uint64_t batch = 1 + (uint64_t)(1e6 / (double)n);
-    const double t0 = clock();
-    double t = t0;
-    while (t - t0 < seconds) {
-        for (uint64_t k = 0; k < batch; ++k)
-            if (hsbd_spheres_step(s) != HSBD_OK) return -1;
-        *steps += batch;
-        t = clock();
-    }
-    *elapsed += t - t0;
-    return 0;
-}
-
-/* steps per second of s over at least `seconds` of `clock`; *coll: collisions per step */
-static double sphere_steps_per_second(hsbd_spheres *s, size_t n, double seconds,
-                                      double (*clock)(void), double *coll) {
-    hsbd_spheres_reset_stats(s);
-    uint64_t steps = 0;
-    double elapsed = 0;
-    if (sphere_run_for(s, n, seconds, clock, &steps, &elapsed)) return NAN;
-    *coll = (double)hsbd_spheres_get_stats(s).collisions / (double)steps;
-    return (double)steps / elapsed;
-}
-
-/* steps per CPU-second on one thread; *coll: collisions per step */
-static double sphere_bench_rate(const sphere_bench_case *c, int hard_core, double seconds,
-                                double *coll) {
-    hsbd_field gravity = {0};
-    hsbd_spheres *s = sphere_bench_system(c, hard_core, 1, &gravity);
-    const double rate = s ? sphere_steps_per_second(s, c->n, seconds, now_seconds, coll) : NAN;
-    hsbd_spheres_free(s);
-    return rate;
+/* spheres steps of a case between two reads of the clock (about 1e6 particle-steps) */
+static uint64_t sphere_bench_batch(size_t n) {
+    return 1 + (uint64_t)(1e6 / (double)n);
 }
 
 static void sphere_bench(const char *only, double seconds, FILE *out) {
@@ -273,12 +302,21 @@ static void sphere_bench(const char *only, double seconds, FILE *out) {
                     "# EDBD, 3D monodisperse spheres, D = sigma = 1, from an fcc lattice after 0.3 "
                     "Brownian times of warm-up;\n# sediment: walls at z = 0 and L, gravity -0.5 "
                     "kT/sigma along z (phi 0.3 on average);\n# BT/s = Brownian times (sigma^2/D) "
-                    "simulated per CPU-second; free = hard core off\n"
+                    "simulated per CPU-second; free = hard core off; the two measured in turns\n"
                     "%-30s %7s %9s %9s %10s %9s %9s %7s\n",
                     "case", "N", "BT/s", "ns/p-step", "ns/coll", "coll/p-st", "free BT/s", "ratio");
-        double coll = 0, coll_free = 0;
-        const double hard = sphere_bench_rate(c, 1, seconds, &coll);
-        const double free_ = sphere_bench_rate(c, 0, seconds, &coll_free);
+        hsbd_field gravity[2] = {{0}, {0}};
+        bench_variant v[2] = {{.spheres = sphere_bench_system(c, 1, 1, &gravity[0]), .threads = 1},
+                              {.spheres = sphere_bench_system(c, 0, 1, &gravity[1]), .threads = 1}};
+        if (v[0].spheres) hsbd_spheres_reset_stats(v[0].spheres);
+        double hard = NAN, free_ = NAN, coll = NAN;
+        if (!bench_turns(v, 2, sphere_bench_batch(c->n), seconds, now_seconds)) {
+            hard = bench_variant_rate(&v[0]);
+            free_ = bench_variant_rate(&v[1]);
+            coll = (double)hsbd_spheres_get_stats(v[0].spheres).collisions / (double)v[0].steps;
+        }
+        hsbd_spheres_free(v[0].spheres);
+        hsbd_spheres_free(v[1].spheres);
         const double n = (double)c->n;
         fprintf(out, "%-30s %7zu %9.3f %9.1f %10.1f %9.4f %9.3f %7.2f\n", c->name, c->n,
                 hard * c->dt, 1e9 / (hard * n), coll > 0 ? 1e9 / (hard * coll) : NAN, coll / n,
@@ -288,9 +326,7 @@ static void sphere_bench(const char *only, double seconds, FILE *out) {
 }
 
 /* The spheres cases of N >= 10^5 on one thread and on all: one system, warmed up on all
- * threads, then stepped in turns on one thread and on all (the same statistical state;
- * the turns share the machine's drifts in speed, which reach 25 % within minutes). */
-enum { SPHERE_THREAD_TURNS = 6 };
+ * threads, then stepped in turns on one thread and on all (the same statistical state). */
 static void sphere_bench_threads(const char *only, double seconds, int all, FILE *out) {
     int header = 0;
     for (size_t k = 0; k < sizeof sphere_bench_cases / sizeof sphere_bench_cases[0]; ++k) {
@@ -303,15 +339,10 @@ static void sphere_bench_threads(const char *only, double seconds, int all, FILE
                     all, "case", "N", "1 thr. ns/ps", "all ns/ps", "speed-up");
         hsbd_field gravity = {0};
         hsbd_spheres *s = sphere_bench_system(c, 1, all, &gravity);
-        uint64_t steps[2] = {0, 0};
-        double elapsed[2] = {0, 0}, one = NAN, many = NAN;
-        int failed = s == NULL;
-        for (int turn = 0; turn < 2 * SPHERE_THREAD_TURNS && !failed; ++turn) {
-            hsbd_spheres_set_threads(s, turn % 2 ? all : 1);
-            failed = sphere_run_for(s, c->n, seconds / SPHERE_THREAD_TURNS, wall_seconds,
-                                    &steps[turn % 2], &elapsed[turn % 2]);
-        }
-        if (!failed) one = (double)steps[0] / elapsed[0], many = (double)steps[1] / elapsed[1];
+        bench_variant v[2] = {{.spheres = s, .threads = 1}, {.spheres = s, .threads = all}};
+        double one = NAN, many = NAN;
+        if (!bench_turns(v, 2, sphere_bench_batch(c->n), seconds, wall_seconds))
+            one = bench_variant_rate(&v[0]), many = bench_variant_rate(&v[1]);
         hsbd_spheres_free(s);
         const double n = (double)c->n;
         fprintf(out, "%-30s %9zu %12.1f %12.1f %8.2f\n", c->name, c->n, 1e9 / (one * n),
@@ -342,17 +373,22 @@ void hsbd_bench_run(const char *only, double seconds, FILE *out) {
             "contact rule,\n"
             "# sticky = the paper's rule; free = same system, hard core off; cost = free/hard;\n"
             "# measured after 10 time units of each rule's own dynamics (N > 1000: copies of a\n"
-            "# block of 1000 rods so warmed up)\n",
+            "# block of 1000 rods so warmed up); the three variants measured in turns\n",
             HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
     fprintf(out, "%-26s %9s %12s %12s %12s %8s %8s\n", "case", "N", "reflect M/s", "sticky M/s",
             "free M/s", "cost", "cost st.");
     for (size_t k = 0; k < sizeof bench_cases / sizeof bench_cases[0]; ++k) {
         const bench_case *c = &bench_cases[k];
         if (only && strcmp(only, c->name)) continue;
-        const double reflect = bench_rate(c, 1, HSBD_CONTACT_REFLECT, seconds);
-        const double sticky = bench_rate(c, 1, HSBD_CONTACT_STICKY, seconds);
-        const double free_ = bench_rate(c, 0, HSBD_CONTACT_REFLECT, seconds);
-        const size_t n = c->n ? c->n : (size_t)llround(c->rho * 100.0);
+        const size_t n = bench_rods_n(c);
+        const uint64_t batch = bench_rods_batch(n);
+        bench_variant v[3] = {{.rods = bench_rods_system(c, 1, HSBD_CONTACT_REFLECT, 1, batch)},
+                              {.rods = bench_rods_system(c, 1, HSBD_CONTACT_STICKY, 1, batch)},
+                              {.rods = bench_rods_system(c, 0, HSBD_CONTACT_REFLECT, 1, batch)}};
+        const int rc = bench_rods_turns(v, 3, batch, seconds, now_seconds);
+        const double reflect = rc ? NAN : (double)n * bench_variant_rate(&v[0]),
+                     sticky = rc ? NAN : (double)n * bench_variant_rate(&v[1]),
+                     free_ = rc ? NAN : (double)n * bench_variant_rate(&v[2]);
         fprintf(out, "%-26s %9zu %12.1f %12.1f %12.1f %8.2f %8.2f\n", c->name, n, reflect / 1e6,
                 sticky / 1e6, free_ / 1e6, free_ / reflect, free_ / sticky);
         fflush(out);
