@@ -8,6 +8,7 @@
 
 #include "core/input.h"
 #include "hsbd/io.h"
+#include "io/files.h"
 
 int hsbd_outfile_open(hsbd_outfile *o, const char *dir, const char *name, hsbd_error *err) {
     snprintf(o->path, sizeof o->path, "%s/%s", dir, name);
@@ -109,23 +110,44 @@ static int is_run_output(const char *name) {
     return 0;
 }
 
-/* An earlier run's files are removed (--force); anything else in the directory refuses. */
-static int clear_earlier_run(const char *dir, hsbd_error *err) {
+/* "replica-<digits>": an ensemble's replica directory */
+static int is_replica_dir_name(const char *name) {
+    if (strncmp(name, "replica-", 8) || !name[8]) return 0;
+    for (const char *p = name + 8; *p; ++p)
+        if (*p < '0' || *p > '9') return 0;
+    return 1;
+}
+
+int run_dir_check_earlier(const char *dir, int replica_dirs, hsbd_error *err) {
     DIR *d = opendir(dir);
     if (!d)
         return hsbd_error_set(err, HSBD_EINPUT, "cannot read output directory '%s': %s", dir,
                               strerror(errno));
     int rc = HSBD_OK;
-    for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && !is_run_output(e->d_name))
-            rc = hsbd_error_set(err, HSBD_EINPUT,
-                                "output directory '%s' holds '%s', which is not a file of an "
-                                "hsbd run; --force replaces only an earlier run's files: choose "
-                                "another --out",
-                                dir, e->d_name);
+    for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") || is_run_output(e->d_name))
+            continue;
+        char path[HSBD_PATH_MAX + 300];
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (replica_dirs && is_replica_dir_name(e->d_name) && lstat(path, &st) == 0 &&
+            S_ISDIR(st.st_mode))
+            continue;
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "output directory '%s' holds '%s', which is not a file of an "
+                            "hsbd run; --force replaces only an earlier run's files: choose "
+                            "another --out",
+                            dir, e->d_name);
+    }
     closedir(d);
+    return rc;
+}
+
+/* An earlier run's files are removed (--force); anything else in the directory refuses. */
+static int clear_earlier_run(const char *dir, hsbd_error *err) {
+    int rc = run_dir_check_earlier(dir, 0, err);
     if (rc != HSBD_OK) return rc;
-    d = opendir(dir);
+    DIR *d = opendir(dir);
     for (struct dirent *e; d && (e = readdir(d));) {
         if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
         char path[HSBD_PATH_MAX + 300];

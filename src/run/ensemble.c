@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "hsbd/io.h"
+#include "io/files.h"
 #include "run/run.h"
 
 /* Replica k's Philox key: the seed moved by k steps of the golden-ratio Weyl sequence
@@ -40,27 +41,69 @@ static int is_replica_name(const char *name) {
     return 1;
 }
 
-int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err) {
-    hsbd_error_clear(err);
-    const char *dir = cfg->output.dir;
-    struct stat dst;
-    /* a new directory is made by the first replica, after its input was accepted */
-    if (dir[0] && stat(dir, &dst) != 0 && errno == ENOENT) return HSBD_OK;
-    DIR *d = force ? opendir(dir) : NULL;
+/* Each entry replica-K of an earlier ensemble in dir: a directory of its own (not a
+ * symbolic link, which --force would follow out of dir) holding only a run's files. With
+ * remove, they are then removed; without, only checked. */
+static int earlier_replicas(const char *dir, int remove, hsbd_error *err) {
+    DIR *d = opendir(dir);
+    if (!d)
+        return hsbd_error_set(err, HSBD_EINPUT, "cannot read output directory '%s': %s", dir,
+                              strerror(errno));
     int rc = HSBD_OK;
-    /* --force: an earlier ensemble's replica directories go first (each holding only a
-     * run's files), then the merged files like any run's */
-    for (struct dirent *e; rc == HSBD_OK && d && (e = readdir(d));) {
+    for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
         if (!is_replica_name(e->d_name)) continue;
         char sub[HSBD_PATH_MAX + 300];
         snprintf(sub, sizeof sub, "%s/%s", dir, e->d_name);
         struct stat st;
-        if (stat(sub, &st) != 0 || !S_ISDIR(st.st_mode)) continue;
-        rc = hsbd_run_dir_prepare(sub, 1, err);
-        if (rc == HSBD_OK && rmdir(sub) != 0)
-            rc = hsbd_error_set(err, HSBD_EINPUT, "cannot remove '%s' of the earlier run", sub);
+        if (lstat(sub, &st) != 0 || S_ISREG(st.st_mode)) continue; /* a file: checked below */
+        if (!S_ISDIR(st.st_mode))
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "output directory '%s' holds '%s', which is not a replica's "
+                                "directory (a link or special file); --force replaces only an "
+                                "earlier run's files: choose another --out",
+                                dir, e->d_name);
+        else if (!remove)
+            rc = run_dir_check_earlier(sub, 0, err);
+        else if (hsbd_run_dir_prepare(sub, 1, err) != HSBD_OK)
+            rc = err->status;
+        else if (rmdir(sub) != 0)
+            rc = hsbd_error_set(err, HSBD_EINPUT, "cannot remove '%s' of the earlier run: %s", sub,
+                                strerror(errno));
     }
-    if (d) closedir(d);
+    closedir(d);
+    return rc;
+}
+
+int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err) {
+    hsbd_error_clear(err);
+    const char *dir = cfg->output.dir;
+    /* the input first: a bad one must not cost the earlier results (--force) */
+    int rc = run_check_input(cfg, err);
+    if (rc != HSBD_OK) return rc;
+    struct stat dst;
+    /* a new directory is made by the first replica */
+    if (dir[0] && stat(dir, &dst) != 0 && errno == ENOENT) return HSBD_OK;
+    if (!force && dir[0] && S_ISDIR(dst.st_mode)) {
+        DIR *d = opendir(dir);
+        int empty = 1;
+        for (struct dirent *e; d && (e = readdir(d));)
+            if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
+        if (d) closedir(d);
+        if (!empty)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "output directory '%s' already exists and is not empty; choose "
+                                  "another --out, pass --force to replace the earlier files, or "
+                                  "continue an interrupted ensemble replica by replica (hsbd "
+                                  "resume %s/replica-K, then hsbd merge)",
+                                  dir, dir);
+    }
+    /* --force: every earlier replica directory is checked before any is removed, then the
+     * merged files go like any run's */
+    if (force && dir[0] && S_ISDIR(dst.st_mode)) {
+        rc = earlier_replicas(dir, 0, err);
+        if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
+        if (rc == HSBD_OK) rc = earlier_replicas(dir, 1, err);
+    }
     return rc == HSBD_OK ? hsbd_run_dir_prepare(dir, force, err) : rc;
 }
 

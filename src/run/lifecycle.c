@@ -234,6 +234,14 @@ void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
             (unsigned long long)r->steps_done, (unsigned long long)hsbd_config_steps(cfg),
             (unsigned long long)r->equil_done);
     fprintf(f, "  \"resumes\": %llu,\n", (unsigned long long)r->resumes);
+    if (!r->ninputs) return;
+    fprintf(f, "  \"input_checksums\": {"); /* of the input files read, as read (CRC-64) */
+    for (size_t k = 0; k < r->ninputs; ++k) {
+        fprintf(f, "%s", k ? ", " : "");
+        hsbd_json_string(f, r->inputs[k].path);
+        fprintf(f, ": \"%016llx\"", (unsigned long long)r->inputs[k].crc);
+    }
+    fprintf(f, "},\n");
 }
 
 /* Final tables, streams and summary.json. Every file is committed on its own: one that
@@ -304,6 +312,17 @@ static void record_inputs(run *r) {
         if (run_file_crc(files[k], &in->crc) == 0) r->ninputs += 1;
     }
     if (!getcwd(r->cwd, sizeof r->cwd)) r->cwd[0] = '\0';
+}
+
+/* The configuration's system built as a run would build it (its input files read and
+ * checked), then let go: nothing is written. */
+int run_check_input(const hsbd_config *cfg, hsbd_error *err) {
+    const hsbd_run_options opt = {0};
+    run r = {.cfg = cfg, .opt = &opt};
+    const int rc = cfg->system.model == HSBD_MODEL_SPHERES ? run_spheres_build(&r, err)
+                                                           : run_rods_build(&r, err);
+    release(&r);
+    return rc;
 }
 
 int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err) {

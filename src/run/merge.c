@@ -11,11 +11,15 @@
  * the values all replicas share, averages the others (with their scatter as KEY_err)
  * and leaves out timings (wall and CPU seconds, rates); nested objects (rods' contacts per species
  * pair) stay in the replicas' summaries. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "hsbd/io.h"
 #include "io/tables.h"
@@ -27,6 +31,7 @@ typedef struct text_lines {
     char *buf;
     char **line;
     size_t n;
+    int cut; /* the last line has no newline: the file was cut short */
 } text_lines;
 
 static void text_free(text_lines *t) {
@@ -54,6 +59,7 @@ static int text_read(const char *path, text_lines *t) {
     if (!t->buf) return -2;
     if (bad) return text_free(t), -1;
     t->buf[len] = '\0';
+    t->cut = len > 0 && t->buf[len - 1] != '\n';
     size_t lines = 1;
     for (size_t k = 0; k < len; ++k)
         lines += t->buf[k] == '\n';
@@ -108,12 +114,30 @@ static int replica_parameter(const char *key) {
            !strcmp(key, "threads");
 }
 
+/* Does dir hold a file of this name? */
+static int holds_file(const char *dir, const char *name) {
+    char path[HSBD_PATH_MAX + 300];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
 static int load_source(merge_source *s, hsbd_error *err) {
     int rc = read_in(s->dir, "summary.json", &s->sum, err);
+    if (rc != HSBD_OK && holds_file(s->dir, "checkpoint.hsbd"))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: the run in '%s' did not finish (a checkpoint, no "
+                              "summary.json: it was stopped); continue it first (hsbd resume %s)",
+                              s->dir, s->dir);
     if (rc != HSBD_OK)
         return hsbd_error_set(err, rc,
                               "merge: '%s' holds no readable summary.json: not a run "
                               "directory of hsbd",
+                              s->dir);
+    if (s->sum.cut)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s/summary.json' ends inside a line: the file was cut "
+                              "short",
                               s->dir);
     int completed = 0, found = 0;
     s->params = 0;
@@ -144,9 +168,55 @@ static int load_source(merge_source *s, hsbd_error *err) {
     return HSBD_OK;
 }
 
+/* The checksums of the input files a run read (its summary's "input_checksums"), or "". */
+static const char *input_checksums(const merge_source *s) {
+    for (size_t k = 1; k < s->params; ++k) {
+        char key[64];
+        const char *v = json_entry(s->sum.line[k], 2, key, sizeof key);
+        if (v && !strcmp(key, "input_checksums")) return v;
+    }
+    return "";
+}
+
+/* The replicas read the same bytes from their input files (field or pair tables, initial
+ * positions): the parameters name the files, not what they held. */
+static int same_inputs(const merge_source *a, const merge_source *b, hsbd_error *err) {
+    const char *ia = input_checksums(a), *ib = input_checksums(b);
+    if (!strcmp(ia, ib)) return HSBD_OK;
+    return hsbd_error_set(err, HSBD_EINPUT,
+                          "merge: '%s' and '%s' read different contents of their input files "
+                          "(checksums %.300s in the first, %.300s in the second); only runs of "
+                          "the same input can be merged",
+                          a->dir, b->dir, ia[0] ? ia : "none", ib[0] ? ib : "none");
+}
+
 static int by_index(const void *a, const void *b) {
     const long x = ((const merge_source *)a)->index, y = ((const merge_source *)b)->index;
     return (x > y) - (x < y);
+}
+
+/* The section.key of summary line k of a's parameters (indent 6, inside a section at
+ * indent 4), and its value without the trailing comma, for messages. */
+static void parameter_at(const merge_source *a, size_t k, char *name, size_t len, const char **val,
+                         int *vlen) {
+    char key[64] = "", section[64] = "";
+    *val = "(none)";
+    *vlen = 6;
+    if (k >= a->sum.n) {
+        snprintf(name, len, "(the end of the parameters)");
+        return;
+    }
+    const char *v = json_entry(a->sum.line[k], 6, key, sizeof key);
+    for (size_t j = k; j > a->params && !section[0]; --j)
+        json_entry(a->sum.line[j], 4, section, sizeof section);
+    if (!v) {
+        snprintf(name, len, "%s (a section)", section[0] ? section : key);
+        return;
+    }
+    snprintf(name, len, "%s%s%s", section, section[0] ? "." : "", key);
+    const size_t vl = strlen(v);
+    *val = v;
+    *vlen = (int)(vl && v[vl - 1] == ',' ? vl - 1 : vl);
 }
 
 /* The same configuration: every parameter but the replica's own (index, count, dir). */
@@ -164,17 +234,23 @@ static int same_parameters(const merge_source *a, const merge_source *b, hsbd_er
         if (strcmp(a->sum.line[i], b->sum.line[j])) break;
     }
     if (i == a->sum.n && j == b->sum.n) return HSBD_OK;
-    const char *la = i < a->sum.n ? a->sum.line[i] : "(end)";
-    const char *lb = j < b->sum.n ? b->sum.line[j] : "(end)";
-    while (*la == ' ')
-        ++la;
-    while (*lb == ' ')
-        ++lb;
+    char na[140], nb[140];
+    const char *va, *vb;
+    int la, lb;
+    parameter_at(a, i, na, sizeof na, &va, &la);
+    parameter_at(b, j, nb, sizeof nb, &vb, &lb);
+    if (strcmp(na, nb))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s' and '%s' are not replicas of one configuration: their "
+                              "parameters differ at %s in the first and %s in the second; only "
+                              "runs of the same configuration (apart from run.replica) can be "
+                              "merged",
+                              a->dir, b->dir, na, nb);
     return hsbd_error_set(err, HSBD_EINPUT,
-                          "merge: '%s' and '%s' are not replicas of one configuration: "
-                          "parameter %.200s there, %.200s here; only runs of the same "
+                          "merge: '%s' and '%s' are not replicas of one configuration: %s = "
+                          "%.*s in the first, %.*s in the second; only runs of the same "
                           "configuration (apart from run.replica) can be merged",
-                          a->dir, b->dir, la, lb);
+                          a->dir, b->dir, na, la > 200 ? 200 : la, va, lb > 200 ? 200 : lb, vb);
 }
 
 /* ---- tables ----------------------------------------------------------------------------- */
@@ -258,24 +334,34 @@ static size_t split_tabs(char *row, char **cell, size_t max) {
     return n;
 }
 
-enum { MERGE_MAX_COLUMNS = 64 };
+/* cells of a row: its tabs plus one */
+static size_t count_cells(const char *row) {
+    size_t n = 1;
+    for (const char *p = row; (p = strchr(p, '\t')); ++p)
+        ++n;
+    return n;
+}
+
 enum column_kind { COLUMN_MEAN, COLUMN_ERROR, COLUMN_COUNT };
 
 /* One table of every replica: its values as numbers, rows x columns each. */
 typedef struct table_set {
     text_lines *text;
-    size_t ncol, rows; /* rows of the longest */
-    char *names[MERGE_MAX_COLUMNS];
-    int kind[MERGE_MAX_COLUMNS];
-    size_t base[MERGE_MAX_COLUMNS]; /* COLUMN_ERROR: its value column */
-    double *val;                    /* [replica][row][column], zero-padded */
-    const char **abscissa;          /* [row]: the first column of the longest */
+    size_t *comments;      /* [replica]: its comment lines (the header, configuration) */
+    size_t ncol, rows;     /* rows of the longest */
+    char **names;          /* [ncol] */
+    int *kind;             /* [ncol] */
+    size_t *base;          /* [ncol] COLUMN_ERROR: its value column */
+    char **cell;           /* [ncol + 1] a row's cells */
+    double *val;           /* [replica][row][column], zero-padded */
+    const char **abscissa; /* [row]: the first column of the longest */
 } table_set;
 
 static void table_set_free(table_set *t, size_t n) {
     for (size_t k = 0; t->text && k < n; ++k)
         text_free(&t->text[k]);
-    free(t->text), free(t->val), free(t->abscissa);
+    free(t->text), free(t->comments), free(t->val), free(t->abscissa);
+    free(t->names), free(t->kind), free(t->base), free(t->cell);
 }
 
 static void classify_columns(table_set *t) {
@@ -289,31 +375,77 @@ static void classify_columns(table_set *t) {
     }
 }
 
+/* Reads table `name` of replica k into t->text[k]: a whole table of hsbd (comments, a
+ * line of columns, every line ended) whose header agrees with replica 0's. */
+static int read_table(const char *name, const merge_source *src, size_t k, table_set *t,
+                      hsbd_error *err) {
+    int rc = read_in(src[k].dir, name, &t->text[k], err);
+    if (rc != HSBD_OK) return rc;
+    const text_lines *tx = &t->text[k];
+    t->comments[k] = comment_lines(tx);
+    if (t->comments[k] == 0 || t->comments[k] >= tx->n)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s/%s' is not a table of hsbd (no header or no columns)",
+                              src[k].dir, name);
+    if (tx->cut)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s/%s' ends inside line %zu: the file was cut short",
+                              src[k].dir, name, tx->n);
+    return k > 0 ? same_header(&t->text[0], &t->text[k], src[0].dir, src[k].dir, name, err)
+                 : HSBD_OK;
+}
+
+/* The columns of the table from replica 0's line of names. */
+static int table_columns(table_set *t, hsbd_error *err) {
+    char *header = t->text[0].line[t->comments[0]];
+    t->ncol = count_cells(header);
+    t->names = calloc(t->ncol, sizeof *t->names);
+    t->kind = calloc(t->ncol, sizeof *t->kind);
+    t->base = calloc(t->ncol, sizeof *t->base);
+    t->cell = calloc(t->ncol + 1, sizeof *t->cell);
+    if (!t->names || !t->kind || !t->base || !t->cell)
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    split_tabs(header, t->names, t->ncol);
+    classify_columns(t);
+    return HSBD_OK;
+}
+
+/* Row i of replica k's table into t->val: ncol cells, each a whole number. */
+static int parse_row(table_set *t, const char *name, const merge_source *src, size_t k, size_t i,
+                     hsbd_error *err) {
+    const size_t line = t->comments[k] + 1 + i; /* 0-based */
+    const size_t nc = split_tabs(t->text[k].line[line], t->cell, t->ncol + 1);
+    if (nc != t->ncol)
+        return hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' line %zu has %zu columns, not %zu",
+                              src[k].dir, name, line + 1, nc, t->ncol);
+    for (size_t j = 1; j < nc; ++j) {
+        char *end;
+        const double v = strtod(t->cell[j], &end);
+        if (end == t->cell[j] || *end)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "merge: '%s/%s' line %zu, column %s: '%.40s' is not a number",
+                                  src[k].dir, name, line + 1, t->names[j], t->cell[j]);
+        t->val[(k * t->rows + i) * t->ncol + j] = v;
+    }
+    return HSBD_OK;
+}
+
 /* Reads table `name` of every replica into t. Rows must agree in their first column;
  * size distributions (padded) may be longer in some replicas. */
 static int load_tables(const char *name, const merge_source *src, size_t n, table_set *t,
                        hsbd_error *err) {
     memset(t, 0, sizeof *t);
     t->text = calloc(n, sizeof *t->text);
-    if (!t->text) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    t->comments = calloc(n, sizeof *t->comments);
+    if (!t->text || !t->comments) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     int rc = HSBD_OK;
-    for (size_t k = 0; k < n && rc == HSBD_OK; ++k) {
-        rc = read_in(src[k].dir, name, &t->text[k], err);
-        if (rc == HSBD_OK && comment_lines(&t->text[k]) == 0)
-            rc = hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' is not a table of hsbd",
-                                src[k].dir, name);
-        if (rc == HSBD_OK && k > 0)
-            rc = same_header(&t->text[0], &t->text[k], src[0].dir, src[k].dir, name, err);
-    }
+    for (size_t k = 0; k < n && rc == HSBD_OK; ++k)
+        rc = read_table(name, src, k, t, err);
+    if (rc == HSBD_OK) rc = table_columns(t, err);
     if (rc != HSBD_OK) return rc;
-    const size_t c = comment_lines(&t->text[0]);
-    if (c >= t->text[0].n)
-        return hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' has no columns", src[0].dir, name);
-    t->ncol = split_tabs(t->text[0].line[c], t->names, MERGE_MAX_COLUMNS);
-    classify_columns(t);
     size_t longest = 0;
     for (size_t k = 0; k < n; ++k) {
-        const size_t r = t->text[k].n - c - 1;
+        const size_t r = t->text[k].n - t->comments[k] - 1;
         if (r > t->rows) t->rows = r, longest = k;
     }
     t->val = calloc(n * (t->rows ? t->rows : 1) * t->ncol, sizeof *t->val);
@@ -321,27 +453,18 @@ static int load_tables(const char *name, const merge_source *src, size_t n, tabl
     if (!t->val || !t->abscissa) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     const int padded = !strcmp(name, "clusters.tsv");
     for (size_t k = 0; k < n && rc == HSBD_OK; ++k) {
-        const text_lines *tx = &t->text[k];
-        const size_t r = tx->n - c - 1;
+        const size_t r = t->text[k].n - t->comments[k] - 1;
         if (r != t->rows && !padded)
             rc = hsbd_error_set(err, HSBD_EINPUT, "merge: %s has %zu rows in '%s' and %zu in '%s'",
                                 name, r, src[k].dir, t->rows, src[longest].dir);
         for (size_t i = 0; i < r && rc == HSBD_OK; ++i) {
-            char *cell[MERGE_MAX_COLUMNS];
-            const size_t nc = split_tabs(tx->line[c + 1 + i], cell, MERGE_MAX_COLUMNS);
-            if (nc != t->ncol)
-                rc = hsbd_error_set(err, HSBD_EINPUT,
-                                    "merge: '%s/%s' line %zu has %zu columns, "
-                                    "not %zu",
-                                    src[k].dir, name, c + 2 + i, nc, t->ncol);
-            if (k == longest) t->abscissa[i] = cell[0];
-            for (size_t j = 1; j < nc && rc == HSBD_OK; ++j)
-                t->val[(k * t->rows + i) * t->ncol + j] = strtod(cell[j], NULL);
+            rc = parse_row(t, name, src, k, i, err);
+            if (k == longest) t->abscissa[i] = t->cell[0];
         }
     }
     /* the abscissae agree row by row */
     for (size_t k = 0; k < n && rc == HSBD_OK; ++k) {
-        const size_t r = t->text[k].n - c - 1;
+        const size_t c = t->comments[k], r = t->text[k].n - c - 1;
         for (size_t i = 0; i < r && rc == HSBD_OK; ++i)
             if (strcmp(t->text[k].line[c + 1 + i], t->abscissa[i]))
                 rc = hsbd_error_set(err, HSBD_EINPUT,
@@ -460,7 +583,12 @@ static int write_summary(FILE *f, const merge_source *src, size_t n, const char 
     for (size_t k = 1; k < s0->params; ++k) {
         char key[64], errkey[80];
         const char *val = json_entry(s0->sum.line[k], 2, key, sizeof key);
-        if (!val || *val == '{' || *val == '[' || timing_key(key)) continue;
+        if (!val || timing_key(key)) continue;
+        if (*val == '{' || *val == '[') {        /* nested: only the input files' checksums, */
+            if (!strcmp(key, "input_checksums")) /* the same in all (same_inputs) */
+                fprintf(f, "  \"%s\": %.*s,\n", key, value_len(val), val);
+            continue;
+        }
         const size_t len = strlen(key);
         if (len > 4 && !strcmp(key + len - 4, "_err")) {
             snprintf(errkey, sizeof errkey, "%.*s", (int)(len - 4), key);
@@ -520,34 +648,77 @@ static int by_name(const void *a, const void *b) {
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-/* The tables of the first replica (X.tsv), sorted by name. */
+static void free_names(char **names, size_t n) {
+    for (size_t k = 0; names && k < n; ++k)
+        free(names[k]);
+    free(names);
+}
+
+/* The tables (X.tsv) of a replica's directory, sorted by name. A file X.part, an output the
+ * run was still writing when it stopped, refuses the replica: it did not finish. */
 static int list_tables(const char *dir, char ***names, size_t *n, hsbd_error *err) {
     DIR *d = opendir(dir);
+    *names = NULL, *n = 0;
     if (!d) return hsbd_error_set(err, HSBD_EINPUT, "merge: cannot read '%s'", dir);
     size_t cap = 16;
-    *n = 0;
     *names = malloc(cap * sizeof **names);
-    int rc = *names ? HSBD_OK : HSBD_ENOMEM;
+    int rc = *names ? HSBD_OK : hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
         const size_t len = strlen(e->d_name);
+        if (len > 5 && !strcmp(e->d_name + len - 5, ".part")) {
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "merge: '%s' holds '%s', an output its run was writing when it "
+                                "stopped: the run did not finish; continue it first (hsbd "
+                                "resume %s)",
+                                dir, e->d_name, dir);
+            break;
+        }
         if (len < 5 || strcmp(e->d_name + len - 4, ".tsv")) continue;
         if (*n == cap) {
             char **g = realloc(*names, 2 * cap * sizeof **names);
             if (!g) {
-                rc = HSBD_ENOMEM;
+                rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
                 break;
             }
             *names = g, cap *= 2;
         }
         if (!((*names)[*n] = strdup(e->d_name)))
-            rc = HSBD_ENOMEM;
+            rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
         else
             *n += 1;
     }
     closedir(d);
-    if (rc != HSBD_OK) return hsbd_error_set(err, rc, "out of memory");
+    if (rc != HSBD_OK) return free_names(*names, *n), *names = NULL, *n = 0, rc;
     qsort(*names, *n, sizeof **names, by_name);
     return HSBD_OK;
+}
+
+/* The tables every replica holds: the same set in all (a table one of them lacks would
+ * otherwise drop out of the merge unnoticed). */
+static int common_tables(const merge_source *src, size_t n, char ***names, size_t *count,
+                         hsbd_error *err) {
+    int rc = list_tables(src[0].dir, names, count, err);
+    for (size_t k = 1; k < n && rc == HSBD_OK; ++k) {
+        char **other;
+        size_t m;
+        rc = list_tables(src[k].dir, &other, &m, err);
+        if (rc != HSBD_OK) break;
+        size_t i = 0, j = 0;
+        while (i < *count && j < m && !strcmp((*names)[i], other[j]))
+            ++i, ++j;
+        if (i < *count || j < m) {
+            const int missing_in_k = j == m || (i < *count && strcmp((*names)[i], other[j]) < 0);
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "merge: '%s' holds %s but '%s' does not; the replicas of one "
+                                "configuration write the same tables",
+                                missing_in_k ? src[0].dir : src[k].dir,
+                                missing_in_k ? (*names)[i] : other[j],
+                                missing_in_k ? src[k].dir : src[0].dir);
+        }
+        free_names(other, m);
+    }
+    if (rc != HSBD_OK) free_names(*names, *count), *names = NULL, *count = 0;
+    return rc;
 }
 
 /* One merged file, made in memory first: nothing is written unless every file merges. */
@@ -574,15 +745,81 @@ static int make_file(merged_file *m, const char *name, const merge_source *src, 
     return rc;
 }
 
+/* The output directory of hsbd merge: a path of usable length, no run directory merged
+ * (nor one inside it: --force would clear it first), and empty unless force. */
+static int check_out(const char *out, const char *const *dirs, size_t ndirs, int force,
+                     hsbd_error *err) {
+    if (strlen(out) + sizeof "/summary.json.part" > HSBD_PATH_MAX)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: OUT '%.60s...' is too long; allowed: up to %d characters",
+                              out, HSBD_PATH_MAX - (int)sizeof "/summary.json.part");
+    char real_out[PATH_MAX], real_dir[PATH_MAX];
+    if (!realpath(out, real_out)) return HSBD_OK; /* a new directory */
+    const size_t len = strlen(real_out);
+    for (size_t k = 0; k < ndirs; ++k) {
+        if (!realpath(dirs[k], real_dir)) continue;
+        if (!strcmp(real_dir, real_out) || (!strncmp(real_dir, real_out, len) &&
+                                            (real_out[len - 1] == '/' || real_dir[len] == '/')))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "merge: OUT '%s' is or holds '%s', one of the runs merged; "
+                                  "choose another OUT",
+                                  out, dirs[k]);
+    }
+    DIR *d = opendir(out);
+    int empty = 1;
+    for (struct dirent *e; d && (e = readdir(d));)
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
+    if (d) closedir(d);
+    if (!empty && !force)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: OUT '%s' already exists and is not empty; choose another "
+                              "OUT, or pass --force to replace an earlier result's files",
+                              out);
+    return HSBD_OK;
+}
+
+/* The merged files into out, each committed on its own (temporary name, rename); when one
+ * fails (a full disk), those already written are removed again, and out itself when the
+ * merge made it, so that no partial result is left looking valid. */
+static int write_files(const char *out, const merged_file *files, size_t count, int prepare,
+                       int force, hsbd_error *err) {
+    struct stat st;
+    const int existed = stat(out, &st) == 0;
+    int rc = prepare ? hsbd_run_dir_prepare(out, force, err) : HSBD_OK;
+    size_t written = 0;
+    for (; written < count && rc == HSBD_OK; ++written) {
+        hsbd_outfile o;
+        rc = hsbd_outfile_open(&o, out, files[written].name, err);
+        if (rc != HSBD_OK) break;
+        if (fwrite(files[written].text, 1, files[written].len, o.f) != files[written].len) {
+            hsbd_outfile_discard(&o);
+            rc = hsbd_error_set(err, HSBD_EIO, "merge: cannot write '%s/%s': %s", out,
+                                files[written].name, strerror(errno));
+            break;
+        }
+        rc = hsbd_outfile_commit(&o, err);
+        if (rc != HSBD_OK) break;
+    }
+    if (rc == HSBD_OK || !prepare) return rc;
+    for (size_t k = 0; k < written; ++k) {
+        char path[HSBD_PATH_MAX + 300];
+        snprintf(path, sizeof path, "%s/%s", out, files[k].name);
+        remove(path);
+    }
+    if (!existed) rmdir(out);
+    return rc;
+}
+
 int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int prepare, int force,
                    hsbd_error *err) {
     if (ndirs < 2)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: %zu run directories given; allowed: at least two replicas",
                               ndirs);
+    int rc = prepare ? check_out(out, dirs, ndirs, force, err) : HSBD_OK;
+    if (rc != HSBD_OK) return rc;
     merge_source *src = calloc(ndirs, sizeof *src);
     if (!src) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-    int rc = HSBD_OK;
     for (size_t k = 0; k < ndirs && rc == HSBD_OK; ++k) {
         src[k].dir = dirs[k];
         rc = load_source(&src[k], err);
@@ -593,30 +830,23 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
             rc = hsbd_error_set(err, HSBD_EINPUT, "merge: '%s' and '%s' are both replica %ld",
                                 src[k - 1].dir, src[k].dir, src[k].index);
         if (rc == HSBD_OK) rc = same_parameters(&src[0], &src[k], err);
+        if (rc == HSBD_OK) rc = same_inputs(&src[0], &src[k], err);
     }
     char **names = NULL;
     size_t nnames = 0;
-    if (rc == HSBD_OK) rc = list_tables(src[0].dir, &names, &nnames, err);
+    if (rc == HSBD_OK) rc = common_tables(src, ndirs, &names, &nnames, err);
     merged_file *files = rc == HSBD_OK ? calloc(nnames + 1, sizeof *files) : NULL;
     if (rc == HSBD_OK && !files) rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     for (size_t k = 0; k < nnames && rc == HSBD_OK; ++k)
         rc = make_file(&files[k], names[k], src, ndirs, out, err);
     if (rc == HSBD_OK) rc = make_file(&files[nnames], "summary.json", src, ndirs, out, err);
-    /* everything was read and checked before the output directory is touched */
-    if (rc == HSBD_OK && prepare) rc = hsbd_run_dir_prepare(out, force, err);
-    for (size_t k = 0; k <= nnames && rc == HSBD_OK; ++k) {
-        hsbd_outfile o;
-        rc = hsbd_outfile_open(&o, out, files[k].name, err);
-        if (rc == HSBD_OK) {
-            fwrite(files[k].text, 1, files[k].len, o.f);
-            rc = hsbd_outfile_commit(&o, err);
-        }
-    }
+    /* everything was read and checked before the output directory is touched; the
+     * summary, which says a result is whole, goes last */
+    if (rc == HSBD_OK) rc = write_files(out, files, nnames + 1, prepare, force, err);
     for (size_t k = 0; files && k <= nnames; ++k)
         free(files[k].text);
-    for (size_t k = 0; k < nnames; ++k)
-        free(names[k]);
-    free(files), free(names);
+    free_names(names, nnames);
+    free(files);
     for (size_t k = 0; k < ndirs; ++k)
         text_free(&src[k].sum);
     free(src);

@@ -125,8 +125,8 @@ refused() { # refused WHAT PATTERN ARGS...
 "$HSBD" run rods.ini --quiet --replica 1 --set system.N=61 --out rods-otherN || bad "other N"
 "$HSBD" run rods.ini --quiet --replica 1 --seed 6 --out rods-otherseed || bad "other seed"
 "$HSBD" run rods.ini --quiet --out rods-plain || bad "plain run"
-refused "another N" '"N": 61' rods-r0 rods-otherN
-refused "another seed" '"seed": 6' rods-r0 rods-otherseed
+refused "another N" 'system.N = 60 in the first, 61 in the second' rods-r0 rods-otherN
+refused "another seed" 'system.seed = 5 in the first, 6 in the second' rods-r0 rods-otherseed
 refused "another model" 'not replicas of one configuration' rods-r0 spheres-r1
 refused "the same replica twice" 'both replica 1' rods-r1 rods-r0 rods-one3/replica-1
 refused "no replica" 'no replica of an ensemble' rods-r0 rods-plain

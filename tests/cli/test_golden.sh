@@ -104,8 +104,9 @@ fingerprint() { # every result file of a run directory: one hash per file
         [ -e "$f" ] || continue
         printf '%s %s\n' "$(grep -v '^#' "$f" | sha256sum | cut -c1-16)" "$(basename "$f")"
     done
-    # summary.json: its lines without timings, as a set (the order of the fields is free)
-    printf '%s summary.json\n' "$(grep -v -E 'second|"git"|"version"|"dir"|checkpoint|resumes' "$dir/summary.json" |
+    # summary.json: its lines without timings and the input files' checksums, as a set (the
+    # order of the fields is free)
+    printf '%s summary.json\n' "$(grep -v -E 'second|"git"|"version"|"dir"|checkpoint|resumes|input_checksums' "$dir/summary.json" |
         sed 's/,$//' | sort | sha256sum | cut -c1-16)"
 }
 
