@@ -10,7 +10,9 @@
  * X_blocks.tsv gets one column per replica: the replica's value of X. summary.json keeps
  * the values all replicas share, averages the others (with their scatter as KEY_err)
  * and leaves out timings (wall and CPU seconds, rates); nested objects (rods' contacts per species
- * pair) stay in the replicas' summaries. */
+ * pair) stay in the replicas' summaries, but for the input files' checksums, which must agree.
+ * A table must be whole in every replica (every line ended, every cell a number), and every
+ * replica must hold the same tables. */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include <dirent.h>
 #include <errno.h>
@@ -457,6 +459,8 @@ static int load_tables(const char *name, const merge_source *src, size_t n, tabl
         if (r != t->rows && !padded)
             rc = hsbd_error_set(err, HSBD_EINPUT, "merge: %s has %zu rows in '%s' and %zu in '%s'",
                                 name, r, src[k].dir, t->rows, src[longest].dir);
+        if (r == 0 && padded) /* a size distribution holds at least size 1 */
+            rc = hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' has no rows", src[k].dir, name);
         for (size_t i = 0; i < r && rc == HSBD_OK; ++i) {
             rc = parse_row(t, name, src, k, i, err);
             if (k == longest) t->abscissa[i] = t->cell[0];

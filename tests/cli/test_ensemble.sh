@@ -4,9 +4,13 @@
 # (mpirun --oversubscribe -n 2, R = 2 by default and R = 3 spread unevenly) or one by one
 # (hsbd run --replica K) and were joined with hsbd merge, for rods (fields, currents,
 # clusters, MSD) and spheres (through the run layer). Each replica's own tables equal
-# those of the replica run alone. hsbd merge refuses runs of another configuration, the
-# same replica twice, a run that is no replica and a single directory (exit 2, nothing
-# written). The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
+# those of the replica run alone. hsbd merge refuses runs of another configuration or of
+# another content of an input file, the same replica twice, a run that is no replica, a
+# single directory, an unfinished replica, a table that one replica lacks, a cell that is
+# no number, a table cut short, an OUT that is or holds an input or is too long (exit 2,
+# nothing written); a table of more than 64 columns merges whole. An ensemble's --force
+# keeps the earlier results when the input is bad, and refuses a replica directory that
+# is a link before it removes anything. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
 set -u
 HSBD=${1:?usage: test_ensemble.sh path/to/hsbd}
@@ -125,6 +129,24 @@ refused() { # refused WHAT PATTERN ARGS...
 "$HSBD" run rods.ini --quiet --replica 1 --set system.N=61 --out rods-otherN || bad "other N"
 "$HSBD" run rods.ini --quiet --replica 1 --seed 6 --out rods-otherseed || bad "other seed"
 "$HSBD" run rods.ini --quiet --out rods-plain || bad "plain run"
+# damaged or unfinished replicas
+cp -r rods-r1 rods-stopped && rm rods-stopped/summary.json
+cp -r rods-r0 rods-nomsd && rm rods-nomsd/msd.tsv
+cp -r rods-r0 rods-part && mv rods-part/current.tsv rods-part/current.tsv.part
+cp -r rods-r1 rods-garbage && awk -F'\t' -v OFS='\t' '!/^#/ && ++n == 3 {$2 = "garbage"} 1' \
+    rods-r1/msd.tsv >rods-garbage/msd.tsv
+cp -r rods-r1 rods-cut && head -c -2 rods-r1/msd.tsv >rods-cut/msd.tsv
+cp -r rods-r1 rods-noclusters && grep '^#' rods-r1/clusters.tsv | grep -v '^# run.replica' \
+    >rods-noclusters/clusters.tsv && grep -v '^#' rods-r1/clusters.tsv | head -1 \
+    >>rods-noclusters/clusters.tsv
+# the same configuration reading two contents of one field table
+table() { awk -v a="$1" 'BEGIN { for (i = 0; i <= 600; i++) printf "%.1f %.10g\n", i / 10, a / 2 * cos(2 * 3.14159265358979 * i / 10) }'; }
+table 4 >pot.txt
+"$HSBD" run rods.ini --quiet --replica 0 --set field.type=table --set field.table=pot.txt \
+    --out rods-t0 || bad "table field, replica 0"
+table 8 >pot.txt
+"$HSBD" run rods.ini --quiet --replica 1 --set field.type=table --set field.table=pot.txt \
+    --out rods-t1 || bad "table field, replica 1"
 refused "another N" 'system.N = 60 in the first, 61 in the second' rods-r0 rods-otherN
 refused "another seed" 'system.seed = 5 in the first, 6 in the second' rods-r0 rods-otherseed
 refused "another model" 'not replicas of one configuration' rods-r0 spheres-r1
@@ -132,6 +154,59 @@ refused "the same replica twice" 'both replica 1' rods-r1 rods-r0 rods-one3/repl
 refused "no replica" 'no replica of an ensemble' rods-r0 rods-plain
 refused "one directory" 'at least two' rods-r0
 refused "no run directory" 'no readable summary.json' rods-r0 .
+
+refused "an unfinished replica" 'did not finish' rods-r0 rods-stopped
+refused "a table replica 0 lacks" 'holds msd.tsv but' rods-nomsd rods-r1
+refused "an output still being written" "current.tsv.part', an output" rods-part rods-r1
+refused "a cell that is no number" "column msd: 'garbage' is not a number" rods-r0 rods-garbage
+refused "a table cut short" 'ends inside line' rods-r0 rods-cut
+refused "another input file content" 'different contents of their input files' rods-t0 rods-t1
+refused "an empty size distribution" "clusters.tsv' has no rows" rods-r0 rods-noclusters
+long=$(printf 'd%.0s' $(seq 1 1100))
+"$HSBD" merge "$long" rods-r0 rods-r1 >/dev/null 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "too long" err.txt; then ok; else bad "merge into a too long OUT: exit $rc"; fi
+# OUT may not be, or hold, one of the runs merged, even with --force
+cp -r rods-r0 rods-c0
+"$HSBD" merge --force rods-c0 rods-c0 rods-r1 >/dev/null 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "is or holds" err.txt && cmp -s rods-c0/summary.json rods-r0/summary.json
+then ok; else bad "merge --force into one of its inputs: exit $rc, $(cat err.txt)"; fi
+"$HSBD" merge --force rods-one3 rods-one3/replica-0 rods-r1 >/dev/null 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "is or holds" err.txt && [ -e rods-one3/replica-0/summary.json ]
+then ok; else bad "merge --force into a directory holding an input: exit $rc"; fi
+
+# a table of more than 64 columns (40 phases of a drive: 81) merges whole
+"$HSBD" run rods.ini --quiet --set field.type=cosine --set drive.parameter=amplitude \
+    --set drive.wave=square --set drive.amplitude=3 --set drive.period=0.5 \
+    --set sample.phases=40 --set sample.bin_width=0.2 --set run.replicas=2 --out rods-phases ||
+    bad "drive with 40 phases"
+cols() { grep -v '^#' "$1" | head -1 | awk -F'\t' '{print NF}'; }
+if [ "$(cols rods-phases/density_phases.tsv)" = "$(cols rods-phases/replica-0/density_phases.tsv)" ] &&
+    [ "$(cols rods-phases/density_phases.tsv)" -gt 64 ]; then ok
+else bad "wide table: $(cols rods-phases/density_phases.tsv) columns merged"; fi
+
+# --force of an ensemble: a bad input leaves the earlier results; a replica directory that
+# is a link is refused before anything is removed, and what it points to stays
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --out rods-ens || bad "ensemble"
+before=$(ls -R rods-ens | sha256sum)
+"$HSBD" run rods.ini --quiet --force --set run.replicas=2 --set init.positions=missing.txt \
+    --out rods-ens 2>/dev/null
+rc=$?
+if [ $rc -eq 2 ] && [ "$(ls -R rods-ens | sha256sum)" = "$before" ]; then ok
+else bad "ensemble --force with a bad input: exit $rc, the earlier results touched"; fi
+cp -r rods-r0 rods-keep
+mkdir rods-ens2 && ln -s ../rods-keep rods-ens2/replica-0
+"$HSBD" run rods.ini --quiet --force --set run.replicas=2 --out rods-ens2 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "not a replica's directory" err.txt && diff -r rods-keep rods-r0 >/dev/null
+then ok; else bad "ensemble --force over a link: exit $rc, $(cat err.txt)"; fi
+# an existing ensemble without --force: the message names the way on
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --out rods-ens 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "replica by replica" err.txt; then ok
+else bad "existing ensemble directory: exit $rc, $(cat err.txt)"; fi
 
 echo "test_ensemble: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
