@@ -260,10 +260,13 @@ static void merge_help(void) {
            "and errors from their scatter, summed in replica order, so the result equals\n"
            "that of one ensemble run (mpirun) of the same replicas byte for byte.\n"
            "Refused (exit 2, nothing written): fewer than two directories, a run that did\n"
-           "not complete, runs that are no replicas, the same replica twice, and runs of\n"
+           "not finish, runs that are no replicas, the same replica twice, runs of\n"
            "different configurations (any parameter but run.replica, run.replicas,\n"
-           "run.threads and output.dir).\n\n"
-           "  --force  write into an existing, non-empty OUT (an earlier run's files)\n");
+           "run.threads and output.dir) or of different contents of an input file, replicas\n"
+           "that do not hold the same tables, a table cut short or holding a cell that is no\n"
+           "number, and an OUT that is or holds one of the directories merged.\n"
+           "Under mpirun only rank 0 merges.\n\n"
+           "  --force  write into an existing, non-empty OUT (an earlier result's files)\n");
 }
 
 static int cmd_merge(int argc, char **argv) {
@@ -294,6 +297,11 @@ static int cmd_merge(int argc, char **argv) {
         fprintf(stderr, "hsbd merge: no output directory given (hsbd merge OUT DIR...)\n");
         return free(dirs), EXIT_INPUT;
     }
+    /* started by mpirun, one process merges (the others would write the same OUT) */
+    const char *rank = getenv("OMPI_COMM_WORLD_RANK");
+    if (!rank) rank = getenv("PMI_RANK");
+    if (!rank) rank = getenv("PMIX_RANK");
+    if (rank && strcmp(rank, "0")) return free(dirs), 0;
     hsbd_error err;
     const int rc = hsbd_merge(out, dirs, ndirs, force, &err);
     free(dirs);
