@@ -10,7 +10,7 @@
 # no number, a table cut short, an OUT that is or holds an input or is too long (exit 2,
 # nothing written); a table of more than 64 columns merges whole. An ensemble's --force
 # keeps the earlier results when the input is bad, and refuses a replica directory that
-# is a link before it removes anything. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
+# is a link before it removes anything. A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
 set -u
 HSBD=${1:?usage: test_ensemble.sh path/to/hsbd}
@@ -207,6 +207,17 @@ then ok; else bad "ensemble --force over a link: exit $rc, $(cat err.txt)"; fi
 rc=$?
 if [ $rc -eq 2 ] && grep -q "replica by replica" err.txt; then ok
 else bad "existing ensemble directory: exit $rc, $(cat err.txt)"; fi
+
+# a merge that meets a full disk leaves nothing behind (a 12 KiB tmpfs: needs root, as in CI)
+if [ "$(id -u)" = 0 ] && mkdir -p small && mount -t tmpfs -o size=12k tmpfs small 2>/dev/null; then
+    "$HSBD" merge small/m rods-r0 rods-r1 rods-r2 >/dev/null 2>err.txt
+    rc=$?
+    if [ $rc -ne 0 ] && [ ! -e small/m ] && grep -q "space" err.txt; then ok
+    else bad "merge onto a full disk: exit $rc, left: $(ls -R small 2>&1 | tr '\n' ' ')"; fi
+    umount small
+else
+    echo "test_ensemble: no tmpfs mount (needs root): the full-disk merge is skipped" >&2
+fi
 
 echo "test_ensemble: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
