@@ -110,8 +110,16 @@ static int is_run_output(const char *name) {
     return 0;
 }
 
-/* "replica-<digits>": an ensemble's replica directory */
-static int is_replica_dir_name(const char *name) {
+int run_dir_is_empty(const char *dir) {
+    DIR *d = opendir(dir);
+    int empty = 1;
+    for (struct dirent *e; d && (e = readdir(d));)
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
+    if (d) closedir(d);
+    return empty;
+}
+
+int run_is_replica_name(const char *name) {
     if (strncmp(name, "replica-", 8) || !name[8]) return 0;
     for (const char *p = name + 8; *p; ++p)
         if (*p < '0' || *p > '9') return 0;
@@ -130,7 +138,7 @@ int run_dir_check_earlier(const char *dir, int replica_dirs, hsbd_error *err) {
         char path[HSBD_PATH_MAX + 300];
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
         struct stat st;
-        if (replica_dirs && is_replica_dir_name(e->d_name) && lstat(path, &st) == 0 &&
+        if (replica_dirs && run_is_replica_name(e->d_name) && lstat(path, &st) == 0 &&
             S_ISDIR(st.st_mode))
             continue;
         rc = hsbd_error_set(err, HSBD_EINPUT,
@@ -195,13 +203,7 @@ int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err) {
         return hsbd_error_set(err, HSBD_EINPUT, "no output directory given (use --out DIR)");
     struct stat st;
     if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) {
-        DIR *d = opendir(dir);
-        int empty = 1;
-        if (d) {
-            for (struct dirent *e; (e = readdir(d));)
-                if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
-            closedir(d);
-        }
+        const int empty = run_dir_is_empty(dir);
         if (!empty && !force)
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "output directory '%s' already exists and is not empty; choose "

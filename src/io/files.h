@@ -8,5 +8,9 @@
  * replica_dirs, directories replica-<digits> of an earlier ensemble (checked by the
  * caller); HSBD_EINPUT naming the first other entry. Nothing is removed. */
 int run_dir_check_earlier(const char *dir, int replica_dirs, hsbd_error *err);
+/* dir holds no entry (or cannot be read) */
+int run_dir_is_empty(const char *dir);
+/* "replica-<digits>": the name of an ensemble's replica directory */
+int run_is_replica_name(const char *name);
 
 #endif

@@ -33,14 +33,6 @@ int run_replica_dir(const char *dir, size_t k, char *out, size_t len, hsbd_error
     return HSBD_OK;
 }
 
-/* "replica-<digits>" */
-static int is_replica_name(const char *name) {
-    if (strncmp(name, "replica-", 8) || !name[8]) return 0;
-    for (const char *p = name + 8; *p; ++p)
-        if (*p < '0' || *p > '9') return 0;
-    return 1;
-}
-
 /* Each entry replica-K of an earlier ensemble in dir: a directory of its own (not a
  * symbolic link, which --force would follow out of dir) holding only a run's files. With
  * remove, they are then removed; without, only checked. */
@@ -51,7 +43,7 @@ static int earlier_replicas(const char *dir, int remove, hsbd_error *err) {
                               strerror(errno));
     int rc = HSBD_OK;
     for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
-        if (!is_replica_name(e->d_name)) continue;
+        if (!run_is_replica_name(e->d_name)) continue;
         char sub[HSBD_PATH_MAX + 300];
         snprintf(sub, sizeof sub, "%s/%s", dir, e->d_name);
         struct stat st;
@@ -81,25 +73,19 @@ int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err) {
     int rc = run_check_input(cfg, err);
     if (rc != HSBD_OK) return rc;
     struct stat dst;
-    /* a new directory is made by the first replica */
-    if (dir[0] && stat(dir, &dst) != 0 && errno == ENOENT) return HSBD_OK;
-    if (!force && dir[0] && S_ISDIR(dst.st_mode)) {
-        DIR *d = opendir(dir);
-        int empty = 1;
-        for (struct dirent *e; d && (e = readdir(d));)
-            if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
-        if (d) closedir(d);
-        if (!empty)
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "output directory '%s' already exists and is not empty; choose "
-                                  "another --out, pass --force to replace the earlier files, or "
-                                  "continue an interrupted ensemble replica by replica (hsbd "
-                                  "resume %s/replica-K, then hsbd merge)",
-                                  dir, dir);
-    }
+    if (dir[0] && stat(dir, &dst) != 0) /* a new directory is made by the first replica */
+        return errno == ENOENT ? HSBD_OK : hsbd_run_dir_prepare(dir, force, err);
+    const int is_dir = dir[0] && S_ISDIR(dst.st_mode);
+    if (!force && is_dir && !run_dir_is_empty(dir))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "output directory '%s' already exists and is not empty; choose "
+                              "another --out, pass --force to replace the earlier files, or "
+                              "continue an interrupted ensemble replica by replica (hsbd "
+                              "resume %s/replica-K, then hsbd merge)",
+                              dir, dir);
     /* --force: every earlier replica directory is checked before any is removed, then the
      * merged files go like any run's */
-    if (force && dir[0] && S_ISDIR(dst.st_mode)) {
+    if (force && is_dir) {
         rc = earlier_replicas(dir, 0, err);
         if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
         if (rc == HSBD_OK) rc = earlier_replicas(dir, 1, err);

@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include "hsbd/io.h"
+#include "io/files.h"
 #include "io/tables.h"
 #include "run/run.h"
 
@@ -769,12 +770,7 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
                                   "choose another OUT",
                                   out, dirs[k]);
     }
-    DIR *d = opendir(out);
-    int empty = 1;
-    for (struct dirent *e; d && (e = readdir(d));)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
-    if (d) closedir(d);
-    if (!empty && !force)
+    if (!force && !run_dir_is_empty(out))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: OUT '%s' already exists and is not empty; choose another "
                               "OUT, or pass --force to replace an earlier result's files",
