@@ -244,10 +244,17 @@ static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_
         if (r.rank == 0) rc = hsbd_run(cfg, opt, err);
     } else {
         if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, err);
+        const int prepared = rc == HSBD_OK; /* on rank 0 */
         rc = ranks_agree(&r, rc, err);
         if (rc == HSBD_OK) rc = hsbd_ensemble_run(cfg, opt, replicas, r.rank, r.size, err);
         if (rc != HSBD_ESILENT) rc = ranks_agree(&r, rc, err);
         if (rc == HSBD_OK && r.rank == 0) rc = hsbd_ensemble_merge(cfg, replicas, err);
+        /* an earlier ensemble set aside by --force: removed, or back after a failure */
+        if (r.rank == 0 && prepared) {
+            const int status = rc == HSBD_ESILENT ? err->status : rc;
+            const int done = hsbd_ensemble_finish(cfg, status, err);
+            if (rc != HSBD_ESILENT || done != status) rc = done;
+        }
     }
     ranks_end(&r);
     return rc;
@@ -301,7 +308,10 @@ static int cmd_merge(int argc, char **argv) {
     const char *rank = getenv("OMPI_COMM_WORLD_RANK");
     if (!rank) rank = getenv("PMI_RANK");
     if (!rank) rank = getenv("PMIX_RANK");
-    if (rank && strcmp(rank, "0")) return free(dirs), 0;
+    if (rank && strcmp(rank, "0")) {
+        fprintf(stderr, "hsbd merge: rank %.20s of mpirun: rank 0 merges\n", rank);
+        return free(dirs), 0;
+    }
     hsbd_error err;
     const int rc = hsbd_merge(out, dirs, ndirs, force, &err);
     free(dirs);
@@ -413,6 +423,7 @@ static int cmd_run(int argc, char **argv) {
     }
     if (config_path) free((char *)source.text);
     free(sets), free(set_list);
+    if (rc == HSBD_ESILENT && err.message[0]) fprintf(stderr, "hsbd: %s\n", err.message);
     if (rc == HSBD_ESILENT) return exit_code_for(err.status);
     if (rc != HSBD_OK) return fail(rc, err.message);
     if (opt.progress) fprintf(stderr, "hsbd: results in %s/\n", cfg.output.dir);

@@ -1,4 +1,6 @@
+#define _XOPEN_SOURCE 700 /* realpath */
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -107,6 +109,45 @@ static int is_run_output(const char *name) {
     if (len > 5 && !strcmp(base + len - 5, ".part")) base[len - 5] = '\0';
     for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
         if (!strcmp(base, names[k])) return 1;
+    return 0;
+}
+
+/* path resolved (symbolic links, . and ..) into out (PATH_MAX); a path that does not exist
+ * yet is its nearest existing parent resolved, with the rest appended. NULL if none. */
+static char *resolve_path(const char *path, char *out) {
+    char head[PATH_MAX];
+    if (snprintf(head, sizeof head, "%s", path) >= (int)sizeof head) return NULL;
+    size_t len = strlen(head);
+    while (len > 1 && head[len - 1] == '/')
+        head[--len] = '\0';
+    if (realpath(head, out)) return out;
+    char *slash = strrchr(head, '/');
+    char parent[PATH_MAX];
+    if (!slash)
+        snprintf(parent, sizeof parent, ".");
+    else if (slash == head)
+        snprintf(parent, sizeof parent, "/");
+    else
+        snprintf(parent, sizeof parent, "%.*s", (int)(slash - head), head);
+    char resolved[PATH_MAX];
+    if (!resolve_path(parent, resolved)) return NULL;
+    const char *rest = slash ? slash + 1 : head;
+    const size_t rl = strlen(resolved);
+    if (snprintf(out, PATH_MAX, "%s%s%s", resolved, resolved[rl - 1] == '/' ? "" : "/", rest) >=
+        PATH_MAX)
+        return NULL;
+    return out;
+}
+
+/* Is path b the directory a or inside it (1), or a inside b (-1), or neither (0)? Paths
+ * resolved; a path not there yet is resolved through its nearest existing parent. */
+int run_path_nesting(const char *a, const char *b) {
+    char ra[PATH_MAX], rb[PATH_MAX];
+    if (!resolve_path(a, ra) || !resolve_path(b, rb)) return 0;
+    const size_t la = strlen(ra), lb = strlen(rb);
+    if (!strcmp(ra, rb)) return 1;
+    if (la < lb && !strncmp(ra, rb, la) && (ra[la - 1] == '/' || rb[la] == '/')) return 1;
+    if (lb < la && !strncmp(ra, rb, lb) && (rb[lb - 1] == '/' || ra[lb] == '/')) return -1;
     return 0;
 }
 

@@ -10,6 +10,9 @@
 int run_dir_check_earlier(const char *dir, int replica_dirs, hsbd_error *err);
 /* dir holds no entry (or cannot be read) */
 int run_dir_is_empty(const char *dir);
+/* Is path b the directory a or inside it (1), a inside b (-1), or neither (0)? Symbolic
+ * links, . and .. resolved; a path not there yet through its nearest existing parent. */
+int run_path_nesting(const char *a, const char *b);
 /* "replica-<digits>": the name of an ensemble's replica directory */
 int run_is_replica_name(const char *name);
 

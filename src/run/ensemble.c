@@ -66,31 +66,97 @@ static int earlier_replicas(const char *dir, int remove, hsbd_error *err) {
     return rc;
 }
 
+/* DIR.earlier: where --force sets an earlier ensemble aside until the new one is done */
+static int earlier_path(const char *dir, char *out, size_t len) {
+    size_t n = strlen(dir);
+    while (n > 1 && dir[n - 1] == '/')
+        --n;
+    return snprintf(out, len, "%.*s.earlier", (int)n, dir) < (int)len ? 0 : -1;
+}
+
+/* An input file of the configuration inside dir would go with dir's earlier files. */
+static int input_inside(const hsbd_config *cfg, const char *dir, hsbd_error *err) {
+    const struct {
+        const char *key, *path;
+    } in[] = {{"init.positions", cfg->init.positions},
+              {"field.table", cfg->field.type & HSBD_FIELD_TABLE ? cfg->field.table : ""},
+              {"pair.table", cfg->pair.type == HSBD_PAIR_TABLE ? cfg->pair.table : ""}};
+    for (size_t k = 0; k < sizeof in / sizeof in[0]; ++k)
+        if (in[k].path[0] && run_path_nesting(dir, in[k].path) > 0)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s '%s' lies inside the output directory '%s', whose earlier "
+                                  "files --force replaces; copy it elsewhere first",
+                                  in[k].key, in[k].path, dir);
+    return HSBD_OK;
+}
+
 int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err) {
     hsbd_error_clear(err);
     const char *dir = cfg->output.dir;
-    /* the input first: a bad one must not cost the earlier results (--force) */
-    int rc = run_check_input(cfg, err);
-    if (rc != HSBD_OK) return rc;
     struct stat dst;
     if (dir[0] && stat(dir, &dst) != 0) /* a new directory is made by the first replica */
         return errno == ENOENT ? HSBD_OK : hsbd_run_dir_prepare(dir, force, err);
-    const int is_dir = dir[0] && S_ISDIR(dst.st_mode);
-    if (!force && is_dir && !run_dir_is_empty(dir))
+    if (!dir[0] || !S_ISDIR(dst.st_mode) || run_dir_is_empty(dir))
+        return hsbd_run_dir_prepare(dir, force, err);
+    if (!force)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "output directory '%s' already exists and is not empty; choose "
                               "another --out, pass --force to replace the earlier files, or "
                               "continue an interrupted ensemble replica by replica (hsbd "
                               "resume %s/replica-K, then hsbd merge)",
                               dir, dir);
-    /* --force: every earlier replica directory is checked before any is removed, then the
-     * merged files go like any run's */
-    if (force && is_dir) {
-        rc = earlier_replicas(dir, 0, err);
-        if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
-        if (rc == HSBD_OK) rc = earlier_replicas(dir, 1, err);
+    /* --force: the earlier files (checked to be a run's or an ensemble's) are set aside as
+     * DIR.earlier, not removed: the new ensemble may still fail on a replica's input */
+    char aside[HSBD_PATH_MAX + 16];
+    struct stat st;
+    int rc = input_inside(cfg, dir, err);
+    if (rc == HSBD_OK) rc = earlier_replicas(dir, 0, err);
+    if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
+    if (rc != HSBD_OK) return rc;
+    if (earlier_path(dir, aside, sizeof aside))
+        return hsbd_error_set(err, HSBD_EINPUT, "output.dir '%.200s...' is too long", dir);
+    if (lstat(aside, &st) == 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "'%s' exists (earlier results set aside by a --force that did not "
+                              "finish); remove or rename it before replacing '%s'",
+                              aside, dir);
+    if (rename(dir, aside) != 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "cannot set the earlier results in '%s' aside as '%s': %s; remove "
+                              "them yourself or choose another --out",
+                              dir, aside, strerror(errno));
+    return HSBD_OK;
+}
+
+int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_error *err) {
+    char aside[HSBD_PATH_MAX + 16];
+    struct stat st;
+    const char *dir = cfg->output.dir;
+    if (earlier_path(dir, aside, sizeof aside) || lstat(aside, &st) != 0) return status;
+    const size_t len = strlen(err->message);
+    char *more = err->message + len;
+    const size_t room = sizeof err->message - len;
+    if (status == HSBD_OK) { /* replaced: the earlier files go */
+        hsbd_error e;
+        if (earlier_replicas(aside, 1, &e) == HSBD_OK &&
+            hsbd_run_dir_prepare(aside, 1, &e) == HSBD_OK && rmdir(aside) == 0)
+            return HSBD_OK;
+        return hsbd_error_set(err, HSBD_EIO,
+                              "the new ensemble in '%s' is complete, but the earlier one set "
+                              "aside as '%s' could not be removed: %s",
+                              dir, aside, e.message);
     }
-    return rc == HSBD_OK ? hsbd_run_dir_prepare(dir, force, err) : rc;
+    /* no replica began (each makes its directory once its input is accepted): the earlier
+     * results go back; else both stay */
+    int restored = 0;
+    if (stat(dir, &st) != 0 || run_dir_is_empty(dir)) {
+        rmdir(dir); /* empty: made by a replica refused after */
+        restored = rename(aside, dir) == 0;
+    }
+    snprintf(more, room, "%s%s '%s'", len ? "; " : "",
+             restored ? "the earlier results are back in" : "the earlier results were set aside as",
+             restored ? dir : aside);
+    return status;
 }
 
 /* The source of replica k's checkpoints: the run's own with run.replica=k appended, so

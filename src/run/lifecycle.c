@@ -299,10 +299,9 @@ static int open_streams(run *r, hsbd_error *err) {
 static void record_inputs(run *r) {
     const hsbd_config *cfg = r->cfg;
     const char *files[3] = {NULL, NULL, NULL};
-    if (cfg->system.model == HSBD_MODEL_RODS) {
-        if (cfg->field.type & HSBD_FIELD_TABLE) files[0] = cfg->field.table;
-        if (cfg->pair.type == HSBD_PAIR_TABLE) files[1] = cfg->pair.table;
-    }
+    if (cfg->field.type & HSBD_FIELD_TABLE) files[0] = cfg->field.table; /* both models */
+    if (cfg->system.model == HSBD_MODEL_RODS && cfg->pair.type == HSBD_PAIR_TABLE)
+        files[1] = cfg->pair.table;
     if (cfg->init.positions[0]) files[2] = cfg->init.positions; /* species, sizes */
     r->ninputs = 0;
     for (int k = 0; k < 3; ++k) {
@@ -312,17 +311,6 @@ static void record_inputs(run *r) {
         if (run_file_crc(files[k], &in->crc) == 0) r->ninputs += 1;
     }
     if (!getcwd(r->cwd, sizeof r->cwd)) r->cwd[0] = '\0';
-}
-
-/* The configuration's system built as a run would build it (its input files read and
- * checked), then let go: nothing is written. */
-int run_check_input(const hsbd_config *cfg, hsbd_error *err) {
-    const hsbd_run_options opt = {0};
-    run r = {.cfg = cfg, .opt = &opt};
-    const int rc = cfg->system.model == HSBD_MODEL_SPHERES ? run_spheres_build(&r, err)
-                                                           : run_rods_build(&r, err);
-    release(&r);
-    return rc;
 }
 
 int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *err) {

@@ -13,10 +13,8 @@
  * pair) stay in the replicas' summaries, but for the input files' checksums, which must agree.
  * A table must be whole in every replica (every line ended, every cell a number), and every
  * replica must hold the same tables. */
-#define _XOPEN_SOURCE 700 /* realpath */
 #include <dirent.h>
 #include <errno.h>
-#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -171,6 +169,12 @@ static int load_source(merge_source *s, hsbd_error *err) {
     return HSBD_OK;
 }
 
+/* a value without its trailing comma */
+static int value_len(const char *v) {
+    const size_t len = strlen(v);
+    return (int)(len && v[len - 1] == ',' ? len - 1 : len);
+}
+
 /* The checksums of the input files a run read (its summary's "input_checksums"), or "". */
 static const char *input_checksums(const merge_source *s) {
     for (size_t k = 1; k < s->params; ++k) {
@@ -186,11 +190,13 @@ static const char *input_checksums(const merge_source *s) {
 static int same_inputs(const merge_source *a, const merge_source *b, hsbd_error *err) {
     const char *ia = input_checksums(a), *ib = input_checksums(b);
     if (!strcmp(ia, ib)) return HSBD_OK;
+    const int la = ia[0] ? value_len(ia) : 4, lb = ib[0] ? value_len(ib) : 4;
     return hsbd_error_set(err, HSBD_EINPUT,
                           "merge: '%s' and '%s' read different contents of their input files "
-                          "(checksums %.300s in the first, %.300s in the second); only runs of "
-                          "the same input can be merged",
-                          a->dir, b->dir, ia[0] ? ia : "none", ib[0] ? ib : "none");
+                          "(checksums %.*s in the first, %.*s in the second); only runs of the "
+                          "same input can be merged",
+                          a->dir, b->dir, la > 300 ? 300 : la, ia[0] ? ia : "none",
+                          lb > 300 ? 300 : lb, ib[0] ? ib : "none");
 }
 
 static int by_index(const void *a, const void *b) {
@@ -460,12 +466,23 @@ static int load_tables(const char *name, const merge_source *src, size_t n, tabl
         if (r != t->rows && !padded)
             rc = hsbd_error_set(err, HSBD_EINPUT, "merge: %s has %zu rows in '%s' and %zu in '%s'",
                                 name, r, src[k].dir, t->rows, src[longest].dir);
-        if (r == 0 && padded) /* a size distribution holds at least size 1 */
-            rc = hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' has no rows", src[k].dir, name);
+
         for (size_t i = 0; i < r && rc == HSBD_OK; ++i) {
             rc = parse_row(t, name, src, k, i, err);
             if (k == longest) t->abscissa[i] = t->cell[0];
         }
+    }
+    /* a size distribution is whole: its fractions add up to 1 (rows lost at its end would
+     * pass every other test; the table's 10 digits leave sums within 1e-9 of 1) */
+    for (size_t k = 0; k < n && rc == HSBD_OK && padded && t->ncol == 2; ++k) {
+        double sum = 0;
+        for (size_t i = 0; i < t->rows; ++i)
+            sum += t->val[(k * t->rows + i) * t->ncol + 1];
+        if (!(fabs(sum - 1) <= 1e-6))
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "merge: the fractions of '%s/%s' add up to %.10g, not 1: the "
+                                "table is not whole",
+                                src[k].dir, name, sum);
     }
     /* the abscissae agree row by row */
     for (size_t k = 0; k < n && rc == HSBD_OK; ++k) {
@@ -565,12 +582,6 @@ static const char *summary_value(const merge_source *s, const char *key) {
         if (v && !strcmp(kk, key)) return v;
     }
     return NULL;
-}
-
-/* a value without its trailing comma */
-static int value_len(const char *v) {
-    const size_t len = strlen(v);
-    return (int)(len && v[len - 1] == ',' ? len - 1 : len);
 }
 
 static int is_number(const char *v) {
@@ -754,21 +765,18 @@ static int make_file(merged_file *m, const char *name, const merge_source *src, 
  * (nor one inside it: --force would clear it first), and empty unless force. */
 static int check_out(const char *out, const char *const *dirs, size_t ndirs, int force,
                      hsbd_error *err) {
+    if (!out[0]) return hsbd_error_set(err, HSBD_EINPUT, "merge: OUT is empty; name a directory");
     if (strlen(out) + sizeof "/summary.json.part" > HSBD_PATH_MAX)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: OUT '%.60s...' is too long; allowed: up to %d characters",
                               out, HSBD_PATH_MAX - (int)sizeof "/summary.json.part");
-    char real_out[PATH_MAX], real_dir[PATH_MAX];
-    if (!realpath(out, real_out)) return HSBD_OK; /* a new directory */
-    const size_t len = strlen(real_out);
     for (size_t k = 0; k < ndirs; ++k) {
-        if (!realpath(dirs[k], real_dir)) continue;
-        if (!strcmp(real_dir, real_out) || (!strncmp(real_dir, real_out, len) &&
-                                            (real_out[len - 1] == '/' || real_dir[len] == '/')))
+        const int where = run_path_nesting(out, dirs[k]);
+        if (where)
             return hsbd_error_set(err, HSBD_EINPUT,
-                                  "merge: OUT '%s' is or holds '%s', one of the runs merged; "
-                                  "choose another OUT",
-                                  out, dirs[k]);
+                                  "merge: OUT '%s' %s '%s', one of the runs merged; choose "
+                                  "another OUT",
+                                  out, where > 0 ? "is or holds" : "lies inside", dirs[k]);
     }
     if (!force && !run_dir_is_empty(out))
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -778,9 +786,10 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
     return HSBD_OK;
 }
 
-/* The merged files into out, each committed on its own (temporary name, rename); when one
- * fails (a full disk), those already written are removed again, and out itself when the
- * merge made it, so that no partial result is left looking valid. */
+/* The merged files into out (made first when prepare), each committed on its own
+ * (temporary name, rename); when one fails (a full disk), those already written are
+ * removed again, and out itself when the merge made it, so that no partial result is left
+ * looking valid. */
 static int write_files(const char *out, const merged_file *files, size_t count, int prepare,
                        int force, hsbd_error *err) {
     struct stat st;
@@ -800,13 +809,13 @@ static int write_files(const char *out, const merged_file *files, size_t count, 
         rc = hsbd_outfile_commit(&o, err);
         if (rc != HSBD_OK) break;
     }
-    if (rc == HSBD_OK || !prepare) return rc;
+    if (rc == HSBD_OK) return rc;
     for (size_t k = 0; k < written; ++k) {
         char path[HSBD_PATH_MAX + 300];
         snprintf(path, sizeof path, "%s/%s", out, files[k].name);
         remove(path);
     }
-    if (!existed) rmdir(out);
+    if (prepare && !existed) rmdir(out);
     return rc;
 }
 
@@ -816,10 +825,9 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: %zu run directories given; allowed: at least two replicas",
                               ndirs);
-    int rc = prepare ? check_out(out, dirs, ndirs, force, err) : HSBD_OK;
-    if (rc != HSBD_OK) return rc;
     merge_source *src = calloc(ndirs, sizeof *src);
     if (!src) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int rc = HSBD_OK;
     for (size_t k = 0; k < ndirs && rc == HSBD_OK; ++k) {
         src[k].dir = dirs[k];
         rc = load_source(&src[k], err);
@@ -832,6 +840,7 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
         if (rc == HSBD_OK) rc = same_parameters(&src[0], &src[k], err);
         if (rc == HSBD_OK) rc = same_inputs(&src[0], &src[k], err);
     }
+    if (rc == HSBD_OK && prepare) rc = check_out(out, dirs, ndirs, force, err);
     char **names = NULL;
     size_t nnames = 0;
     if (rc == HSBD_OK) rc = common_tables(src, ndirs, &names, &nnames, err);

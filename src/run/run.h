@@ -127,8 +127,6 @@ uint64_t run_every(const hsbd_config *cfg, double period);
  * named length_key in messages; a table is loaded into *table (the caller frees it). */
 int run_build_field(const hsbd_config *cfg, double L, int periodic, const char *length_key,
                     hsbd_table **table, hsbd_field *field, hsbd_error *err);
-/* Builds the configuration's system and lets it go (nothing written): its input is good. */
-int run_check_input(const hsbd_config *cfg, hsbd_error *err);
 int run_rods_build(run *r, hsbd_error *err);
 int run_spheres_build(run *r, hsbd_error *err);
 

@@ -9,8 +9,9 @@
 # single directory, an unfinished replica, a table that one replica lacks, a cell that is
 # no number, a table cut short, an OUT that is or holds an input or is too long (exit 2,
 # nothing written); a table of more than 64 columns merges whole. An ensemble's --force
-# keeps the earlier results when the input is bad, and refuses a replica directory that
-# is a link before it removes anything. A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
+# keeps the earlier results when the input is bad (set aside as DIR.earlier when a later
+# replica is refused), refuses an input inside DIR and a replica directory that is a link
+# before it moves anything; an ensemble's own merge that fails leaves no merged file. A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
 set -u
 HSBD=${1:?usage: test_ensemble.sh path/to/hsbd}
@@ -139,6 +140,7 @@ cp -r rods-r1 rods-cut && head -c -2 rods-r1/msd.tsv >rods-cut/msd.tsv
 cp -r rods-r1 rods-noclusters && grep '^#' rods-r1/clusters.tsv | grep -v '^# run.replica' \
     >rods-noclusters/clusters.tsv && grep -v '^#' rods-r1/clusters.tsv | head -1 \
     >>rods-noclusters/clusters.tsv
+cp -r rods-r1 rods-clustercut && head -n -1 rods-r1/clusters.tsv >rods-clustercut/clusters.tsv
 # the same configuration reading two contents of one field table
 table() { awk -v a="$1" 'BEGIN { for (i = 0; i <= 600; i++) printf "%.1f %.10g\n", i / 10, a / 2 * cos(2 * 3.14159265358979 * i / 10) }'; }
 table 4 >pot.txt
@@ -161,7 +163,8 @@ refused "an output still being written" "current.tsv.part', an output" rods-part
 refused "a cell that is no number" "column msd: 'garbage' is not a number" rods-r0 rods-garbage
 refused "a table cut short" 'ends inside line' rods-r0 rods-cut
 refused "another input file content" 'different contents of their input files' rods-t0 rods-t1
-refused "an empty size distribution" "clusters.tsv' has no rows" rods-r0 rods-noclusters
+refused "an empty size distribution" "add up to 0, not 1" rods-r0 rods-noclusters
+refused "a size distribution cut after a row" "clusters.tsv' add up to" rods-r0 rods-clustercut
 long=$(printf 'd%.0s' $(seq 1 1100))
 "$HSBD" merge "$long" rods-r0 rods-r1 >/dev/null 2>err.txt
 rc=$?
@@ -202,6 +205,55 @@ mkdir rods-ens2 && ln -s ../rods-keep rods-ens2/replica-0
 rc=$?
 if [ $rc -eq 2 ] && grep -q "not a replica's directory" err.txt && diff -r rods-keep rods-r0 >/dev/null
 then ok; else bad "ensemble --force over a link: exit $rc, $(cat err.txt)"; fi
+# --force refuses an input file inside the directory it replaces (before anything moves)
+"$HSBD" run rods.ini --quiet --force --set run.replicas=2 \
+    --set init.positions=rods-ens/replica-0/summary.json --out rods-ens 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "lies inside the output directory" err.txt &&
+    [ "$(ls -R rods-ens | sha256sum)" = "$before" ]; then ok
+else bad "ensemble --force with its input inside: exit $rc, $(cat err.txt)"; fi
+# a replica refused after others ran: the earlier ensemble stays, set aside as DIR.earlier
+# (random insertion at phi 0.30 stalls for replica 7 of this seed, not for 0-6)
+cat >rsi.ini <<'INI'
+[system]
+model = spheres
+N = 60
+packing_fraction = 0.28
+seed = 8
+[init]
+method = random
+[run]
+dt = 1e-3
+t_equil = 0.01
+t_total = 0.05
+[sample]
+blocks = 2
+INI
+"$HSBD" run rsi.ini --quiet --set run.replicas=8 --out rsi || bad "random insertion ensemble"
+cp -r rsi rsi-copy
+"$HSBD" run rsi.ini --quiet --force --set system.packing_fraction=0.30 --set run.replicas=8 \
+    --out rsi 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "stalled" err.txt && grep -q "set aside as 'rsi.earlier'" err.txt &&
+    diff -r rsi-copy rsi.earlier >/dev/null && [ -d rsi/replica-6 ]; then ok
+else bad "ensemble --force, a later replica refused: exit $rc, $(cat err.txt)"; fi
+# ... and a second --force is refused until DIR.earlier is dealt with; then it replaces all
+"$HSBD" run rsi.ini --quiet --force --set run.replicas=8 --out rsi 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "rsi.earlier' exists" err.txt; then ok
+else bad "ensemble --force beside DIR.earlier: exit $rc, $(cat err.txt)"; fi
+rm -r rsi.earlier
+"$HSBD" run rsi.ini --quiet --force --set run.replicas=8 --out rsi 2>err.txt
+rc=$?
+if [ $rc -eq 0 ] && [ ! -e rsi.earlier ] && same_merged "ensemble --force replaces" rsi rsi-copy
+then :; else bad "ensemble --force over an earlier one: exit $rc, $(cat err.txt)"; fi
+# the ensemble's own merge meeting a full file-size limit leaves no merged file (the
+# replicas' blocks tables, one column per replica, exceed 4 KiB; the replicas' own not)
+(trap '' XFSZ; ulimit -f 4; "$HSBD" run rods.ini --quiet --set run.replicas=24 \
+    --set sample.blocks=2 --set output.checkpoints=off --out rods-big 2>err.txt)
+rc=$?
+if [ $rc -ne 0 ] && grep -q "too large" err.txt && [ -z "$(ls rods-big | grep -v '^replica-')" ]
+then ok; else bad "ensemble merge over the size limit: exit $rc, left $(ls rods-big | grep -v '^replica-' | tr '\n' ' ')"; fi
 # an existing ensemble without --force: the message names the way on
 "$HSBD" run rods.ini --quiet --set run.replicas=2 --out rods-ens 2>err.txt
 rc=$?
