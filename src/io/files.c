@@ -167,11 +167,17 @@ int run_is_replica_name(const char *name) {
     return 1;
 }
 
-int run_dir_check_earlier(const char *dir, int replica_dirs, hsbd_error *err) {
+DIR *run_dir_open(const char *dir, hsbd_error *err) {
     DIR *d = opendir(dir);
     if (!d)
-        return hsbd_error_set(err, HSBD_EINPUT, "cannot read output directory '%s': %s", dir,
-                              strerror(errno));
+        hsbd_error_set(err, HSBD_EINPUT, "cannot read output directory '%s': %s", dir,
+                       strerror(errno));
+    return d;
+}
+
+int run_dir_check_earlier(const char *dir, int replica_dirs, hsbd_error *err) {
+    DIR *d = run_dir_open(dir, err);
+    if (!d) return err->status;
     int rc = HSBD_OK;
     for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
         if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") || is_run_output(e->d_name))

@@ -2,7 +2,12 @@
 #ifndef HSBD_IO_FILES_H
 #define HSBD_IO_FILES_H
 
+#include <dirent.h>
+
 #include "hsbd/error.h"
+
+/* opendir(dir), or NULL with HSBD_EINPUT naming it */
+DIR *run_dir_open(const char *dir, hsbd_error *err);
 
 /* dir holds nothing but an earlier run's files (those --force may replace), and, with
  * replica_dirs, directories replica-<digits> of an earlier ensemble (checked by the

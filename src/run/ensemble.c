@@ -37,10 +37,8 @@ int run_replica_dir(const char *dir, size_t k, char *out, size_t len, hsbd_error
  * symbolic link, which --force would follow out of dir) holding only a run's files. With
  * remove, they are then removed; without, only checked. */
 static int earlier_replicas(const char *dir, int remove, hsbd_error *err) {
-    DIR *d = opendir(dir);
-    if (!d)
-        return hsbd_error_set(err, HSBD_EINPUT, "cannot read output directory '%s': %s", dir,
-                              strerror(errno));
+    DIR *d = run_dir_open(dir, err);
+    if (!d) return err->status;
     int rc = HSBD_OK;
     for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
         if (!run_is_replica_name(e->d_name)) continue;
