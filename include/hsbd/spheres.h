@@ -30,11 +30,13 @@ typedef enum hsbd_spheres_event_order {
  * below it the state, about 450 bytes per particle, fits in or near the caches and the
  * global calendar is as fast or faster). */
 #define HSBD_SPHERES_GROUPS_MIN_N 131072
-/* On more than one thread, from this many particles on (when the box is long enough for
- * the groups' first pass to run on threads): the groups then run mostly in parallel, the
- * global calendar mostly serially. The event order changes no result (positions,
- * collisions, shell updates, virial, wall impulses; only the counts of stale events and
- * re-runs, which describe the work), so AUTO may follow the thread count. */
+/* From this many particles on when the box is long enough for the groups' first pass to
+ * run on threads (periodic along its longest axis, no walls), on any number of threads:
+ * on several the groups run mostly in parallel, the global calendar serially; on one they
+ * cost about 5 % more than the global calendar below HSBD_SPHERES_GROUPS_MIN_N. AUTO never
+ * follows the thread count itself, so a run takes the same event order on any number of
+ * threads and its results do not depend on them even where the two orders differ in the
+ * last bits (shells far below the default: docs/spheres.md). */
 #define HSBD_SPHERES_GROUPS_MIN_N_THREADS 65536
 
 typedef struct hsbd_spheres_params {
@@ -66,9 +68,10 @@ typedef struct hsbd_spheres_params {
     /* How a step's events run (docs/spheres.md): through one time-ordered calendar for
      * the whole box, or group by group (the particles predicted to meet in the step, each
      * group in time order on its own), which keeps large systems in cache. The two give
-     * bit-identical trajectories, collisions and virial (tests/unit/test_spheres.c); AUTO (0)
-     * takes groups from HSBD_SPHERES_GROUPS_MIN_N particles on (on threads from
-     * HSBD_SPHERES_GROUPS_MIN_N_THREADS), unless they grow too large to gain. */
+     * bit-identical trajectories, collisions and virial (tests/unit/test_spheres.c; but
+     * see docs/spheres.md for shells far below the default); AUTO (0) takes groups from
+     * HSBD_SPHERES_GROUPS_MIN_N particles on (from HSBD_SPHERES_GROUPS_MIN_N_THREADS in a
+     * box without walls, on any number of threads), unless they grow too large to gain. */
     hsbd_spheres_event_order event_order;
     size_t groups_min_n; /* AUTO: groups from this N on; 0: the defaults above */
     /* Hard walls (docs/spheres.md, "Walls"): walls[a] = 1 puts planes at 0 and box[a]

@@ -185,9 +185,10 @@ const key_spec config_schema[] = {
     {"run", "events", SPHERES, K_ENUM, OFF(run.events), 0, 0, 0, "auto", "auto|global|groups",
      "spheres: how a step's events run: one time-ordered calendar for the whole box (global), "
      "group by group (groups: cache-friendly for large N, and on threads), or auto (groups "
-     "from N = 131072 on one thread, from 65536 on several when the box has no walls, "
-     "unless they grow too large); the same trajectories and tables either way (the virial "
-     "and wall impulses are exact sums; docs/spheres.md)"},
+     "from N = 65536 on when the box has no walls, else from 131072, on any number of "
+     "threads, unless they grow too large); the same trajectories and tables either way "
+     "(the virial and wall impulses are exact sums), except in the last bits with shells "
+     "far below the default (docs/spheres.md)"},
     {"sample", "bin_width", ALL_MODELS, K_DOUBLE, OFF(sample.bin_width), 0, INF,
      OPEN_MIN | OPEN_MAX, "1e-2", 0,
      "density bin width Delta_x (Eq. 24); must divide sample.period (spheres: of the profiles "

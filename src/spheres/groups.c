@@ -104,12 +104,14 @@ enum { GROUP_PENDING, GROUP_ACTIVE, GROUP_DONE, GROUP_JOINED };
  * PAUSE_STEPS steps do. Both depend on the state only: runs stay reproducible. */
 enum { LARGEST_GROUP_SHARE = 4, REPLAY_SHARE = 4, PAUSE_STEPS = 64 };
 
-/* AUTO's size threshold: lower on threads when the groups' first pass can use them */
+/* AUTO's size threshold: lower when the groups' first pass has slabs (threads can share
+ * it). Never the thread count itself: the two orders may differ in the last bits (shells
+ * far below the default: docs/spheres.md), so one run must take the same order on any
+ * number of threads. */
 static size_t groups_min_n(const hsbd_spheres *s) {
     int axis;
     if (s->par.groups_min_n) return s->par.groups_min_n;
-    return sph_threads(s) > 1 && sph_slabs(s, &axis) ? HSBD_SPHERES_GROUPS_MIN_N_THREADS
-                                                     : HSBD_SPHERES_GROUPS_MIN_N;
+    return sph_slabs(s, &axis) ? HSBD_SPHERES_GROUPS_MIN_N_THREADS : HSBD_SPHERES_GROUPS_MIN_N;
 }
 
 int sph_groups_wanted(hsbd_spheres *s) {
