@@ -490,6 +490,13 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
     if (cfg->contact.gamma > 0 && !cfg->system.hard_core)
         return hsbd_error_set(err, HSBD_EINPUT, "%s: contact.gamma > 0 needs system.hard_core = on",
                               config_origin_of(cfg, "contact", "gamma"));
+    if ((cfg->pair.type == HSBD_PAIR_YUKAWA || cfg->pair.type == HSBD_PAIR_LJ) && !(sigma > 0))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: pair.type = %s needs system.sigma > 0 (the potential is written "
+                              "in units of sigma: point rods, which may coincide, give 0/0); "
+                              "allowed: sigma > 0, or pair.type = table",
+                              config_origin_of(cfg, "pair", "type"),
+                              cfg->pair.type == HSBD_PAIR_LJ ? "lj" : "yukawa");
     if (cfg->pair.type == HSBD_PAIR_YUKAWA || cfg->pair.type == HSBD_PAIR_LJ) {
         if (cfg->pair.cutoff == 0) {
             cfg->pair.cutoff =

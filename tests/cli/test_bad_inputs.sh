@@ -326,6 +326,10 @@ pos positions-missing "cannot read init.positions file 'nosuch.txt'" -- run good
 head -c 2000 /dev/zero | tr '\0' '\377' >junk.txt
 pos positions-binary "junk.txt:1:" -- run good.ini --set init.positions=junk.txt
 
+# analytic pair forces are written in units of sigma: point rods are refused
+bad_case pair-yukawa-point-rods "pair.type = yukawa needs system.sigma > 0" -- run good.ini --set system.sigma=0 --set pair.type=yukawa --set pair.strength=1 --set pair.kappa=2
+bad_case pair-lj-point-rods "pair.type = lj needs system.sigma > 0" -- run good.ini --set system.sigma=0 --set pair.type=lj --set pair.strength=1
+
 # ---- rods: field.table and pair.table ----
 ftab() { bad_case "$@"; }
 printf '0 1\n20 0\n40 1\n' >ftab.txt
