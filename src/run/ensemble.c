@@ -74,17 +74,14 @@ static int earlier_path(const char *dir, char *out, size_t len) {
 
 /* An input file of the configuration inside dir would go with dir's earlier files. */
 static int input_inside(const hsbd_config *cfg, const char *dir, hsbd_error *err) {
-    const struct {
-        const char *key, *path;
-    } in[] = {{"init.positions", cfg->init.positions},
-              {"field.table", cfg->field.type & HSBD_FIELD_TABLE ? cfg->field.table : ""},
-              {"pair.table", cfg->pair.type == HSBD_PAIR_TABLE ? cfg->pair.table : ""}};
-    for (size_t k = 0; k < sizeof in / sizeof in[0]; ++k)
-        if (in[k].path[0] && run_path_nesting(dir, in[k].path) > 0)
+    const char *key[3], *path[3];
+    const size_t n = run_input_files(cfg, key, path);
+    for (size_t k = 0; k < n; ++k)
+        if (run_path_nesting(dir, path[k]) > 0)
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "%s '%s' lies inside the output directory '%s', whose earlier "
                                   "files --force replaces; copy it elsewhere first",
-                                  in[k].key, in[k].path, dir);
+                                  key[k], path[k], dir);
     return HSBD_OK;
 }
 

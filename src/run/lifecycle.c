@@ -296,19 +296,25 @@ static int open_streams(run *r, hsbd_error *err) {
 }
 
 /* The input files a run reads while it is built, with their checksums. */
-static void record_inputs(run *r) {
-    const hsbd_config *cfg = r->cfg;
-    const char *files[3] = {NULL, NULL, NULL};
-    if (cfg->field.type & HSBD_FIELD_TABLE) files[0] = cfg->field.table; /* both models */
+size_t run_input_files(const hsbd_config *cfg, const char *key[3], const char *path[3]) {
+    size_t n = 0;
+    if (cfg->field.type & HSBD_FIELD_TABLE) /* both models */
+        key[n] = "field.table", path[n++] = cfg->field.table;
     if (cfg->system.model == HSBD_MODEL_RODS && cfg->pair.type == HSBD_PAIR_TABLE)
-        files[1] = cfg->pair.table;
-    if (cfg->init.positions[0]) files[2] = cfg->init.positions; /* species, sizes */
+        key[n] = "pair.table", path[n++] = cfg->pair.table;
+    if (cfg->init.positions[0]) /* species, sizes */
+        key[n] = "init.positions", path[n++] = cfg->init.positions;
+    return n;
+}
+
+static void record_inputs(run *r) {
+    const char *key[3], *path[3];
+    const size_t n = run_input_files(r->cfg, key, path);
     r->ninputs = 0;
-    for (int k = 0; k < 3; ++k) {
-        if (!files[k]) continue;
+    for (size_t k = 0; k < n; ++k) {
         run_input *in = &r->inputs[r->ninputs];
-        snprintf(in->path, sizeof in->path, "%s", files[k]);
-        if (run_file_crc(files[k], &in->crc) == 0) r->ninputs += 1;
+        snprintf(in->path, sizeof in->path, "%s", path[k]);
+        if (run_file_crc(path[k], &in->crc) == 0) r->ninputs += 1;
     }
     if (!getcwd(r->cwd, sizeof r->cwd)) r->cwd[0] = '\0';
 }

@@ -175,14 +175,20 @@ static int value_len(const char *v) {
     return (int)(len && v[len - 1] == ',' ? len - 1 : len);
 }
 
+/* The value of top-level key in summary s as text (NULL if absent). */
+static const char *summary_value(const merge_source *s, const char *key) {
+    for (size_t k = 1; k < s->params; ++k) {
+        char kk[64];
+        const char *v = json_entry(s->sum.line[k], 2, kk, sizeof kk);
+        if (v && !strcmp(kk, key)) return v;
+    }
+    return NULL;
+}
+
 /* The checksums of the input files a run read (its summary's "input_checksums"), or "". */
 static const char *input_checksums(const merge_source *s) {
-    for (size_t k = 1; k < s->params; ++k) {
-        char key[64];
-        const char *v = json_entry(s->sum.line[k], 2, key, sizeof key);
-        if (v && !strcmp(key, "input_checksums")) return v;
-    }
-    return "";
+    const char *v = summary_value(s, "input_checksums");
+    return v ? v : "";
 }
 
 /* The replicas read the same bytes from their input files (field or pair tables, initial
@@ -223,9 +229,8 @@ static void parameter_at(const merge_source *a, size_t k, char *name, size_t len
         return;
     }
     snprintf(name, len, "%s%s%s", section, section[0] ? "." : "", key);
-    const size_t vl = strlen(v);
     *val = v;
-    *vlen = (int)(vl && v[vl - 1] == ',' ? vl - 1 : vl);
+    *vlen = value_len(v);
 }
 
 /* The same configuration: every parameter but the replica's own (index, count, dir). */
@@ -572,16 +577,6 @@ static int timing_key(const char *key) {
     return strstr(key, "wall") || strstr(key, "cpu") || strstr(key, "per_second") ||
            !strcmp(key, "resumes") || !strcmp(key, "stop_reason") || !strcmp(key, "completed") ||
            !strcmp(key, "replicas");
-}
-
-/* The value of top-level key in summary s as text (NULL if absent). */
-static const char *summary_value(const merge_source *s, const char *key) {
-    for (size_t k = 1; k < s->params; ++k) {
-        char kk[64];
-        const char *v = json_entry(s->sum.line[k], 2, kk, sizeof kk);
-        if (v && !strcmp(kk, key)) return v;
-    }
-    return NULL;
 }
 
 static int is_number(const char *v) {
