@@ -187,8 +187,8 @@ const key_spec config_schema[] = {
      "group by group (groups: cache-friendly for large N, and on threads), or auto (groups "
      "from N = 65536 on when the box has no walls, else from 131072, on any number of "
      "threads, unless they grow too large); the same trajectories and tables either way "
-     "(the virial and wall impulses are exact sums), except in the last bits with shells "
-     "far below the default (docs/spheres.md)"},
+     "(contact times depend on the paths alone; the virial and wall impulses are exact "
+     "sums)"},
     {"sample", "bin_width", ALL_MODELS, K_DOUBLE, OFF(sample.bin_width), 0, INF,
      OPEN_MIN | OPEN_MAX, "1e-2", 0,
      "density bin width Delta_x (Eq. 24); must divide sample.period (spheres: of the profiles "

@@ -36,19 +36,24 @@ uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t) {
                        .t_local = s->t_local,
                        .sigma = s->sigma,
                        .sigma_i = s->sigma[i],
-                       .t = t,
-                       .tmax = s->dt - t};
-    sph_position_at(s, i, t, q.xi);
+                       .ti = s->t_local[i],
+                       .dt = s->dt};
     for (int a = 0; a < 3; ++a) {
         q.box[a] = s->box[a];
+        q.xi[a] = s->x[3 * (size_t)i + a];
         q.vi[a] = s->v[3 * (size_t)i + a];
     }
-    return s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, s->nb_count[i], s->scan_j, s->scan_t);
+    const uint32_t hits =
+        s->predict_row(&q, s->nb + (size_t)i * s->nb_cap, s->nb_count[i], s->scan_j, s->scan_t);
+    for (uint32_t k = 0; k < hits; ++k)
+        if (s->scan_t[k] < t) s->scan_t[k] = t;
+    return hits;
 }
 
 double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t) {
-    double d[3];
-    sph_min_image(s, s->x + 3 * (size_t)i, s->centre + 3 * (size_t)i, d);
+    double p[3], d[3];
+    sph_position_at(s, i, t, p);
+    sph_min_image(s, p, s->centre + 3 * (size_t)i, d);
     const double *v = s->v + 3 * (size_t)i;
     const double T = s->dt - t, r2 = s->shell * s->shell;
     double e[3] = {d[0] + v[0] * T, d[1] + v[1] * T, d[2] + v[2] * T};

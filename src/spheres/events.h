@@ -10,8 +10,11 @@
 int sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j);
 /* The time (>= t) at which i, at local time t, leaves its shell before dt; -1 if never. */
 double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t);
-/* i (at time t) against its row: the neighbours it reaches inside [t, dt) into
- * s->scan_j, their contact times after t into s->scan_t; returns their number. */
+/* i (at time t, on the segment it began at t_local) against its row: the neighbours it
+ * reaches before dt into s->scan_j, their contact times into s->scan_t; returns their
+ * number. Each pair's time comes from the two segments alone, from the later start
+ * (sph_row_query), so that every prediction of a collision, whoever makes it and when,
+ * gives the same bits; a time before t (round-off) is raised to t. */
 uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t);
 /* Moves e's particles to e->t and applies the collision rule; returns 1 and the event's
  * virial term when they approach, 0 (nothing changed but the positions) otherwise. */

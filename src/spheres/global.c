@@ -11,7 +11,7 @@
 static int predict_row(hsbd_spheres *s, int32_t i, double t) {
     const uint32_t hits = sph_row_hits(s, i, t);
     for (uint32_t k = 0; k < hits; ++k)
-        if (sph_push_event(s, t + s->scan_t[k], i, s->scan_j[k])) return -1;
+        if (sph_push_event(s, s->scan_t[k], i, s->scan_j[k])) return -1;
     return 0;
 }
 
@@ -46,9 +46,11 @@ int sph_global_run(hsbd_spheres *s) {
     while (sph_calendar_pop(&s->calendar, &e)) {
         if (sph_event_stale(s, &e)) continue;
         if (e.j == SPH_EVENT_SHELL) {
-            sph_advance(s, e.i, e.t);
-            /* the same path: its wall event stands */
-            if (sph_recentre(s, e.i) || predict_row(s, e.i, e.t) || predict_shell_exit(s, e.i, e.t))
+            /* the same path (its wall event stands), kept as it began: see sph_row_hits */
+            double x[3];
+            sph_position_at(s, e.i, e.t, x);
+            if (sph_recentre(s, e.i, x) || predict_row(s, e.i, e.t) ||
+                predict_shell_exit(s, e.i, e.t))
                 return -1;
         } else if (e.j <= SPH_EVENT_WALL) {
             const int rc = sph_collide_wall(s, &e, -1);

@@ -448,15 +448,17 @@ static int add_extra_shell(hsbd_spheres *s, int32_t i) {
     return 0;
 }
 
-/* Re-centres i's shell at its position, keeping the old one registered: pairs with
- * every shell (old or new) that overlaps the new one are added, none removed. */
-static int recentre_adding(hsbd_spheres *s, int32_t i) {
+/* Re-centres i's shell at its position at time t, keeping the old one registered: pairs
+ * with every shell (old or new) that overlaps the new one are added, none removed. */
+static int recentre_adding(hsbd_spheres *s, int32_t i, double t) {
     sph_groups *g = s->groups;
     if (!g->moved[i]) {
         g->moved[i] = 1;
         g->moved_list[g->nmoved++] = i;
     }
-    sph_set_centre(s, i);
+    double x[3];
+    sph_position_at(s, i, t, x);
+    sph_set_centre(s, i, x);
     uint32_t found;
     if (sph_shells_near(s, &s->cells, s->sigma, i, &s->near, &found)) return -1;
     for (uint32_t k = 0; k < found; ++k)
@@ -512,7 +514,9 @@ static int settle_moved_shells(hsbd_spheres *s) {
  * one of its earlier segments (the kernel tested the current one), or -1. */
 static int32_t logged_neighbour_hit(hsbd_spheres *s, int32_t i, double t) {
     sph_groups *g = s->groups;
-    const double *xi = s->x + 3 * (size_t)i, *vi = s->v + 3 * (size_t)i; /* at t */
+    const double *vi = s->v + 3 * (size_t)i;
+    double xi[3];
+    sph_position_at(s, i, t, xi);
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     const uint32_t count = s->nb_count[i];
     unsigned any = 0; /* usually none: one pass without a branch per entry */
@@ -660,18 +664,14 @@ static int32_t predict_in_group(hsbd_spheres *s, int32_t a, int32_t i, double t,
                 g->parent[r] = root_a;
             } else {
                 const int32_t b = -2 - g->parent[r];
-                if (g->state[b] == GROUP_DONE) {
-                    /* a contact before j's current segment began lies on that segment's
-                     * backward extension, not on j's path: the log test decides */
-                    const int32_t last = g->last_segment[j];
-                    if (last >= 0 && t + s->scan_t[k] < g->seg[last].t) continue;
-                    return b;
-                }
+                /* a hit lies on j's current segment (sph_row_hits starts at the later
+                 * segment's start); j's earlier segments are the log test's */
+                if (g->state[b] == GROUP_DONE) return b;
                 if (g->first_time[b] < t) return b; /* it moved before now: re-run */
                 if (join_pending(s, a, b)) return OUT_OF_MEMORY;
             }
         }
-        if (sph_push_event(s, t + s->scan_t[k], i, j)) return OUT_OF_MEMORY;
+        if (sph_push_event(s, s->scan_t[k], i, j)) return OUT_OF_MEMORY;
     }
     const int32_t b = logged_neighbour_hit(s, i, t);
     if (b >= 0) return b;
@@ -706,8 +706,7 @@ static int32_t play_group(hsbd_spheres *s, int32_t a) {
         if (e.j == SPH_EVENT_SHELL && g->speculative) {
             joined = DEFER; /* re-centring edits rows and cells outside the slab */
         } else if (e.j == SPH_EVENT_SHELL) {
-            sph_advance(s, e.i, e.t);
-            if (recentre_adding(s, e.i)) return OUT_OF_MEMORY;
+            if (recentre_adding(s, e.i, e.t)) return OUT_OF_MEMORY;
             g->shell_updates[a]++;
             joined = predict_in_group(s, a, e.i, e.t, 0);
         } else if (e.j <= SPH_EVENT_WALL) {

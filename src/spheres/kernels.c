@@ -2,15 +2,18 @@
 
 #include "core/vmath.h"
 
-/* The pair's separation and relative velocity as both kernels compute them. */
-static inline void pair_geometry(const sph_row_query *q, int32_t j, double r[3], double v[3]) {
+/* The pair's later segment start t0 (returned), separation at t0 and relative velocity,
+ * as both kernels compute them. */
+static inline double pair_geometry(const sph_row_query *q, int32_t j, double r[3], double v[3]) {
     const double *xj = q->x + 3 * (size_t)j, *vj = q->v + 3 * (size_t)j;
-    const double h = q->t - q->t_local[j];
+    const double tj = q->t_local[j], t0 = q->ti > tj ? q->ti : tj;
+    const double hj = t0 - tj, hi = t0 - q->ti;
     for (int a = 0; a < 3; ++a) {
-        const double pj = xj[a] + vj[a] * h;
-        r[a] = hsbd_wrap_delta(pj - q->xi[a], q->box[a]);
+        const double pj = xj[a] + vj[a] * hj, pi = q->xi[a] + q->vi[a] * hi;
+        r[a] = hsbd_wrap_delta(pj - pi, q->box[a]);
         v[a] = vj[a] - q->vi[a];
     }
+    return t0;
 }
 
 uint32_t sph_predict_row_scalar(const sph_row_query *q, const int32_t *row, uint32_t m,
@@ -19,11 +22,11 @@ uint32_t sph_predict_row_scalar(const sph_row_query *q, const int32_t *row, uint
     for (uint32_t k = 0; k < m; ++k) {
         const int32_t j = row[k];
         double r[3], v[3];
-        pair_geometry(q, j, r, v);
-        const double tc = sph_contact_time(r, v, 0.5 * (q->sigma_i + q->sigma[j]), q->tmax);
+        const double t0 = pair_geometry(q, j, r, v);
+        const double tc = sph_contact_time(r, v, 0.5 * (q->sigma_i + q->sigma[j]), q->dt - t0);
         if (tc >= 0) {
             hit_j[hits] = j;
-            hit_t[hits++] = tc;
+            hit_t[hits++] = t0 + tc;
         }
     }
     return hits;

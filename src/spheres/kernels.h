@@ -34,20 +34,23 @@ static inline double sph_contact_time(const double r[3], const double v[3], doub
     return t <= tmax ? t : tmax; /* a root exists in [0, tmax]: round-off only */
 }
 
-/* One particle i against a row of neighbours. Particle j sits at x_j + v_j (t - t_j); r =
- * minimum image of that minus xi, relative velocity v_j - vi, contact distance (sigma_i +
- * sigma_j) / 2. */
+/* One particle i, on the segment x_i + v_i (t - t_i), against a row of neighbours j on
+ * theirs, x_j + v_j (t - t_j). A pair's contact time is computed from the later start,
+ * t0 = max(t_i, t_j) (the earlier segment moved to it, the later one as it is): r =
+ * minimum image of x_j(t0) - x_i(t0), relative velocity v_j - v_i, contact distance
+ * (sigma_i + sigma_j) / 2, window [t0, dt]. The result depends on the two segments alone,
+ * not on when or from which side the pair is tested. */
 typedef struct sph_row_query {
-    const double *x, *v;   /* 3 per particle */
-    const double *t_local; /* per particle */
+    const double *x, *v;   /* 3 per particle: each segment's start and velocity */
+    const double *t_local; /* per particle: each segment's start time */
     const double *sigma;   /* per particle */
     double box[3];
-    double xi[3], vi[3], sigma_i;
-    double t, tmax; /* the time of xi within the step; tmax = dt - t */
+    double xi[3], vi[3], sigma_i, ti; /* i's segment */
+    double dt;                        /* the step's end */
 } sph_row_query;
 
-/* Writes the j of row[0..m) that reach contact within tmax, in row order, to hit_j and
- * their times after t to hit_t; returns their number. */
+/* Writes the j of row[0..m) that reach contact before dt, in row order, to hit_j and
+ * their contact times (within the step) to hit_t; returns their number. */
 typedef uint32_t (*sph_predict_row_fn)(const sph_row_query *q, const int32_t *row, uint32_t m,
                                        int32_t *hit_j, double *hit_t);
 

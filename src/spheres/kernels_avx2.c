@@ -35,8 +35,7 @@ static inline __m256d dot4(const __m256d a[3], const __m256d b[3]) {
 /* Broadcast constants of the contact test. */
 typedef struct contact4 {
     __m256d box[3], half[3], neg_half[3];
-    __m256d tmax, zero, two, one_half, sign;
-    double tmax_scalar;
+    __m256d tmax, zero, two, one_half, sign; /* tmax: the half scan's */
 } contact4;
 
 static inline void contact4_init(contact4 *c, const double box[3], double tmax) {
@@ -47,7 +46,6 @@ static inline void contact4_init(contact4 *c, const double box[3], double tmax) 
         c->neg_half[a] = _mm256_set1_pd(-h);
     }
     c->tmax = _mm256_set1_pd(tmax);
-    c->tmax_scalar = tmax;
     c->zero = _mm256_setzero_pd();
     c->two = _mm256_set1_pd(2.0);
     c->one_half = _mm256_set1_pd(0.5);
@@ -55,17 +53,17 @@ static inline void contact4_init(contact4 *c, const double box[3], double tmax) 
 }
 
 /* The lanes < lanes whose pair passes sph_contact_hit, from the separations d (wrapped
- * here, in place), relative velocities v and contact distances s, as bits. */
+ * here, in place), relative velocities v, contact distances s and windows tmax, as bits. */
 static inline int hit_mask4(const contact4 *c, __m256d d[3], const __m256d v[3], __m256d s,
-                            uint32_t lanes) {
+                            __m256d tmax, uint32_t lanes) {
     for (int a = 0; a < 3; ++a)
         d[a] = wrap4(d[a], c->box[a], c->half[a], c->neg_half[a]);
     const __m256d b = dot4(d, v), vv = dot4(v, v);
     const __m256d g = _mm256_sub_pd(dot4(d, d), _mm256_mul_pd(s, s));
     /* sph_contact_hit, lane by lane */
-    const __m256d vt = _mm256_mul_pd(vv, c->tmax);
+    const __m256d vt = _mm256_mul_pd(vv, tmax);
     const __m256d f_end =
-        _mm256_add_pd(g, _mm256_mul_pd(c->tmax, _mm256_add_pd(_mm256_mul_pd(c->two, b), vt)));
+        _mm256_add_pd(g, _mm256_mul_pd(tmax, _mm256_add_pd(_mm256_mul_pd(c->two, b), vt)));
     const __m256d disc = _mm256_sub_pd(_mm256_mul_pd(b, b), _mm256_mul_pd(vv, g));
     const __m256d inside = _mm256_and_pd(_mm256_cmp_pd(_mm256_xor_pd(b, c->sign), vt, _CMP_LT_OQ),
                                          _mm256_cmp_pd(disc, c->zero, _CMP_GE_OQ));
@@ -79,22 +77,23 @@ static inline int hit_mask4(const contact4 *c, __m256d d[3], const __m256d v[3],
  * (wrapped here), relative velocities v and diameters sigma_i + sigma_j: bit l of the
  * result set and tc[l] the contact time (sph_contact_time on the lane). */
 static inline int contact_times4(const contact4 *c, __m256d d[3], const __m256d v[3],
-                                 __m256d sigma_sum, uint32_t lanes, double tc[4]) {
+                                 __m256d sigma_sum, __m256d tmax, uint32_t lanes, double tc[4]) {
     const __m256d s = _mm256_mul_pd(c->one_half, sigma_sum);
-    int mask = hit_mask4(c, d, v, s, lanes);
+    int mask = hit_mask4(c, d, v, s, tmax, lanes);
     if (__builtin_expect(!mask, 1)) return 0;
-    double dl[3][4], vl[3][4], sl[4];
+    double dl[3][4], vl[3][4], sl[4], tl[4];
     for (int a = 0; a < 3; ++a) {
         _mm256_storeu_pd(dl[a], d[a]);
         _mm256_storeu_pd(vl[a], v[a]);
     }
     _mm256_storeu_pd(sl, s);
+    _mm256_storeu_pd(tl, tmax);
     int found = 0;
     for (; mask; mask &= mask - 1) {
         const int l = __builtin_ctz((unsigned)mask);
         const double rr[3] = {dl[0][l], dl[1][l], dl[2][l]};
         const double vr[3] = {vl[0][l], vl[1][l], vl[2][l]};
-        tc[l] = sph_contact_time(rr, vr, sl[l], c->tmax_scalar);
+        tc[l] = sph_contact_time(rr, vr, sl[l], tl[l]);
         if (tc[l] >= 0) found |= 1 << l;
     }
     return found;
@@ -107,13 +106,14 @@ static inline __m256d load4(const double *a, const int32_t idx[4]) {
 uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32_t m,
                               int32_t *hit_j, double *hit_t) {
     contact4 c;
-    contact4_init(&c, q->box, q->tmax);
+    contact4_init(&c, q->box, 0); /* each pair has its own window */
     __m256d xi[3], vi[3];
     for (int a = 0; a < 3; ++a) {
         xi[a] = _mm256_set1_pd(q->xi[a]);
         vi[a] = _mm256_set1_pd(q->vi[a]);
     }
-    const __m256d sigma_i = _mm256_set1_pd(q->sigma_i), t = _mm256_set1_pd(q->t);
+    const __m256d sigma_i = _mm256_set1_pd(q->sigma_i), ti = _mm256_set1_pd(q->ti);
+    const __m256d dt = _mm256_set1_pd(q->dt);
     uint32_t hits = 0;
     for (uint32_t k = 0; k < m; k += 4) {
         const uint32_t lanes = m - k < 4 ? m - k : 4;
@@ -123,18 +123,22 @@ uint32_t sph_predict_row_avx2(const sph_row_query *q, const int32_t *row, uint32
         __m256d d[3], v[3];
         load_transposed(q->x, idx, d);
         load_transposed(q->v, idx, v);
-        const __m256d h = _mm256_sub_pd(t, load4(q->t_local, idx));
+        /* pair_geometry of kernels.c: the later start t0, both segments moved to it */
+        const __m256d tj = load4(q->t_local, idx), t0 = _mm256_max_pd(ti, tj);
+        const __m256d hj = _mm256_sub_pd(t0, tj), hi = _mm256_sub_pd(t0, ti);
         for (int a = 0; a < 3; ++a) {
-            d[a] = _mm256_sub_pd(_mm256_add_pd(d[a], _mm256_mul_pd(v[a], h)), xi[a]);
+            const __m256d pi = _mm256_add_pd(xi[a], _mm256_mul_pd(vi[a], hi));
+            d[a] = _mm256_sub_pd(_mm256_add_pd(d[a], _mm256_mul_pd(v[a], hj)), pi);
             v[a] = _mm256_sub_pd(v[a], vi[a]);
         }
-        double tc[4];
-        int found =
-            contact_times4(&c, d, v, _mm256_add_pd(sigma_i, load4(q->sigma, idx)), lanes, tc);
+        double tc[4], t0l[4];
+        int found = contact_times4(&c, d, v, _mm256_add_pd(sigma_i, load4(q->sigma, idx)),
+                                   _mm256_sub_pd(dt, t0), lanes, tc);
+        if (found) _mm256_storeu_pd(t0l, t0);
         for (; found; found &= found - 1) {
             const int l = __builtin_ctz((unsigned)found);
             hit_j[hits] = idx[l];
-            hit_t[hits++] = tc[l];
+            hit_t[hits++] = t0l[l] + tc[l];
         }
     }
     return hits;
@@ -170,7 +174,7 @@ static inline uint32_t half_scan4(const sph_scan_query *q, const contact4 *c, co
         v[a] = _mm256_sub_pd(vj[a], vi[a]);
     }
     const __m256d sigma_sum = _mm256_add_pd(load4(q->sigma, pi), load4(q->sigma, pj));
-    const int mask = hit_mask4(c, d, v, _mm256_mul_pd(c->one_half, sigma_sum), lanes);
+    const int mask = hit_mask4(c, d, v, _mm256_mul_pd(c->one_half, sigma_sum), c->tmax, lanes);
     store_set_lanes(_mm_loadu_si128((const __m128i *)(const void *)pi), mask, ci + count);
     store_set_lanes(_mm_loadu_si128((const __m128i *)(const void *)pj), mask, cj + count);
     return count + (uint32_t)__builtin_popcount((unsigned)mask);

@@ -108,13 +108,13 @@ int sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *poin
     return 0;
 }
 
-void sph_shell_lift(hsbd_spheres *s, int32_t i) {
+void sph_shell_lift(hsbd_spheres *s, int32_t i, const double x[3]) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     for (uint32_t k = 0; k < s->nb_count[i]; ++k)
         sph_nb_remove(s, row[k], i);
     s->nb_count[i] = s->nb_upper[i] = 0;
     hsbd_cells_remove(&s->cells, i);
-    sph_set_centre(s, i);
+    sph_set_centre(s, i, x);
 }
 
 int sph_shell_fits(const hsbd_spheres *s, int32_t i, const int32_t *near, uint32_t found) {
@@ -144,8 +144,8 @@ static int add_upper_neighbours(hsbd_spheres *s, int32_t i) {
     return 0;
 }
 
-int sph_recentre(hsbd_spheres *s, int32_t i) {
-    sph_shell_lift(s, i);
+int sph_recentre(hsbd_spheres *s, int32_t i, const double x[3]) {
+    sph_shell_lift(s, i, x);
     s->stats.shell_updates++;
     uint32_t found;
     if (sph_shells_near(s, &s->cells, s->sigma, i, &s->near, &found)) return -1;
@@ -169,6 +169,6 @@ int sph_rebuild_rows(hsbd_spheres *s) {
 int sph_rebuild_neighbours(hsbd_spheres *s) {
     if (!s->par.hard_core) return HSBD_OK;
     for (size_t i = 0; i < s->n; ++i)
-        sph_set_centre(s, (int32_t)i);
+        sph_set_centre(s, (int32_t)i, s->x + 3 * i);
     return sph_rebuild_rows(s);
 }

@@ -15,14 +15,14 @@ void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j);
  * into out (grown to fit), their number into *found. */
 int sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *point_sigma, int32_t i,
                     sph_near *out, uint32_t *found);
-/* Moves i's shell to its current position and finds its neighbours (only i's pairs). */
-int sph_recentre(hsbd_spheres *s, int32_t i);
+/* Moves i's shell to x, its position now, and finds its neighbours (only i's pairs). */
+int sph_recentre(hsbd_spheres *s, int32_t i, const double x[3]);
 /* sph_recentre in three parts, so that the shells of far-apart particles can move on
  * threads (scan.c): i leaves its neighbours' rows and its cell and its shell moves to its
- * position (then sph_shells_near finds its new neighbours); whether the pairs with
+ * position x (then sph_shells_near finds its new neighbours); whether the pairs with
  * near[0 .. found) and i's new cell fit without growing the rows or the cells; those pairs
  * into both rows and i into its cell (rows and cells grow when full). */
-void sph_shell_lift(hsbd_spheres *s, int32_t i);
+void sph_shell_lift(hsbd_spheres *s, int32_t i, const double x[3]);
 int sph_shell_fits(const hsbd_spheres *s, int32_t i, const int32_t *near, uint32_t found);
 int sph_shell_land(hsbd_spheres *s, int32_t i, const int32_t *near, uint32_t found);
 /* Places every particle's shell at its position and builds all neighbour lists. Returns

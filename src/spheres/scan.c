@@ -114,7 +114,7 @@ static long move_shells(hsbd_spheres *s, size_t from, size_t to, int lifted, int
     for (size_t q = from; q < to; ++q) {
         const int32_t i = s->leaving[q];
         if (!(lifted && q == from)) {
-            sph_shell_lift(s, i);
+            sph_shell_lift(s, i, s->x + 3 * (size_t)i);
             (*moved)++;
         }
         uint32_t found;
@@ -135,7 +135,8 @@ int sph_move_leaving_shells(hsbd_spheres *s, int threads) {
     const int nslabs = shell_slabs(s, &axis);
     if (!nslabs) { /* one slab: particle order */
         for (size_t i = 0; i < s->n; ++i)
-            if ((s->start_flag[i] & SPH_LEAVES_SHELL) && sph_recentre(s, (int32_t)i)) return -1;
+            if ((s->start_flag[i] & SPH_LEAVES_SHELL) && sph_recentre(s, (int32_t)i, s->x + 3 * i))
+                return -1;
         return 0;
     }
     if ((size_t)nslabs > s->near_nparts) { /* a buffer of points found for each slab */

@@ -169,9 +169,8 @@ static inline void sph_advance(hsbd_spheres *s, int32_t i, double t) {
     s->t_local[i] = t;
 }
 
-/* Puts i's shell centre at its position, wrapped into the box. */
-static inline void sph_set_centre(hsbd_spheres *s, int32_t i) {
-    const double *x = s->x + 3 * (size_t)i;
+/* Puts i's shell centre at position x (i's position now), wrapped into the box. */
+static inline void sph_set_centre(hsbd_spheres *s, int32_t i, const double x[3]) {
     double *c = s->centre + 3 * (size_t)i;
     for (int a = 0; a < 3; ++a)
         c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
