@@ -63,10 +63,12 @@ struct sph_groups {
     /* the segment log of the step */
     sph_segment *seg;
     size_t seg_cap, nseg;
-    /* shells added inside the step: a second grid of centres, entries -> particles */
+    /* shells added inside the step: a second grid of centres, entries -> particles, each
+     * particle's entries chained (extra_head, extra_next) with their centres (a re-run
+     * moving a shell to a centre it had already taken adds nothing) */
     hsbd_cells extra;
-    int32_t *extra_particle;
-    double *extra_sigma;
+    int32_t *extra_particle, *extra_next, *extra_head;
+    double *extra_sigma, *extra_centre;
     size_t extra_cap, nextra;
     int32_t *moved_list;
     size_t nmoved;
@@ -153,7 +155,10 @@ void sph_groups_free(sph_groups *g) {
     free(g->seg);
     hsbd_cells_free(&g->extra);
     free(g->extra_particle);
+    free(g->extra_next);
+    free(g->extra_head);
     free(g->extra_sigma);
+    free(g->extra_centre);
     free(g->moved_list);
     free(g->rewound);
     free(g->queued);
@@ -192,9 +197,16 @@ static int alloc_particles(hsbd_spheres *s) {
     g->queued = calloc(n, sizeof *g->queued);
     g->extra_cap = 256; /* the kernels read sigma[0] for empty slots: never empty arrays */
     g->extra_particle = malloc(g->extra_cap * sizeof *g->extra_particle);
+    g->extra_next = malloc(g->extra_cap * sizeof *g->extra_next);
+    g->extra_head = malloc(n * sizeof *g->extra_head);
     g->extra_sigma = calloc(g->extra_cap, sizeof *g->extra_sigma);
+    g->extra_centre = malloc(3 * g->extra_cap * sizeof *g->extra_centre);
+    if (g->extra_head)
+        for (size_t i = 0; i < n; ++i)
+            g->extra_head[i] = -1;
     if (!g->parent || !g->last_segment || !g->moved || !g->history || !g->moved_list ||
-        !g->rewound || !g->queued || !g->extra_particle || !g->extra_sigma ||
+        !g->rewound || !g->queued || !g->extra_particle || !g->extra_next || !g->extra_head ||
+        !g->extra_sigma || !g->extra_centre ||
         hsbd_cells_init(&g->extra, s->dim, s->box, s->sigma_max + 2 * s->shell, g->extra_cap)) {
         sph_groups_free(g);
         return -1;
@@ -430,20 +442,31 @@ static int add_pair_once(hsbd_spheres *s, int32_t i, int32_t j) {
     return sph_nb_add(s, i, j) || sph_nb_add(s, j, i) ? -1 : 0;
 }
 
+/* Registers i's new shell centre in the second grid, unless i had that centre already in
+ * this step (a re-run replays its shell moves bit for bit: without this check a group
+ * re-run many times filled the grid's cells with copies). */
 static int add_extra_shell(hsbd_spheres *s, int32_t i) {
     sph_groups *g = s->groups;
+    const double *c = s->centre + 3 * (size_t)i;
+    for (int32_t e = g->extra_head[i]; e >= 0; e = g->extra_next[e])
+        if (!memcmp(g->extra_centre + 3 * (size_t)e, c, 3 * sizeof *c)) return 0;
     if (g->nextra == g->extra_cap) {
         const size_t cap = 2 * g->extra_cap;
         if (grow_array(&g->extra_particle, cap, sizeof *g->extra_particle) ||
+            grow_array(&g->extra_next, cap, sizeof *g->extra_next) ||
             grow_array(&g->extra_sigma, cap, sizeof *g->extra_sigma) ||
+            grow_array(&g->extra_centre, 3 * cap, sizeof *g->extra_centre) ||
             hsbd_cells_reserve_points(&g->extra, cap))
             return -1;
         g->extra_cap = cap;
     }
     const int32_t e = (int32_t)g->nextra;
-    if (hsbd_cells_insert(&g->extra, e, s->centre + 3 * (size_t)i)) return -1;
+    if (hsbd_cells_insert(&g->extra, e, c)) return -1;
     g->extra_particle[e] = i;
     g->extra_sigma[e] = s->sigma[i];
+    memcpy(g->extra_centre + 3 * (size_t)e, c, 3 * sizeof *c);
+    g->extra_next[e] = g->extra_head[i];
+    g->extra_head[i] = e;
     g->nextra++;
     return 0;
 }
@@ -471,8 +494,10 @@ static int recentre_adding(hsbd_spheres *s, int32_t i, double t) {
 
 /* The shells added inside the step leave the second grid. */
 static void drop_extra_shells(sph_groups *g) {
-    for (size_t e = 0; e < g->nextra; ++e)
+    for (size_t e = 0; e < g->nextra; ++e) {
         hsbd_cells_remove(&g->extra, (int32_t)e);
+        g->extra_head[g->extra_particle[e]] = -1;
+    }
     g->nextra = 0;
 }
 
