@@ -133,9 +133,12 @@ int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_error *err) {
     const size_t room = sizeof err->message - len;
     if (status == HSBD_OK) { /* replaced: the earlier files go */
         hsbd_error e;
+        hsbd_error_clear(&e);
         if (earlier_replicas(aside, 1, &e) == HSBD_OK &&
-            hsbd_run_dir_prepare(aside, 1, &e) == HSBD_OK && rmdir(aside) == 0)
-            return HSBD_OK;
+            hsbd_run_dir_prepare(aside, 1, &e) == HSBD_OK) {
+            if (rmdir(aside) == 0) return HSBD_OK;
+            hsbd_error_set(&e, HSBD_EIO, "%s", strerror(errno));
+        }
         return hsbd_error_set(err, HSBD_EIO,
                               "the new ensemble in '%s' is complete, but the earlier one set "
                               "aside as '%s' could not be removed: %s",

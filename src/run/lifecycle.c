@@ -295,7 +295,6 @@ static int open_streams(run *r, hsbd_error *err) {
     return HSBD_OK;
 }
 
-/* The input files a run reads while it is built, with their checksums. */
 size_t run_input_files(const hsbd_config *cfg, const char *key[3], const char *path[3]) {
     size_t n = 0;
     if (cfg->field.type & HSBD_FIELD_TABLE) /* both models */
@@ -307,6 +306,7 @@ size_t run_input_files(const hsbd_config *cfg, const char *key[3], const char *p
     return n;
 }
 
+/* The input files a run reads while it is built, with their checksums. */
 static void record_inputs(run *r) {
     const char *key[3], *path[3];
     const size_t n = run_input_files(r->cfg, key, path);

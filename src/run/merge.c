@@ -471,7 +471,6 @@ static int load_tables(const char *name, const merge_source *src, size_t n, tabl
         if (r != t->rows && !padded)
             rc = hsbd_error_set(err, HSBD_EINPUT, "merge: %s has %zu rows in '%s' and %zu in '%s'",
                                 name, r, src[k].dir, t->rows, src[longest].dir);
-
         for (size_t i = 0; i < r && rc == HSBD_OK; ++i) {
             rc = parse_row(t, name, src, k, i, err);
             if (k == longest) t->abscissa[i] = t->cell[0];

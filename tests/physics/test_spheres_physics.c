@@ -155,10 +155,10 @@ static void test_binary(void) {
     const double measured[4] = {o.g[0], o.g[1], o.g[1], o.g[2]};
     const double err[3] = {o.g_err[0], o.g_err[1], o.g_err[2]};
     double z_contacts_err = 0;
+    static const int cells[3][2] = {{0, 0}, {1, 2}, {3, 3}}; /* 11, 12 and 21, 22 */
     for (int q = 0; q < 3; ++q) {
         double unit[4] = {0};
-        unit[q == 0 ? 0 : q == 1 ? 1 : 3] = 1;
-        if (q == 1) unit[2] = 1;
+        unit[cells[q][0]] = unit[cells[q][1]] = 1;
         z_contacts_err += (hsbd_hs_z_from_contacts(3, 2, x, sig, rho, unit) - 1) * err[q];
     }
     check_within("Z (collisional virial) vs contacts", o.z_virial, o.z_virial_err + z_contacts_err,
