@@ -42,4 +42,11 @@ int sph_calendar_push(sph_calendar *c, sph_event e);
 /* Removes the earliest event into *e; 0 when empty. */
 int sph_calendar_pop(sph_calendar *c, sph_event *e);
 
+/* An event `ahead` buckets after the present one (about as many events later), or NULL:
+ * what is likely to come, for prefetching. */
+static inline const sph_event *sph_calendar_peek(const sph_calendar *c, size_t ahead) {
+    const size_t b = c->current + ahead;
+    return b < c->nbuckets && c->head[b] >= 0 ? &c->pool[c->head[b]] : NULL;
+}
+
 #endif

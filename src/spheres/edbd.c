@@ -415,15 +415,15 @@ static void normals_range(hsbd_spheres *s, int parts, int k) {
 }
 
 /* The velocities loop reads each particle's normals by the user's index, in random order
- * once the engine sorts in space: beyond the caches (from VELOCITY_PREFETCH_MIN_N) it asks
- * for the rows VELOCITY_PREFETCH particles ahead (N 2 x 10^5: the loop's share of a step
+ * once the engine sorts in space: beyond the caches (SPH_PREFETCH_MIN_N) it asks for the
+ * normals VELOCITY_PREFETCH particles ahead (N 2 x 10^5: the loop's share of a step
  * 4.2 % -> 1.6 %). */
-enum { VELOCITY_PREFETCH = 16, VELOCITY_PREFETCH_MIN_N = 32768 };
+enum { VELOCITY_PREFETCH = 16 };
 
 static void draw_velocities(hsbd_spheres *s) {
     const size_t d = (size_t)s->dim;
     const int threads = sph_threads(s);
-    const long n = (long)s->n, ahead = n >= VELOCITY_PREFETCH_MIN_N ? VELOCITY_PREFETCH : n;
+    const long n = (long)s->n, ahead = n >= SPH_PREFETCH_MIN_N ? VELOCITY_PREFETCH : n;
 #pragma omp parallel num_threads(threads) if (threads > 1)
     {
 #pragma omp for schedule(static, 1)

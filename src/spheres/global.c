@@ -7,6 +7,13 @@
 #include "spheres/events.h"
 #include "spheres/neighbours.h"
 
+/* Beyond the caches (from SPH_PREFETCH_MIN_N) the events, in time order, jump across
+ * the box: the rows of the particles of an event GLOBAL_PREFETCH_ROWS buckets ahead
+ * (about as many events) are asked for, and the neighbours of those of an event
+ * GLOBAL_PREFETCH_NEIGHBOURS ahead (N 32768: about 12 % less time per step). Hints only:
+ * no result changes. */
+enum { GLOBAL_PREFETCH_ROWS = 8, GLOBAL_PREFETCH_NEIGHBOURS = 3 };
+
 /* Collisions of i (at time t) with its neighbours inside [t, dt): into the calendar. */
 static int predict_row(hsbd_spheres *s, int32_t i, double t) {
     const uint32_t hits = sph_row_hits(s, i, t);
@@ -34,6 +41,8 @@ static int predict_particle(hsbd_spheres *s, int32_t i, double t) {
 
 static int process_collision(hsbd_spheres *s, const sph_event *e) {
     const int32_t i = e->i, j = e->j;
+    __builtin_prefetch(s->centre + 3 * (size_t)i); /* for the shell-exit tests at the end */
+    __builtin_prefetch(s->centre + 3 * (size_t)j);
     double virial;
     if (!sph_collide_pair(s, e, &virial)) return 0;
     s->step_virial += sph_exact_term(s->virial_scale, virial);
@@ -41,9 +50,24 @@ static int process_collision(hsbd_spheres *s, const sph_event *e) {
     return predict_particle(s, i, e->t) || predict_particle(s, j, e->t) ? -1 : 0;
 }
 
+static void prefetch_ahead(const hsbd_spheres *s) {
+    const sph_event *far = sph_calendar_peek(&s->calendar, GLOBAL_PREFETCH_ROWS);
+    if (far)
+        for (int e = 0; e < 1 + (far->j >= 0); ++e) {
+            const int32_t p = e ? far->j : far->i;
+            __builtin_prefetch(s->nb + (size_t)p * s->nb_cap);
+            __builtin_prefetch(s->nb_count + p);
+        }
+    const sph_event *next = sph_calendar_peek(&s->calendar, GLOBAL_PREFETCH_NEIGHBOURS);
+    if (next)
+        for (int e = 0; e < 1 + (next->j >= 0); ++e)
+            sph_prefetch_neighbours(s, e ? next->j : next->i);
+}
+
 int sph_global_run(hsbd_spheres *s) {
     sph_event e;
     while (sph_calendar_pop(&s->calendar, &e)) {
+        if (s->n >= SPH_PREFETCH_MIN_N) prefetch_ahead(s);
         if (sph_event_stale(s, &e)) continue;
         if (e.j == SPH_EVENT_SHELL) {
             /* the same path (its wall event stands), kept as it began: see sph_row_hits */

@@ -867,15 +867,31 @@ static int plan_slabs(hsbd_spheres *s, int threads) {
     return 0;
 }
 
-/* The groups of slab k, in order, in a worker's copies of the state. Returns 0, or -1
- * when out of memory. */
+/* The neighbours of group a's particles, which its run's row predictions read, and their
+ * shells. */
+static void prefetch_group_neighbours(const hsbd_spheres *s, int32_t a) {
+    const sph_groups *g = s->groups;
+    for (int32_t o = g->start[a]; o < g->start[a] + g->count[a]; ++o) {
+        const int32_t ends[2] = {g->by_i[o], g->by_j[o]};
+        for (int e = 0; e < 2; ++e) {
+            sph_prefetch_neighbours(s, ends[e]);
+            __builtin_prefetch(s->centre + 3 * (size_t)ends[e]); /* its shell-exit test */
+        }
+    }
+}
+
+/* The groups of slab k, in order, in a worker's copies of the state (the neighbours of
+ * the group two ahead asked for in advance). Returns 0, or -1 when out of memory. */
 static int run_slab(hsbd_spheres *s, int k) {
     sph_groups *g = s->groups;
     g->slab = k;
     g->nseg = g->slab_seg[k];
     g->seg_cap = g->slab_seg[k + 1];
+    const int ahead = s->n >= SPH_PREFETCH_MIN_N;
     for (size_t q = g->slab_first[k]; q < g->slab_first[k + 1]; ++q) {
         const int32_t a = g->slab_groups[q];
+        if (ahead && q + 2 < g->slab_first[k + 1])
+            prefetch_group_neighbours(s, g->slab_groups[q + 2]);
         if (g->state[a] != GROUP_PENDING) continue; /* joined by an earlier run */
         g->state[a] = GROUP_ACTIVE;
         g->worker->lone_len = g->worker->joined_len = 0;
