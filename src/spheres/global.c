@@ -50,7 +50,7 @@ static int process_collision(hsbd_spheres *s, const sph_event *e) {
     return predict_particle(s, i, e->t) || predict_particle(s, j, e->t) ? -1 : 0;
 }
 
-static void prefetch_ahead(const hsbd_spheres *s) {
+static inline __attribute__((always_inline)) void prefetch_ahead(const hsbd_spheres *s) {
     const sph_event *far = sph_calendar_peek(&s->calendar, GLOBAL_PREFETCH_ROWS);
     if (far)
         for (int e = 0; e < 1 + (far->j >= 0); ++e) {

@@ -30,8 +30,10 @@ int sph_shell_land(hsbd_spheres *s, int32_t i, const int32_t *near, uint32_t fou
 enum { SPH_PREFETCH_MIN_N = 8192 };
 /* Asks for the positions and velocities of i's neighbours ahead of a row prediction that
  * will read them: beyond the caches these loads, whose addresses come from the row, were
- * most of the row kernel's time. A hint only: no result changes. */
-static inline void sph_prefetch_neighbours(const hsbd_spheres *s, int32_t i) {
+ * most of the row kernel's time. A hint only: no result changes (always inlined, see
+ * groups.c). */
+static inline __attribute__((always_inline)) void sph_prefetch_neighbours(const hsbd_spheres *s,
+                                                                          int32_t i) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     for (uint32_t q = 0; q < s->nb_count[i]; ++q) {
         __builtin_prefetch(s->x + 3 * (size_t)row[q]);
