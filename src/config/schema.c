@@ -184,9 +184,10 @@ const key_spec config_schema[] = {
      "(docs/scaling.md)"},
     {"run", "events", SPHERES, K_ENUM, OFF(run.events), 0, 0, 0, "auto", "auto|global|groups",
      "spheres: how a step's events run: one time-ordered calendar for the whole box (global), "
-     "group by group (groups: cache-friendly for large N, and on threads), or auto (groups "
-     "from N = 65536 on when the box has no walls, else from 131072, on any number of "
-     "threads, unless they grow too large); the same trajectories and tables either way "
+     "group by group (groups: cache-friendly for large N, and on threads; a step whose "
+     "groups percolate, re-runs beyond its predicted pairs, goes to the global calendar), "
+     "or auto (groups from N = 65536 on when the box has no walls, else from 131072, on any "
+     "number of threads, unless they grow too large); the same trajectories and tables either way "
      "(contact times depend on the paths alone; the virial and wall impulses are exact "
      "sums)"},
     {"sample", "bin_width", ALL_MODELS, K_DOUBLE, OFF(sample.bin_width), 0, INF,

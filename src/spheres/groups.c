@@ -770,9 +770,10 @@ static void finish_group(sph_groups *g, int32_t a) {
     }
 }
 
-/* Runs group a to the end of the step; returns 0, 1 when AUTO gives up on groups for this
- * step (re-runs cost more than the step's predicted pairs: the groups percolate as they
- * run), group a then back on its start lines, or -1 when out of memory. */
+/* Runs group a to the end of the step; returns 0, 1 when the groups give up for this step
+ * (re-runs cost more than the step's predicted pairs: the groups percolate as they run;
+ * AUTO and GROUPS alike, else a percolating step costs without bound), group a then back
+ * on its start lines, or -1 when out of memory. */
 static int run_group(hsbd_spheres *s, int32_t a) {
     sph_groups *g = s->groups;
     g->state[a] = GROUP_ACTIVE;
@@ -780,7 +781,7 @@ static int run_group(hsbd_spheres *s, int32_t a) {
     while ((b = play_group(s, a)) >= 0) {
         do { /* b joins; then the groups that the rewound start lines meet */
             join_and_rewind(s, a, b);
-            if (s->par.event_order == HSBD_EVENTS_AUTO && g->replayed > g->nhits) {
+            if (g->replayed > g->nhits) {
                 g->state[a] = GROUP_PENDING;
                 return 1;
             }

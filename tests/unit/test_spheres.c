@@ -585,6 +585,48 @@ static void compare_event_orders(const char *name, hsbd_spheres_params p, int st
     hsbd_spheres_free(b);
 }
 
+/* Explicit GROUPS where the groups percolate (phi 0.47, a shell of 0.02 sigma, steps whose
+ * displacements are several shells): every group meets the groups that ran, and before the
+ * give-up a step re-ran groups until they covered the box, its stale events 125 times the
+ * global calendar's (N 1000, two steps; at N 30000 a step ran for minutes). Now the step
+ * goes to the global calendar once its re-runs exceed its predicted pairs: the same
+ * positions, and stale events (the work thrown away) within a few times the global
+ * calendar's. A count, not a time. */
+static void test_groups_give_up(void) {
+    hsbd_spheres_params p = {.n = 1000,
+                             .dimension = 3,
+                             .sigma = 1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = 4e-3,
+                             .seed = 3,
+                             .hard_core = 1,
+                             .shell = 0.02};
+    p.box[0] = p.box[1] = p.box[2] = cbrt(1000 * PI / 6 / 0.47);
+    uint64_t stale[2] = {0, 0};
+    double *x[2] = {NULL, NULL};
+    for (int order = 0; order < 2; ++order) {
+        p.event_order = order ? HSBD_EVENTS_GROUPS : HSBD_EVENTS_GLOBAL;
+        hsbd_error err;
+        hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+        CHECK(s && hsbd_spheres_init_lattice(s, &err) == HSBD_OK, "give-up: init");
+        if (!s) return;
+        for (int k = 0; k < 2; ++k)
+            CHECK(hsbd_spheres_step(s) == HSBD_OK, "give-up: step");
+        stale[order] = hsbd_spheres_get_stats(s).stale_events;
+        x[order] = malloc(3 * p.n * sizeof *x[order]);
+        if (x[order]) memcpy(x[order], hsbd_spheres_get_view(s).x, 3 * p.n * sizeof *x[order]);
+        hsbd_spheres_free(s);
+    }
+    CHECK(x[0] && x[1] && !memcmp(x[0], x[1], 3 * p.n * sizeof *x[0]),
+          "give-up: groups and the global calendar end at other positions");
+    CHECK(stale[0] > 0 && stale[1] <= 4 * stale[0],
+          "give-up: %llu stale events with groups, %llu with the global calendar",
+          (unsigned long long)stale[1], (unsigned long long)stale[0]);
+    free(x[0]);
+    free(x[1]);
+}
+
 static void test_event_groups(void) {
     static int species[1000];
     for (int i = 0; i < 1000; ++i)
@@ -951,6 +993,7 @@ int main(void) {
     test_reproducible();
     test_spatial_order();
     test_event_groups();
+    test_groups_give_up();
     test_bad_params();
     test_diameters();
     test_compress();
