@@ -647,10 +647,13 @@ static int finalise_spheres_walls_field(hsbd_config *cfg, double sigma_max, hsbd
         if (cfg->field.type && (law || cfg->species.coupling[k] != 0))
             return hsbd_error_set(
                 err, HSBD_EINPUT,
-                "%s: a field acts on species %s, whose D = 0 cannot move; "
+                "%s: a field acts on species %s, whose D = 0 cannot move%s; "
                 "allowed: species.coupling = 0 for it",
                 config_origin_of(cfg, "species", law ? "coupling_law" : "coupling"),
-                cfg->species.n ? cfg->species.name[k] : "(one)");
+                cfg->species.n ? cfg->species.name[k] : "(one)",
+                !law && config_is_default(cfg, "species", "coupling")
+                    ? " (species.coupling is not set: 1 for every species)"
+                    : "");
         if (cfg->system.drift_text[0])
             return hsbd_error_set(
                 err, HSBD_EINPUT,

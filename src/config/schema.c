@@ -153,7 +153,8 @@ const key_spec config_schema[] = {
      "species.D)"},
     {"species", "coupling", SPHERES, K_STRING, OFF(species.coupling_text), 0, 0, 0, "", 0,
      "spheres: the field's factor on each species (finite numbers, buoyant mass or charge; the "
-     "force on particle i is coupling_i F(x)); empty: 1; 0 for immobile species (D = 0)"},
+     "force on particle i is coupling_i F(x)); empty: 1 for every species, so a field with an "
+     "immobile species (D = 0) needs this key, with 0 for that species"},
     {"species", "coupling_law", SPHERES, K_ENUM, OFF(species.coupling_law), 0, 0, 0, "given",
      "given|volume",
      "spheres: given: species.coupling (or 1) for every particle; volume: coupling_i = "

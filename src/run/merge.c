@@ -233,6 +233,29 @@ static void parameter_at(const merge_source *a, size_t k, char *name, size_t len
     *vlen = value_len(v);
 }
 
+/* The names of the parameters that differ after lines i of a and j of b, while both list
+ * the same parameters, as "; also: x.y, ..." (empty when none): a derived value that
+ * differs (a default box centre, say) comes before the key the user set in the summary's
+ * order, so the message names them all. */
+static void other_differences(const merge_source *a, const merge_source *b, size_t i, size_t j,
+                              char *out, size_t len) {
+    char ka[64], kb[64], name[140];
+    const char *v;
+    int vlen, listed = 0;
+    size_t used = 0;
+    out[0] = '\0';
+    for (; i < a->sum.n && j < b->sum.n; ++i, ++j) {
+        const int pa = json_entry(a->sum.line[i], 6, ka, sizeof ka) != NULL;
+        const int pb = json_entry(b->sum.line[j], 6, kb, sizeof kb) != NULL;
+        if (pa != pb || (pa && strcmp(ka, kb))) break; /* the lists part: stop there */
+        if (!pa || replica_parameter(ka) || !strcmp(a->sum.line[i], b->sum.line[j])) continue;
+        parameter_at(a, i, name, sizeof name, &v, &vlen);
+        const int n = snprintf(out + used, len - used, "%s%s", listed++ ? ", " : "; also: ", name);
+        if (n < 0 || (size_t)n >= len - used) break;
+        used += (size_t)n;
+    }
+}
+
 /* The same configuration: every parameter but the replica's own (index, count, dir). */
 static int same_parameters(const merge_source *a, const merge_source *b, hsbd_error *err) {
     size_t i = a->params, j = b->params;
@@ -260,11 +283,14 @@ static int same_parameters(const merge_source *a, const merge_source *b, hsbd_er
                               "runs of the same configuration (apart from run.replica) can be "
                               "merged",
                               a->dir, b->dir, na, nb);
+    char others[400];
+    other_differences(a, b, i + 1, j + 1, others, sizeof others);
     return hsbd_error_set(err, HSBD_EINPUT,
                           "merge: '%s' and '%s' are not replicas of one configuration: %s = "
-                          "%.*s in the first, %.*s in the second; only runs of the same "
+                          "%.*s in the first, %.*s in the second%s; only runs of the same "
                           "configuration (apart from run.replica) can be merged",
-                          a->dir, b->dir, na, la > 200 ? 200 : la, va, lb > 200 ? 200 : lb, vb);
+                          a->dir, b->dir, na, la > 200 ? 200 : la, va, lb > 200 ? 200 : lb, vb,
+                          others);
 }
 
 /* ---- tables ----------------------------------------------------------------------------- */

@@ -129,6 +129,8 @@ refused() { # refused WHAT PATTERN ARGS...
 }
 "$HSBD" run rods.ini --quiet --replica 1 --set system.N=61 --out rods-otherN || bad "other N"
 "$HSBD" run rods.ini --quiet --replica 1 --seed 6 --out rods-otherseed || bad "other seed"
+"$HSBD" run rods.ini --quiet --replica 1 --set system.N=61 --seed 6 --out rods-othertwo ||
+    bad "other N and seed"
 "$HSBD" run rods.ini --quiet --out rods-plain || bad "plain run"
 # damaged or unfinished replicas
 cp -r rods-r1 rods-stopped && rm rods-stopped/summary.json
@@ -151,6 +153,8 @@ table 8 >pot.txt
     --out rods-t1 || bad "table field, replica 1"
 refused "another N" 'system.N = 60 in the first, 61 in the second' rods-r0 rods-otherN
 refused "another seed" 'system.seed = 5 in the first, 6 in the second' rods-r0 rods-otherseed
+refused "two others" 'system.N = 60 in the first, 61 in the second; also: system.seed;' rods-r0 \
+    rods-othertwo
 refused "another model" 'not replicas of one configuration' rods-r0 spheres-r1
 refused "the same replica twice" 'both replica 1' rods-r1 rods-r0 rods-one3/replica-1
 refused "no replica" 'no replica of an ensemble' rods-r0 rods-plain
