@@ -29,6 +29,18 @@ typedef struct sph_segment {
     int32_t particle;
 } sph_segment;
 
+/* A write to an int32 of the shared state that an undone first-pass run takes back. */
+typedef struct sph_undo {
+    int32_t *at, old;
+} sph_undo;
+
+/* Where a particle of a group that ran stood before a first-pass run rewound the group:
+ * its last logged segment (its position, velocity and local time) and its history flag. */
+typedef struct sph_ran_path {
+    int32_t particle, last;
+    uint8_t history;
+} sph_ran_path;
+
 /* What a thread of the first pass needs of its own (the rest of the state is shared). */
 typedef struct sph_worker {
     sph_calendar calendar;
@@ -39,6 +51,12 @@ typedef struct sph_worker {
     size_t lone_len, lone_cap;
     int32_t *joined; /* the pending groups of its slab a run joined: undone with it */
     size_t joined_len, joined_cap;
+    sph_undo *undo; /* the writes of a run's re-runs (joins), taken back if it is undone */
+    size_t undo_len, undo_cap;
+    sph_ran_path *ran; /* the paths of the groups that ran that a run rewound */
+    size_t ran_len, ran_cap;
+    int32_t *rewound; /* its list of rewound particles (room for every particle) */
+    size_t rewound_cap;
 } sph_worker;
 
 struct sph_groups {
@@ -170,6 +188,9 @@ void sph_groups_free(sph_groups *g) {
         free(g->workers[w].scan_t);
         free(g->workers[w].lone);
         free(g->workers[w].joined);
+        free(g->workers[w].undo);
+        free(g->workers[w].ran);
+        free(g->workers[w].rewound);
     }
     free(g->workers);
     free(g);
@@ -382,8 +403,7 @@ static void rewind_group(hsbd_spheres *s, int32_t a) {
         s->t_local[p] = 0;
         g->last_segment[p] = -1;
         g->history[p] = 0;
-        /* a first-pass run is undone before anything else meets its paths */
-        if (!g->speculative && !g->queued[p]) g->queued[p] = 1, g->rewound[g->nrewound++] = p;
+        if (!g->queued[p]) g->queued[p] = 1, g->rewound[g->nrewound++] = p;
     }
     g->first_segment[a] = -1;
     if (!g->speculative) drop_wall_hits(s, a);
@@ -394,19 +414,65 @@ static void forget_rewound(sph_groups *g) {
         g->queued[g->rewound[--g->nrewound]] = 0;
 }
 
+/* Appends x to a worker's list (len, cap) of `size`-byte items. Returns 0, or -1 when out
+ * of memory. */
+static int note_item(void *list, size_t *len, size_t *cap, const void *x, size_t size) {
+    if (*len == *cap) {
+        const size_t more = *cap ? 2 * *cap : 64;
+        if (grow_array(list, more, size)) return -1;
+        *cap = more;
+    }
+    memcpy(*(unsigned char **)list + *len * size, x, size);
+    (*len)++;
+    return 0;
+}
+
+static int note(int32_t **list, size_t *len, size_t *cap, int32_t x) {
+    return note_item(list, len, cap, &x, sizeof x);
+}
+
+/* *at = value; in a first-pass run noted first, so that undoing the run takes it back.
+ * Returns 0, or -1 when out of memory (nothing written). */
+static int set_undoable(sph_groups *g, int32_t *at, int32_t value) {
+    if (g->speculative) {
+        const sph_undo u = {at, *at};
+        if (note_item(&g->worker->undo, &g->worker->undo_len, &g->worker->undo_cap, &u, sizeof u))
+            return -1;
+    }
+    *at = value;
+    return 0;
+}
+
+/* Before a first-pass run rewinds group b, which ran: where b's particles stood, so that
+ * undoing the run can put them back. Returns 0, or -1 when out of memory. */
+static int keep_ran_paths(sph_groups *g, int32_t b) {
+    sph_worker *w = g->worker;
+    for (int32_t k = g->first_segment[b]; k >= 0; k = g->seg[k].next_head) {
+        const int32_t p = g->seg[k].particle;
+        const sph_ran_path r = {p, g->last_segment[p], g->history[p]};
+        if (note_item(&w->ran, &w->ran_len, &w->ran_cap, &r, sizeof r)) return -1;
+    }
+    const sph_undo u = {&g->first_segment[b], g->first_segment[b]};
+    return note_item(&w->undo, &w->undo_len, &w->undo_cap, &u, sizeof u);
+}
+
 /* Group b joins the running group a, whose events then start again from the step's
- * start (b's results, if it ran, are undone). */
-static void join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
+ * start (b's results, if it ran, are undone). Returns 0, or -1 when out of memory. */
+static int join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
     sph_groups *g = s->groups;
-    if (g->state[b] == GROUP_DONE) rewind_group(s, b);
+    if (g->state[b] == GROUP_DONE) {
+        if (g->speculative && keep_ran_paths(g, b)) return -1;
+        rewind_group(s, b);
+    }
     rewind_group(s, a);
-    g->parent[g->root[b]] = g->root[a];
-    g->state[b] = GROUP_JOINED;
     int32_t last = a;
     while (g->next_part[last] >= 0)
         last = g->next_part[last];
-    g->next_part[last] = b;
+    if (set_undoable(g, &g->parent[g->root[b]], g->root[a]) ||
+        set_undoable(g, &g->state[b], GROUP_JOINED) || set_undoable(g, &g->next_part[last], b))
+        return -1;
     s->stats.group_reruns++;
+    return 0;
 }
 
 /* The start-of-step events of group b into the calendar. Returns 0, or -1 when out of
@@ -616,9 +682,13 @@ static int32_t rewound_hit(hsbd_spheres *s, int32_t a) {
     return -1;
 }
 
-/* What predict_in_group and play_group return besides a group to join; DEFER: a
- * first-pass run would reach outside its slab */
-enum { NO_JOIN = -1, OUT_OF_MEMORY = -2, DEFER = -3 };
+/* What predict_in_group, play_group and run_group return besides a group to join; DEFER:
+ * a first-pass run would reach outside its slab; GIVE_UP: see run_group */
+enum { NO_JOIN = -1, OUT_OF_MEMORY = -2, DEFER = -3, GIVE_UP = -4 };
+
+/* The joins with a re-run that one first-pass run may make before it waits for the serial
+ * pass (which has the bound on re-runs over the whole step) */
+enum { SPECULATIVE_RERUNS = 4 };
 
 /* The slab of particle p's start position (p has not moved in the step). */
 static int slab_of(const hsbd_spheres *s, const sph_groups *g, int32_t p) {
@@ -627,21 +697,19 @@ static int slab_of(const hsbd_spheres *s, const sph_groups *g, int32_t p) {
     return (int)(k < 0 ? k + g->nslabs : k);
 }
 
-/* Appends x to a worker's list (len, cap). Returns 0, or -1 when out of memory. */
-static int note(int32_t **list, size_t *len, size_t *cap, int32_t x) {
-    if (*len == *cap) {
-        const size_t more = *cap ? 2 * *cap : 64;
-        if (grow_array(list, more, sizeof **list)) return -1;
-        *cap = more;
-    }
-    (*list)[(*len)++] = x;
-    return 0;
+/* Whether a first-pass run may join group b with a re-run: b is a group of its slab, of
+ * this round, that ran (its paths are rewound, and put back if the run is undone) or is
+ * still pending. */
+static int joinable_here(const sph_groups *g, int32_t b) {
+    return g->group_slab[b] == g->slab &&
+           (g->state[b] == GROUP_DONE || g->state[b] == GROUP_PENDING);
 }
 
 /* A first-pass run of group a meets particle j of its slab: j joins if it met nobody, its
  * group if that is a pending group of the slab still on its start lines at time t (both
  * noted, so that an undone run can take them back). Returns NO_JOIN, DEFER when j is
- * elsewhere (another slab, a group that ran or spans slabs), or OUT_OF_MEMORY. */
+ * elsewhere (another slab, a group that spans slabs or ran in another), the group of the
+ * slab to join with a re-run (it ran, or moved before t), or OUT_OF_MEMORY. */
 static int32_t join_speculative(hsbd_spheres *s, int32_t a, int32_t j, int32_t r, double t) {
     sph_groups *g = s->groups;
     sph_worker *w = g->worker;
@@ -652,15 +720,32 @@ static int32_t join_speculative(hsbd_spheres *s, int32_t a, int32_t j, int32_t r
         return NO_JOIN;
     }
     const int32_t b = -2 - g->parent[r];
-    if (g->group_slab[b] != g->slab || g->state[b] != GROUP_PENDING || g->first_time[b] < t)
-        return DEFER;
+    if (!joinable_here(g, b)) return DEFER;
+    if (g->state[b] == GROUP_DONE || g->first_time[b] < t) return b;
     if (note(&w->joined, &w->joined_len, &w->joined_cap, b)) return OUT_OF_MEMORY;
     return join_pending(s, a, b) ? OUT_OF_MEMORY : NO_JOIN;
 }
 
-/* Takes back what an undone first-pass run of group a joined. */
-static void unjoin_speculative(sph_groups *g, int32_t a) {
+/* Takes back what an undone first-pass run of group a did: its paths, the groups that ran
+ * and that it rewound, and what it joined. */
+static void undo_speculative(hsbd_spheres *s, int32_t a) {
+    sph_groups *g = s->groups;
     sph_worker *w = g->worker;
+    rewind_group(s, a);
+    forget_rewound(g);   /* nothing else has met the paths it puts back */
+    while (w->ran_len) { /* where the rewound groups' particles stood, latest first */
+        const sph_ran_path *r = &w->ran[--w->ran_len];
+        const sph_segment *e = &g->seg[r->last];
+        memcpy(s->x + 3 * (size_t)r->particle, e->x, sizeof e->x);
+        memcpy(s->v + 3 * (size_t)r->particle, e->v, sizeof e->v);
+        s->t_local[r->particle] = e->t;
+        g->last_segment[r->particle] = r->last;
+        g->history[r->particle] = r->history;
+    }
+    while (w->undo_len) {
+        const sph_undo *u = &w->undo[--w->undo_len];
+        *u->at = u->old;
+    }
     for (size_t l = 0; l < w->lone_len; ++l)
         g->parent[w->lone[l]] = -1;
     for (size_t l = 0; l < w->joined_len; ++l) {
@@ -670,6 +755,7 @@ static void unjoin_speculative(sph_groups *g, int32_t a) {
         g->next_part[b] = -1;
     }
     g->next_part[a] = -1;
+    g->state[a] = GROUP_PENDING;
 }
 
 /* New predictions for i (on a new segment from time t, or a new shell: then its wall
@@ -770,26 +856,29 @@ static void finish_group(sph_groups *g, int32_t a) {
     }
 }
 
-/* Runs group a to the end of the step; returns 0, 1 when the groups give up for this step
- * (re-runs cost more than the step's predicted pairs: the groups percolate as they run;
- * AUTO and GROUPS alike, else a percolating step costs without bound), group a then back
- * on its start lines, or -1 when out of memory. */
-static int run_group(hsbd_spheres *s, int32_t a) {
+/* Runs group a to the end of the step. Returns NO_JOIN when done; GIVE_UP when the groups
+ * give up for this step (re-runs cost more than the step's predicted pairs: the groups
+ * percolate as they run; AUTO and GROUPS alike, else a percolating step costs without
+ * bound), group a then back on its start lines; in a first-pass run DEFER when it would
+ * join a group it may not (undo_speculative then takes the run back); or OUT_OF_MEMORY. */
+static int32_t run_group(hsbd_spheres *s, int32_t a) {
     sph_groups *g = s->groups;
     g->state[a] = GROUP_ACTIVE;
     int32_t b;
+    int reruns = 0;
     while ((b = play_group(s, a)) >= 0) {
         do { /* b joins; then the groups that the rewound start lines meet */
-            join_and_rewind(s, a, b);
-            if (g->replayed > g->nhits) {
+            if (g->speculative && (!joinable_here(g, b) || ++reruns > SPECULATIVE_RERUNS))
+                return DEFER;
+            if (join_and_rewind(s, a, b)) return OUT_OF_MEMORY;
+            if (!g->speculative && g->replayed > g->nhits) {
                 g->state[a] = GROUP_PENDING;
-                return 1;
+                return GIVE_UP;
             }
         } while ((b = rewound_hit(s, a)) >= 0);
     }
-    if (b == OUT_OF_MEMORY) return -1;
-    finish_group(g, a);
-    return 0;
+    if (b == NO_JOIN) finish_group(g, a);
+    return b;
 }
 
 /* Every start-of-step event into the global calendar (which then runs the step). */
@@ -807,10 +896,13 @@ static int hand_to_global_calendar(hsbd_spheres *s) {
  * group whose particles all start in slab k reads only particles in slabs k - 1 to
  * k + 1, so the groups of the even slabs can run at the same time, and then those of the
  * odd ones. A run takes in what it meets in its slab that has not run: particles that met
- * nobody, and groups still on their start lines at the present time. A run that would
- * touch anything else (a particle of another slab, a group that ran or spans slabs, a
- * shell to move, its share of the segment log full) is undone at once, with what it took
- * in, and its group waits. Then a second round does the same on the slabs moved by half
+ * nobody, and groups still on their start lines at the present time. It re-runs itself, as
+ * the serial pass would, with a group of its slab and round that it meets after that group
+ * ran or moved (only the runs of its own slab, on its own thread, have met the paths of a
+ * group that ran there). A run that would touch anything else (a particle of another slab,
+ * a group that spans slabs or ran elsewhere, a shell to move, its share of the segment log
+ * full, more than SPECULATIVE_RERUNS re-runs) is undone at once, with what it took in and
+ * the groups it rewound put back, and its group waits. Then a second round does the same on the slabs moved by half
  * a width, for the groups left that lie wholly in one of those (most of those that span
  * two slabs of the first round), and the serial pass runs the rest as before. Which
  * group runs where depends on the state only, never on the number of threads, so
@@ -896,25 +988,26 @@ static int run_slab(hsbd_spheres *s, int k) {
         if (ahead && q + 2 < g->slab_first[k + 1])
             prefetch_group_neighbours(s, g->slab_groups[q + 2]);
         if (g->state[a] != GROUP_PENDING) continue; /* joined by an earlier run */
-        g->state[a] = GROUP_ACTIVE;
-        g->worker->lone_len = g->worker->joined_len = 0;
+        sph_worker *w = g->worker;
+        w->lone_len = w->joined_len = w->undo_len = w->ran_len = 0;
         g->log_full = 0;
         const size_t nseg = g->nseg; /* an undone run gives its segments back */
-        const int32_t rc = play_group(s, a);
-        if (rc == NO_JOIN) {
-            finish_group(g, a);
-            continue;
+        const uint64_t reruns = s->stats.group_reruns;
+        const int32_t rc = run_group(s, a);
+        if (rc == NO_JOIN) continue;
+        if (rc == OUT_OF_MEMORY && !g->log_full) {
+            forget_rewound(g); /* the list is the worker's: the step is abandoned */
+            return -1;
         }
-        if (rc == OUT_OF_MEMORY && !g->log_full) return -1;
-        rewind_group(s, a); /* as if it had not run: its particles, its joins */
-        unjoin_speculative(g, a);
+        undo_speculative(s, a); /* as if it had not run */
         g->nseg = nseg;
-        g->state[a] = GROUP_PENDING;
+        s->stats.group_reruns = reruns;
     }
     return 0;
 }
 
-/* A calendar and a row's hit buffers for each of `threads` workers. Returns 0 or -1. */
+/* A calendar, a row's hit buffers and a list of rewound particles for each of `threads`
+ * workers. Returns 0 or -1. */
 static int reserve_workers(hsbd_spheres *s, int threads) {
     sph_groups *g = s->groups;
     if ((size_t)threads > g->nworkers) {
@@ -926,6 +1019,10 @@ static int reserve_workers(hsbd_spheres *s, int threads) {
     }
     for (size_t w = 0; w < (size_t)threads; ++w) {
         sph_worker *k = &g->workers[w];
+        if (!k->rewound_cap) {
+            if (grow_array(&k->rewound, s->n, sizeof *k->rewound)) return -1;
+            k->rewound_cap = s->n;
+        }
         if (k->scan_cap >= s->scan_cap) continue;
         if (grow_array(&k->scan_j, s->scan_cap, sizeof *k->scan_j) ||
             grow_array(&k->scan_t, s->scan_cap, sizeof *k->scan_t))
@@ -941,12 +1038,12 @@ static int run_slabs(hsbd_spheres *s) {
     sph_groups *g = s->groups;
     const int threads = sph_threads(s);
     if (plan_slabs(s, threads) || reserve_workers(s, threads)) return -1;
-    uint64_t played = 0, replayed = 0, stale = 0;
+    uint64_t played = 0, replayed = 0, stale = 0, reruns = 0;
     int failed = 0;
     for (int colour = 0; colour < 2 && !failed; ++colour) {
         int next = colour; /* the next slab of this colour to take */
 #pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)                 \
-    reduction(+ : played, replayed, stale) reduction(| : failed)
+    reduction(+ : played, replayed, stale, reruns) reduction(| : failed)
         for (int w = 0; w < threads; ++w) {
             sph_worker *worker = &g->workers[w];
             hsbd_spheres local = *s; /* shares every array; its own calendar and buffers */
@@ -957,6 +1054,8 @@ static int run_slabs(hsbd_spheres *s) {
             local.scan_t = worker->scan_t;
             local_groups.speculative = 1;
             local_groups.worker = worker;
+            local_groups.rewound = worker->rewound;
+            local_groups.nrewound = 0;
             local_groups.played = local_groups.replayed = 0;
             for (;;) {
                 int k;
@@ -972,11 +1071,13 @@ static int run_slabs(hsbd_spheres *s) {
             played += local_groups.played;
             replayed += local_groups.replayed;
             stale += local.stats.stale_events - s->stats.stale_events;
+            reruns += local.stats.group_reruns - s->stats.group_reruns;
         }
     }
     g->played += played;
     g->replayed += replayed;
     s->stats.stale_events += stale;
+    s->stats.group_reruns += reruns;
     g->nseg = g->slab_seg[g->nslabs];
     return failed ? -1 : 0;
 }
@@ -996,9 +1097,9 @@ int sph_groups_run(hsbd_spheres *s) {
     }
     for (size_t a = 0; a < g->ngroups; ++a) {
         if (g->state[a] != GROUP_PENDING) continue;
-        const int rc = run_group(s, (int32_t)a);
-        if (rc < 0) return -1;
-        if (rc == 0) continue;
+        const int32_t rc = run_group(s, (int32_t)a);
+        if (rc == OUT_OF_MEMORY) return -1;
+        if (rc == NO_JOIN) continue;
         for (size_t b = 0; b < g->ngroups; ++b) /* give up: the whole step back to its start */
             if (g->state[b] == GROUP_DONE) rewind_group(s, (int32_t)b);
         g->pause = PAUSE_STEPS;
