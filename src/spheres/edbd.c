@@ -120,6 +120,15 @@ static double default_shell(const hsbd_spheres *s, double dmax, double sigma_mea
     return shell < lo ? lo : shell > hi ? hi : shell;
 }
 
+static void free_hit_parts(sph_hits *parts, size_t count) {
+    for (size_t k = 0; k < count; ++k) {
+        free(parts[k].i);
+        free(parts[k].j);
+        free(parts[k].t);
+    }
+    free(parts);
+}
+
 void hsbd_spheres_free(hsbd_spheres *s) {
     if (!s) return;
     free(s->x);
@@ -146,12 +155,8 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->scan_j);
     free(s->scan_t);
     free(s->start_flag);
-    for (size_t k = 0; k < s->hit_nparts; ++k) {
-        free(s->hit_parts[k].i);
-        free(s->hit_parts[k].j);
-        free(s->hit_parts[k].t);
-    }
-    free(s->hit_parts);
+    free_hit_parts(s->hit_parts, s->hit_nparts);
+    free_hit_parts(s->exit_parts, s->exit_nparts);
     free(s->normals);
     free(s->label);
     free(s->cell_rank);
@@ -450,35 +455,26 @@ static int start_event(hsbd_spheres *s, int grouped, double t, int32_t i, int32_
     return grouped ? sph_groups_add_hit(s, t, i, j) : sph_push_event(s, t, i, j);
 }
 
+/* The hits of parts[0 .. threads) in order (particle or row order, whatever the threads)
+ * as start-of-step events. Returns 0, or -1 when out of memory. */
+static int hand_over_hits(hsbd_spheres *s, int grouped, const sph_hits *parts, int threads) {
+    for (int p = 0; p < threads; ++p)
+        for (size_t k = 0; k < parts[p].len; ++k)
+            if (start_event(s, grouped, parts[p].t[k], parts[p].i[k], parts[p].j[k])) return -1;
+    return 0;
+}
+
 /* Re-centre the shells of particles whose straight end point would leave them, then
  * predict every neighbour pair once (half scan) and the rare shell exits. Returns 0, or
  * -1 when out of memory. */
 static int start_step_events(hsbd_spheres *s, int grouped) {
-    const size_t n = s->n;
     const int threads = sph_threads(s);
     if (!grouped && sph_calendar_start(&s->calendar, s->dt)) return -1;
-    sph_scan_leaving(s, threads); /* the start positions, velocities and shells */
-    if (sph_move_leaving_shells(s, threads)) return -1;
-    for (size_t i = 0; i < n; ++i) {
-        if (!s->start_flag[i]) continue;
-        if (s->start_flag[i] & SPH_LEAVES_SHELL) {
-            const double exit = sph_shell_exit_time(s, (int32_t)i, 0.0);
-            if (exit >= 0 && start_event(s, grouped, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
-        }
-        if (s->start_flag[i] & SPH_LEAVES_WALLS) {
-            int wall = 0;
-            const double contact = sph_wall_time(s, (int32_t)i, 0.0, &wall);
-            if (contact >= 0 && start_event(s, grouped, contact, (int32_t)i, sph_wall_event(wall)))
-                return -1;
-        }
-    }
-    if (sph_scan_pairs(s, threads)) return -1;
-    for (int p = 0; p < threads; ++p) { /* the hits in row order, whatever the threads */
-        const sph_hits *h = &s->hit_parts[p];
-        for (size_t k = 0; k < h->len; ++k)
-            if (start_event(s, grouped, h->t[k], h->i[k], h->j[k])) return -1;
-    }
-    return 0;
+    /* the start positions, velocities and shells; the shell exits and wall contacts */
+    if (sph_scan_leaving(s, threads) || sph_move_leaving_shells(s, threads) ||
+        hand_over_hits(s, grouped, s->exit_parts, threads) || sph_scan_pairs(s, threads))
+        return -1;
+    return hand_over_hits(s, grouped, s->hit_parts, threads);
 }
 
 /* Every event of the step, group by group or through the global calendar. Returns 0, or
@@ -586,6 +582,17 @@ static void finish_step(hsbd_spheres *s) {
     }
 }
 
+/* x_start = x, range by range on threads. */
+static void keep_start_positions(hsbd_spheres *s) {
+    const int threads = sph_threads(s);
+#pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)
+    for (int k = 0; k < threads; ++k) {
+        const size_t first = 3 * sph_range_start(s->n, threads, k);
+        const size_t end = 3 * sph_range_start(s->n, threads, k + 1);
+        memcpy(s->x_start + first, s->x + first, (end - first) * sizeof *s->x);
+    }
+}
+
 /* Sorted again once the fastest particle could have moved about half a cell (rms
  * displacement sqrt(0.6) sigma_max): often enough to keep neighbours near in memory,
  * rarely enough that the renumbering costs little (under 1 %, bench/RESULTS.md). The
@@ -606,7 +613,7 @@ int hsbd_spheres_step(hsbd_spheres *s) {
     const hsbd_spheres_stats stats_at_start = s->stats; /* before the walls' pushes count */
     draw_velocities(s);
     if (s->par.hard_core) {
-        memcpy(s->x_start, s->x, 3 * s->n * sizeof *s->x);
+        keep_start_positions(s);
         if (run_events(s)) return fail_step(s, &stats_at_start);
         s->stats.virial += sph_exact_value(s->virial_scale, s->step_virial);
     }

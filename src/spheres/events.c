@@ -51,15 +51,19 @@ uint32_t sph_row_hits(hsbd_spheres *s, int32_t i, double t) {
 }
 
 double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t) {
+    return sph_shell_exit_from(s, i, t, s->centre + 3 * (size_t)i);
+}
+
+double sph_shell_exit_from(const hsbd_spheres *s, int32_t i, double t, const double c[3]) {
     double p[3], d[3];
     sph_position_at(s, i, t, p);
-    sph_min_image(s, p, s->centre + 3 * (size_t)i, d);
+    sph_min_image(s, p, c, d);
     const double *v = s->v + 3 * (size_t)i;
     const double T = s->dt - t, r2 = s->shell * s->shell;
     double e[3] = {d[0] + v[0] * T, d[1] + v[1] * T, d[2] + v[2] * T};
     if (hsbd_dot3(e, e) <= r2) return -1; /* the straight path stays inside (convex ball) */
-    const double vv = hsbd_dot3(v, v), b = hsbd_dot3(d, v), c = hsbd_dot3(d, d) - r2;
-    double h = (-b + sqrt(b * b - vv * c)) / vv; /* c < 0: one positive root */
+    const double vv = hsbd_dot3(v, v), b = hsbd_dot3(d, v), q = hsbd_dot3(d, d) - r2;
+    double h = (-b + sqrt(b * b - vv * q)) / vv; /* q < 0: one positive root */
     if (!(h >= 0)) h = 0;
     return t + h;
 }

@@ -10,6 +10,8 @@
 int sph_push_event(hsbd_spheres *s, double t, int32_t i, int32_t j);
 /* The time (>= t) at which i, at local time t, leaves its shell before dt; -1 if never. */
 double sph_shell_exit_time(const hsbd_spheres *s, int32_t i, double t);
+/* The same for a shell centred at c instead of i's own. */
+double sph_shell_exit_from(const hsbd_spheres *s, int32_t i, double t, const double c[3]);
 /* i (at time t, on the segment it began at t_local) against its row: the neighbours it
  * reaches before dt into s->scan_j, their contact times into s->scan_t; returns their
  * number. Each pair's time comes from the two segments alone, from the later start

@@ -902,12 +902,12 @@ static int hand_to_global_calendar(hsbd_spheres *s) {
  * group that ran there). A run that would touch anything else (a particle of another slab,
  * a group that spans slabs or ran elsewhere, a shell to move, its share of the segment log
  * full, more than SPECULATIVE_RERUNS re-runs) is undone at once, with what it took in and
- * the groups it rewound put back, and its group waits. Then a second round does the same on the slabs moved by half
- * a width, for the groups left that lie wholly in one of those (most of those that span
- * two slabs of the first round), and the serial pass runs the rest as before. Which
- * group runs where depends on the state only, never on the number of threads, so
- * neither do the results: the positions are those of the global calendar (docs/spheres.md,
- * "Threads"), and the sums are taken in group order at the end. */
+ * the groups it rewound put back, and its group waits. Then a second round does the same
+ * on the slabs moved by half a width, for the groups left that lie wholly in one of those
+ * (most of those that span two slabs of the first round), and the serial pass runs the
+ * rest as before. Which group runs where depends on the state only, never on the number
+ * of threads, so neither do the results: the positions are those of the global calendar
+ * (docs/spheres.md, "Threads"), and the sums are taken in group order at the end. */
 
 static void choose_slabs(hsbd_spheres *s, sph_groups *g) {
     g->nslabs = sph_slabs(s, &g->slab_axis);

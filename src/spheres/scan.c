@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "spheres/events.h"
 #include "spheres/neighbours.h"
 
 enum { SCAN_CHUNK = 4096 }; /* pairs per kernel call (at least one whole row) */
@@ -34,8 +35,49 @@ static int leaves_walls(const hsbd_spheres *s, size_t i) {
     return out;
 }
 
-static void flag_range(hsbd_spheres *s, size_t i0, size_t i1) {
+/* Room for the hit buffers of `threads` threads in *parts (*count of them held). Returns
+ * 0, or -1 when out of memory. */
+static int reserve_parts(sph_hits **parts, size_t *count, int threads) {
+    if ((size_t)threads <= *count) return 0;
+    sph_hits *grown = sph_grow_zeroed(*parts, *count, (size_t)threads, sizeof *grown);
+    if (!grown) return -1;
+    *parts = grown;
+    *count = (size_t)threads;
+    return 0;
+}
+
+/* Room for `more` hits after the h->len held. Returns 0, or -1 when out of memory. */
+static int hits_reserve(sph_hits *h, size_t more) {
+    if (h->len + more <= h->cap) return 0;
+    size_t cap = h->cap ? 2 * h->cap : 4096;
+    while (cap < h->len + more)
+        cap *= 2;
+    int32_t *i = realloc(h->i, cap * sizeof *i);
+    if (i) h->i = i;
+    int32_t *j = i ? realloc(h->j, cap * sizeof *j) : NULL;
+    if (j) h->j = j;
+    double *t = j ? realloc(h->t, cap * sizeof *t) : NULL;
+    if (!t) return -1;
+    h->t = t;
+    h->cap = cap;
+    return 0;
+}
+
+static int hits_add(sph_hits *h, double t, int32_t i, int32_t j) {
+    if (hits_reserve(h, 1)) return -1;
+    h->i[h->len] = i;
+    h->j[h->len] = j;
+    h->t[h->len++] = t;
+    return 0;
+}
+
+/* The flags of particles [i0, i1), and into h their start-of-step events in particle
+ * order: the time a path leaves the shell it will have once its shell moved (centred on
+ * its start position, sph_move_leaving_shells), and the time it meets a wall. Returns 0,
+ * or -1 when out of memory. */
+static int flag_range(hsbd_spheres *s, size_t i0, size_t i1, sph_hits *h) {
     const double dt = s->dt, r2 = s->shell * s->shell;
+    h->len = 0;
     for (size_t i = i0; i < i1; ++i) {
         double d[3];
         sph_min_image(s, s->x + 3 * i, s->centre + 3 * i, d);
@@ -44,13 +86,31 @@ static void flag_range(hsbd_spheres *s, size_t i0, size_t i1) {
         uint8_t flag = hsbd_dot3(e, e) > r2 ? SPH_LEAVES_SHELL : 0;
         if (s->any_walls && leaves_walls(s, i)) flag |= SPH_LEAVES_WALLS;
         s->start_flag[i] = flag;
+        if (flag & SPH_LEAVES_SHELL) {
+            double c[3];
+            sph_centre_for(s, s->x + 3 * i, c);
+            const double exit = sph_shell_exit_from(s, (int32_t)i, 0.0, c);
+            if (exit >= 0 && hits_add(h, exit, (int32_t)i, SPH_EVENT_SHELL)) return -1;
+        }
+        if (flag & SPH_LEAVES_WALLS) {
+            int wall = 0;
+            const double contact = sph_wall_time(s, (int32_t)i, 0.0, &wall);
+            if (contact >= 0 && hits_add(h, contact, (int32_t)i, sph_wall_event(wall))) return -1;
+        }
     }
+    return 0;
 }
 
-void sph_scan_leaving(hsbd_spheres *s, int threads) {
-#pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)
+int sph_scan_leaving(hsbd_spheres *s, int threads) {
+    if (reserve_parts(&s->exit_parts, &s->exit_nparts, threads)) return -1;
+    int failed = 0;
+#pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)                 \
+    reduction(|                                                                                    \
+              : failed)
     for (int k = 0; k < threads; ++k)
-        flag_range(s, sph_range_start(s->n, threads, k), sph_range_start(s->n, threads, k + 1));
+        failed |= flag_range(s, sph_range_start(s->n, threads, k),
+                             sph_range_start(s->n, threads, k + 1), &s->exit_parts[k]) != 0;
+    return failed ? -1 : 0;
 }
 
 /* ---- the shells that move at the start of a step ----
@@ -177,23 +237,6 @@ int sph_move_leaving_shells(hsbd_spheres *s, int threads) {
     return 0;
 }
 
-/* Room for `more` hits after the h->len held. Returns 0, or -1 when out of memory. */
-static int hits_reserve(sph_hits *h, size_t more) {
-    if (h->len + more <= h->cap) return 0;
-    size_t cap = h->cap ? 2 * h->cap : 4096;
-    while (cap < h->len + more)
-        cap *= 2;
-    int32_t *i = realloc(h->i, cap * sizeof *i);
-    if (i) h->i = i;
-    int32_t *j = i ? realloc(h->j, cap * sizeof *j) : NULL;
-    if (j) h->j = j;
-    double *t = j ? realloc(h->t, cap * sizeof *t) : NULL;
-    if (!t) return -1;
-    h->t = t;
-    h->cap = cap;
-    return 0;
-}
-
 /* The hits of rows [i0, i1) appended to h in row order. Returns 0, or -1. */
 static int scan_rows(const hsbd_spheres *s, const sph_scan_query *q, size_t i0, size_t i1,
                      sph_hits *h) {
@@ -209,13 +252,7 @@ static int scan_rows(const hsbd_spheres *s, const sph_scan_query *q, size_t i0, 
 }
 
 int sph_scan_pairs(hsbd_spheres *s, int threads) {
-    if ((size_t)threads > s->hit_nparts) { /* a hit buffer for each thread */
-        sph_hits *parts =
-            sph_grow_zeroed(s->hit_parts, s->hit_nparts, (size_t)threads, sizeof *parts);
-        if (!parts) return -1;
-        s->hit_parts = parts;
-        s->hit_nparts = (size_t)threads;
-    }
+    if (reserve_parts(&s->hit_parts, &s->hit_nparts, threads)) return -1;
     const sph_scan_query q = {.x = s->x,
                               .v = s->v,
                               .sigma = s->sigma,

@@ -23,8 +23,12 @@ void *sph_grow_zeroed(void *parts, size_t count, size_t want, size_t size);
 /* The first particle of range k of `parts` (nearly) equal ranges of [0, n). */
 size_t sph_range_start(size_t n, int parts, int k);
 
-/* Sets s->start_flag for every particle from its start position, velocity and shell. */
-void sph_scan_leaving(hsbd_spheres *s, int threads);
+/* Sets s->start_flag for every particle from its start position, velocity and shell, and
+ * puts into s->exit_parts[0 .. threads), part k for the k-th range of particles in their
+ * order, the start-of-step events of the flagged: the time a path leaves the shell it has
+ * once sph_move_leaving_shells moved it, the time it meets a wall. Returns 0, or -1 when
+ * out of memory. */
+int sph_scan_leaving(hsbd_spheres *s, int threads);
 /* Moves the shells of the particles flagged SPH_LEAVES_SHELL to their positions, with
  * their new pairs (shell_updates counts them), slab by slab on threads: the rows and cells
  * end the same for any number of threads. Returns 0, or -1 when out of memory. */

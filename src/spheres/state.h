@@ -102,6 +102,8 @@ struct hsbd_spheres {
     uint8_t *start_flag; /* per particle: its path leaves its shell or the walls (scan.h) */
     sph_hits *hit_parts; /* the half scan's hits, one part per thread */
     size_t hit_nparts;
+    sph_hits *exit_parts; /* the start's shell exits and wall contacts, one part per thread */
+    size_t exit_nparts;
     sph_near near;        /* points found around one particle */
     sph_near *near_parts; /* one per thread: the shells moved at the start of a step */
     size_t near_nparts;
@@ -169,11 +171,15 @@ static inline void sph_advance(hsbd_spheres *s, int32_t i, double t) {
     s->t_local[i] = t;
 }
 
-/* Puts i's shell centre at position x (i's position now), wrapped into the box. */
-static inline void sph_set_centre(hsbd_spheres *s, int32_t i, const double x[3]) {
-    double *c = s->centre + 3 * (size_t)i;
+/* The shell centre that sph_set_centre puts at position x: x wrapped into the box. */
+static inline void sph_centre_for(const hsbd_spheres *s, const double x[3], double c[3]) {
     for (int a = 0; a < 3; ++a)
         c[a] = x[a] - s->box[a] * floor(x[a] * s->inv_box[a]);
+}
+
+/* Puts i's shell centre at position x (i's position now), wrapped into the box. */
+static inline void sph_set_centre(hsbd_spheres *s, int32_t i, const double x[3]) {
+    sph_centre_for(s, x, s->centre + 3 * (size_t)i);
 }
 
 /* The axis that slabs cut (the groups' first pass, the shells moved at the start of a
