@@ -35,8 +35,11 @@ typedef struct sph_undo {
 } sph_undo;
 
 /* Where a particle of a group that ran stood before a first-pass run rewound the group:
- * its last logged segment (its position, velocity and local time) and its history flag. */
+ * its position, velocity and local time (a collision found separating by round-off moves
+ * the pair to its time without a new segment, so these need not be its last segment's),
+ * its last segment and its history flag. */
 typedef struct sph_ran_path {
+    double x[3], v[3], t_local;
     int32_t particle, last;
     uint8_t history;
 } sph_ran_path;
@@ -445,11 +448,17 @@ static int set_undoable(sph_groups *g, int32_t *at, int32_t value) {
 
 /* Before a first-pass run rewinds group b, which ran: where b's particles stood, so that
  * undoing the run can put them back. Returns 0, or -1 when out of memory. */
-static int keep_ran_paths(sph_groups *g, int32_t b) {
+static int keep_ran_paths(const hsbd_spheres *s, int32_t b) {
+    sph_groups *g = s->groups;
     sph_worker *w = g->worker;
     for (int32_t k = g->first_segment[b]; k >= 0; k = g->seg[k].next_head) {
         const int32_t p = g->seg[k].particle;
-        const sph_ran_path r = {p, g->last_segment[p], g->history[p]};
+        sph_ran_path r = {.t_local = s->t_local[p],
+                          .particle = p,
+                          .last = g->last_segment[p],
+                          .history = g->history[p]};
+        memcpy(r.x, s->x + 3 * (size_t)p, sizeof r.x);
+        memcpy(r.v, s->v + 3 * (size_t)p, sizeof r.v);
         if (note_item(&w->ran, &w->ran_len, &w->ran_cap, &r, sizeof r)) return -1;
     }
     const sph_undo u = {&g->first_segment[b], g->first_segment[b]};
@@ -461,7 +470,7 @@ static int keep_ran_paths(sph_groups *g, int32_t b) {
 static int join_and_rewind(hsbd_spheres *s, int32_t a, int32_t b) {
     sph_groups *g = s->groups;
     if (g->state[b] == GROUP_DONE) {
-        if (g->speculative && keep_ran_paths(g, b)) return -1;
+        if (g->speculative && keep_ran_paths(s, b)) return -1;
         rewind_group(s, b);
     }
     rewind_group(s, a);
@@ -735,10 +744,9 @@ static void undo_speculative(hsbd_spheres *s, int32_t a) {
     forget_rewound(g);   /* nothing else has met the paths it puts back */
     while (w->ran_len) { /* where the rewound groups' particles stood, latest first */
         const sph_ran_path *r = &w->ran[--w->ran_len];
-        const sph_segment *e = &g->seg[r->last];
-        memcpy(s->x + 3 * (size_t)r->particle, e->x, sizeof e->x);
-        memcpy(s->v + 3 * (size_t)r->particle, e->v, sizeof e->v);
-        s->t_local[r->particle] = e->t;
+        memcpy(s->x + 3 * (size_t)r->particle, r->x, sizeof r->x);
+        memcpy(s->v + 3 * (size_t)r->particle, r->v, sizeof r->v);
+        s->t_local[r->particle] = r->t_local;
         g->last_segment[r->particle] = r->last;
         g->history[r->particle] = r->history;
     }
