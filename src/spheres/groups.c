@@ -19,6 +19,7 @@
 #include "spheres/events.h"
 #include "spheres/neighbours.h"
 #include "spheres/scan.h"
+#include "spheres/slab_queue.h"
 
 /* One logged straight segment of a particle: from time t at position x with velocity v.
  * The first segment of a particle in a step also keeps its shell centre c at the start. */
@@ -1040,54 +1041,47 @@ static int reserve_workers(hsbd_spheres *s, int threads) {
     return 0;
 }
 
-/* A round of the first pass: the even slabs on the threads, then the odd ones. Returns 0
- * or -1. */
+_Static_assert((int)SPH_MAX_SLABS <= (int)SPH_SLAB_QUEUE_MAX,
+               "a slab queue holds the first pass's slabs");
+
+/* A round of the first pass: the slabs on the threads, even ones first, each odd one once
+ * its neighbours are done (slab_queue.h). Returns 0 or -1. */
 static int run_slabs(hsbd_spheres *s) {
     sph_groups *g = s->groups;
     const int threads = sph_threads(s);
     if (plan_slabs(s, threads) || reserve_workers(s, threads)) return -1;
     uint64_t played = 0, replayed = 0, stale = 0, reruns = 0;
-    int failed = 0;
-    for (int colour = 0; colour < 2 && !failed; ++colour) {
-        int next = colour; /* the next slab of this colour to take */
+    sph_slab_queue queue;
+    sph_slab_queue_start(&queue, g->nslabs);
 #pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)                 \
-    reduction(+ : played, replayed, stale, reruns) reduction(| : failed)
-        for (int w = 0; w < threads; ++w) {
-            sph_worker *worker = &g->workers[w];
-            hsbd_spheres local = *s; /* shares every array; its own calendar and buffers */
-            sph_groups local_groups = *g;
-            local.groups = &local_groups;
-            local.calendar = worker->calendar;
-            local.scan_j = worker->scan_j;
-            local.scan_t = worker->scan_t;
-            local_groups.speculative = 1;
-            local_groups.worker = worker;
-            local_groups.rewound = worker->rewound;
-            local_groups.nrewound = 0;
-            local_groups.played = local_groups.replayed = 0;
-            for (;;) {
-                int k;
-#pragma omp atomic capture
-                {
-                    k = next;
-                    next += 2;
-                }
-                if (k >= g->nslabs || failed) break;
-                failed |= run_slab(&local, k) != 0;
-            }
-            worker->calendar = local.calendar;
-            played += local_groups.played;
-            replayed += local_groups.replayed;
-            stale += local.stats.stale_events - s->stats.stale_events;
-            reruns += local.stats.group_reruns - s->stats.group_reruns;
-        }
+    reduction(+ : played, replayed, stale, reruns)
+    for (int w = 0; w < threads; ++w) {
+        sph_worker *worker = &g->workers[w];
+        hsbd_spheres local = *s; /* shares every array; its own calendar and buffers */
+        sph_groups local_groups = *g;
+        local.groups = &local_groups;
+        local.calendar = worker->calendar;
+        local.scan_j = worker->scan_j;
+        local.scan_t = worker->scan_t;
+        local_groups.speculative = 1;
+        local_groups.worker = worker;
+        local_groups.rewound = worker->rewound;
+        local_groups.nrewound = 0;
+        local_groups.played = local_groups.replayed = 0;
+        for (int k; (k = sph_slab_queue_take(&queue)) >= 0;)
+            sph_slab_queue_finish(&queue, k, run_slab(&local, k) != 0);
+        worker->calendar = local.calendar;
+        played += local_groups.played;
+        replayed += local_groups.replayed;
+        stale += local.stats.stale_events - s->stats.stale_events;
+        reruns += local.stats.group_reruns - s->stats.group_reruns;
     }
     g->played += played;
     g->replayed += replayed;
     s->stats.stale_events += stale;
     s->stats.group_reruns += reruns;
     g->nseg = g->slab_seg[g->nslabs];
-    return failed ? -1 : 0;
+    return atomic_load(&queue.failed) ? -1 : 0;
 }
 
 int sph_groups_run(hsbd_spheres *s) {

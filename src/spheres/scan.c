@@ -6,6 +6,7 @@
 
 #include "spheres/events.h"
 #include "spheres/neighbours.h"
+#include "spheres/slab_queue.h"
 
 enum { SCAN_CHUNK = 4096 }; /* pairs per kernel call (at least one whole row) */
 
@@ -122,12 +123,14 @@ int sph_scan_leaving(hsbd_spheres *s, int threads) {
  * it holds, in particle order; then two even slabs touch disjoint rows and cells, and so
  * do two odd ones. Every even slab moves its shells before its odd neighbours: each row
  * and cell sees the same edits in the same order for any number of threads. Threads take
- * the even slabs, then the odd ones; one thread takes them in the order 0, 2, 1, 4, 3, ...,
- * which gives the same edits and sweeps the box once (two sweeps cost it 15 % more of the
- * shells' time). OpenMP tasks with dependences would let threads sweep too, but with them
+ * the even slabs, then each odd one once its two neighbours are done (slab_queue.h; no
+ * barrier between the parities, which with three slabs of a parity on two threads left one
+ * idle a third of the time); one thread takes them in the order 0, 2, 1, 4, 3, ..., which
+ * gives the same edits and sweeps the box once (two sweeps cost it 15 % more of the
+ * shells' time). OpenMP tasks with dependences would do the same, but with them
  * LeakSanitizer found memory of gcc 12's libgomp still held at exit. */
 
-enum { SHELL_SLABS_MAX = 64 }; /* even */
+enum { SHELL_SLABS_MAX = SPH_SLAB_QUEUE_MAX }; /* even */
 
 /* The slabs' number along *axis: even, at least 4 (fewer could not work side by side),
  * or 0 (particle order). */
@@ -215,12 +218,13 @@ int sph_move_leaving_shells(hsbd_spheres *s, int threads) {
             const int k = wave_slab(q, nslabs);
             reached[k] = move_shells(s, first[k], first[k + 1], 0, 0, &s->near_parts[k], &moved[k]);
         }
-    } else { /* the even slabs at once, then the odd ones: the same edits in the same order */
-        for (int parity = 0; parity < 2; ++parity) {
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-            for (int k = parity; k < nslabs; k += 2)
-                reached[k] =
-                    move_shells(s, first[k], first[k + 1], 0, 0, &s->near_parts[k], &moved[k]);
+    } else { /* even slabs first, an odd one after its neighbours: the same edits, in order */
+        sph_slab_queue queue;
+        sph_slab_queue_start(&queue, nslabs);
+#pragma omp parallel num_threads(threads)
+        for (int k; (k = sph_slab_queue_take(&queue)) >= 0;) {
+            reached[k] = move_shells(s, first[k], first[k + 1], 0, 0, &s->near_parts[k], &moved[k]);
+            sph_slab_queue_finish(&queue, k, 0); /* a failure is handled below, as before */
         }
     }
     uint64_t total = 0;
