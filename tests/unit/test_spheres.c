@@ -20,6 +20,7 @@
 #include "hsbd/spheres.h"
 #include "spheres/calendar.h"
 #include "spheres/kernels.h"
+#include "spheres/slab_queue.h"
 #include "spheres/state.h"
 
 static const double PI = 3.14159265358979323846;
@@ -754,6 +755,68 @@ static void test_threads(void) {
     compare_thread_counts("walls and gravity", p, 150);
 }
 
+/* A busy wait that the compiler keeps: about `rounds` dependent multiplications. */
+static double spin_work(long rounds) {
+    volatile double x = 1.0;
+    for (long r = 0; r < rounds; ++r)
+        x = x * 1.0000001;
+    return x;
+}
+
+/* The slab queue (src/spheres/slab_queue.h) on 1 to 4 threads (oversubscribed on two
+ * cores): every slab handed out once; no slab starts while a neighbour runs; an odd slab
+ * starts only after both even neighbours finished. Even slabs are made slow, so that a
+ * queue that did not wait would hand out an odd slab beside a running one. A failed slab
+ * stops the handing out. */
+static void slab_queue_run(int nslabs, int threads, int fail_at) {
+    sph_slab_queue q;
+    sph_slab_queue_start(&q, nslabs);
+    atomic_int state[SPH_SLAB_QUEUE_MAX]; /* 0 not started, 1 running, 2 finished */
+    atomic_int taken[SPH_SLAB_QUEUE_MAX], violations, handed;
+    for (int k = 0; k < nslabs; ++k) {
+        atomic_init(&state[k], 0);
+        atomic_init(&taken[k], 0);
+    }
+    atomic_init(&violations, 0);
+    atomic_init(&handed, 0);
+#pragma omp parallel num_threads(threads)
+    for (int k; (k = sph_slab_queue_take(&q)) >= 0;) {
+        const int left = (k + nslabs - 1) % nslabs, right = (k + 1) % nslabs;
+        atomic_fetch_add(&taken[k], 1);
+        atomic_fetch_add(&handed, 1);
+        atomic_store(&state[k], 1);
+        if (atomic_load(&state[left]) == 1 || atomic_load(&state[right]) == 1)
+            atomic_fetch_add(&violations, 1);
+        if (k % 2 && (atomic_load(&state[left]) != 2 || atomic_load(&state[right]) != 2))
+            atomic_fetch_add(&violations, 1);
+        spin_work(k % 2 ? 1000 : 200000);
+        if (atomic_load(&state[left]) == 1 || atomic_load(&state[right]) == 1)
+            atomic_fetch_add(&violations, 1);
+        atomic_store(&state[k], 2);
+        sph_slab_queue_finish(&q, k, k == fail_at);
+    }
+    CHECK(atomic_load(&violations) == 0,
+          "slab queue, %d slabs, %d threads: %d neighbours ran at once", nslabs, threads,
+          atomic_load(&violations));
+    int once = 1;
+    for (int k = 0; k < nslabs; ++k)
+        once &= atomic_load(&taken[k]) <= 1 && (fail_at >= 0 || atomic_load(&taken[k]) == 1);
+    CHECK(once, "slab queue, %d slabs, %d threads: a slab handed out twice or never", nslabs,
+          threads);
+    if (fail_at >= 0) /* the failed slab is even and all evens come first: no odd one runs */
+        CHECK(atomic_load(&handed) <= nslabs / 2 + threads - 1,
+              "slab queue, %d slabs, %d threads: %d slabs handed out after a failure", nslabs,
+              threads, atomic_load(&handed));
+}
+
+static void test_slab_queue(void) {
+    const int counts[] = {4, 6, 10, SPH_SLAB_QUEUE_MAX};
+    for (size_t c = 0; c < sizeof counts / sizeof *counts; ++c)
+        for (int threads = 1; threads <= 4; ++threads)
+            slab_queue_run(counts[c], threads, -1);
+    slab_queue_run(10, 2, 0);
+}
+
 static void test_bad_params(void) {
     hsbd_spheres_params p = {.n = 10,
                              .dimension = 3,
@@ -998,6 +1061,7 @@ int main(void) {
     test_diameters();
     test_compress();
     test_gr_weights();
+    test_slab_queue();
     test_threads();
     test_auto_ignores_threads();
     return test_finish("test_spheres");
