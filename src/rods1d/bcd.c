@@ -640,31 +640,32 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
     return mi / (mi + rod_mobility(r, nb));
 }
 
-/* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push. */
-static void take_half_pushes(hsbd_rods *r, size_t lo, size_t hi) {
+/* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push:
+ * their pushed end points into out. */
+static void take_half_pushes(const hsbd_rods *r, size_t lo, size_t hi, double *out) {
     const double *y = r->y, *push = r->push;
     for (size_t i = lo; i < hi; ++i)
-        r->ypush[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
+        out[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
 }
 
 /* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at the last one, n - 2), in
  * batches of GAP_CHUNK from lo. With one species the rods between two gaps of a batch
  * take their halves at once, while the batch's end points and pushes are in cache; the
  * first rod of each batch waits for the batch before (take_batch_edges). */
-static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt) {
+static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt, double *out) {
     if (hi > r->par.n - 1) hi = r->par.n - 1;
     for (size_t first = lo; first < hi; first += GAP_CHUNK) {
         const size_t m = hi - first < GAP_CHUNK ? hi - first : GAP_CHUNK;
         push_gap_batch(r, first, m, kt_dt, r->push + first);
-        if (!r->species) take_half_pushes(r, first + 1, first + m);
+        if (!r->species) take_half_pushes(r, first + 1, first + m, out);
     }
 }
 
 /* One species: the first rod of every batch but the first (its left gap is the last of
  * the batch before) takes its halves. */
-static void take_batch_edges(hsbd_rods *r) {
+static void take_batch_edges(const hsbd_rods *r, double *out) {
     for (size_t first = GAP_CHUNK; first < r->par.n - 1; first += GAP_CHUNK)
-        take_half_pushes(r, first, first + 1);
+        take_half_pushes(r, first, first + 1, out);
 }
 
 /* Reflect rule: for every gap that may have touched zero during the step, draw the
@@ -672,8 +673,12 @@ static void take_batch_edges(hsbd_rods *r) {
  * any dt and constant force). Rod-rod gaps have relative diffusion D_i + D_{i+1}, and the
  * push is shared in proportion to the mobilities, which keeps the pair's friction-weighted
  * centre; a wall gap has D_i and the rod takes all of it. Pushes are computed from the
- * free end points of all gaps first, so the result does not depend on the order. */
-static void reflect_gaps(hsbd_rods *r) {
+ * free end points of all gaps first, so the result does not depend on the order. The
+ * pushed end points go to out: r->ypush, or z itself (see hsbd_rods_step). Each batch
+ * writes the rods between its gaps only after its own pushes, and no batch reads the
+ * positions of another's rods but the first (written last, by take_batch_edges), so out
+ * may be z on threads too. */
+static void reflect_gaps(hsbd_rods *r, double *out) {
     const size_t n = r->par.n;
     const double kt_dt = r->par.kT * r->par.dt, lf = r->free_length;
     const uint64_t seed = r->par.seed, step = r->step;
@@ -686,11 +691,11 @@ static void reflect_gaps(hsbd_rods *r) {
         const long nbatches = (long)((n - 1 + GAP_CHUNK - 1) / GAP_CHUNK);
 #pragma omp parallel for schedule(static) num_threads(threads)
         for (long b = 0; b < nbatches; ++b)
-            push_gap_batches(r, (size_t)b * GAP_CHUNK, (size_t)(b + 1) * GAP_CHUNK, kt_dt);
+            push_gap_batches(r, (size_t)b * GAP_CHUNK, (size_t)(b + 1) * GAP_CHUNK, kt_dt, out);
     } else {
-        push_gap_batches(r, 0, n - 1, kt_dt);
+        push_gap_batches(r, 0, n - 1, kt_dt, out);
     }
-    if (!r->species) take_batch_edges(r);
+    if (!r->species) take_batch_edges(r, out);
     if (r->walls) { /* the rod's own D against each wall */
         const double d_last = rod_mobility(r, n - 1) * kt_dt, d_first = rod_mobility(r, 0) * kt_dt;
         push[n - 1] = bridge_push(lf - z[n - 1], lf - y[n - 1], d_last, seed, step, n - 1);
@@ -707,8 +712,8 @@ static void reflect_gaps(hsbd_rods *r) {
         const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
         const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
         const double left = push[wall_left ? n : il], right = push[i];
-        r->ypush[i] = y[i] + left * push_share(r, i, wall_left ? i : il) -
-                      right * push_share(r, i, wall_right ? i : ir);
+        out[i] = y[i] + left * push_share(r, i, wall_left ? i : il) -
+                 right * push_share(r, i, wall_right ? i : ir);
     }
 }
 
@@ -750,8 +755,13 @@ int hsbd_rods_step(hsbd_rods *r, hsbd_rods_step_stats *stats) {
     if (r->par.hard_core) {
         const double *target = r->y;
         if (r->par.contact_rule == HSBD_CONTACT_REFLECT) {
-            reflect_gaps(r);
-            target = r->ypush;
+            /* The pushed end points into z itself, and the regression in place, unless the
+             * fragment count needs the start positions or a mixture's weighted regression
+             * would copy them anyway: 8 bytes per rod less to write and read back, which
+             * beyond the caches is most of what the rule adds to a step. Same bits. */
+            double *out = stats || r->species ? r->ypush : r->z;
+            reflect_gaps(r, out);
+            target = out;
         }
         if (stats) count_fragments(r, target, stats);
         if (r->walls)
