@@ -125,7 +125,7 @@ int sph_scan_leaving(hsbd_spheres *s, int threads) {
  * and cell sees the same edits in the same order for any number of threads. Threads take
  * the even slabs, then each odd one once its two neighbours are done (slab_queue.h; no
  * barrier between the parities, which with three slabs of a parity on two threads left one
- * idle a third of the time); one thread takes them in the order 0, 2, 1, 4, 3, ..., which
+ * idle half the time); one thread takes them in the order 0, 2, 1, 4, 3, ..., which
  * gives the same edits and sweeps the box once (two sweeps cost it 15 % more of the
  * shells' time). OpenMP tasks with dependences would do the same, but with them
  * LeakSanitizer found memory of gcc 12's libgomp still held at exit. */

@@ -4,7 +4,7 @@
  * every odd slab starts after its neighbours, as with a barrier between the two parities;
  * but a thread that finds no even slab left goes on to an odd one whose neighbours are
  * done instead of waiting for the last even slab. With three slabs of a parity and two
- * threads, the barrier left one thread idle for a third of the parity's time. */
+ * threads, the barrier left one thread idle for half of the parity's time. */
 #ifndef HSBD_SPHERES_SLAB_QUEUE_H
 #define HSBD_SPHERES_SLAB_QUEUE_H
 
