@@ -357,6 +357,55 @@ static void test_stats_on_threads(int contact_rule, int boundary) {
     hsbd_rods_free(three);
 }
 
+/* The reflect rule writes the pushed end points into z and runs the regression in place
+ * when no fragment count is asked for (one species), and into an array of its own when
+ * one is: both must give the same bits. A dense system (many pushes) of three batches of
+ * gaps and a tail, on a ring and between walls, the in-place one on one and on three
+ * threads (batches side by side), stepped against one that counts fragments every step:
+ * positions, free end points, pushes and unwrap compared at every step. */
+static void test_reflect_in_place(int boundary, int threads) {
+    hsbd_rods_params par = {.n = 3100,
+                            .length = 3100.0,
+                            .sigma = 0.9,
+                            .diffusion = 1,
+                            .kT = 1,
+                            .dt = 1e-3,
+                            .seed = 21,
+                            .hard_core = 1,
+                            .boundary = boundary,
+                            .contact_rule = HSBD_CONTACT_REFLECT};
+    hsbd_field_add(&par.field, hsbd_field_cosine(6.0, 1.0));
+    hsbd_error err;
+    hsbd_rods *counted = hsbd_rods_alloc(&par, &err);
+    par.threads = threads;
+    hsbd_rods *in_place = hsbd_rods_alloc(&par, &err);
+    if (!counted || !in_place) {
+        CHECK(0, "alloc");
+        return;
+    }
+    hsbd_rods_init_equilibrium(counted);
+    hsbd_rods_init_equilibrium(in_place);
+    int same = 1, first_diff = -1;
+    size_t pushed = 0;
+    for (int s = 0; s < 300 && same; ++s) {
+        hsbd_rods_step_stats st;
+        hsbd_rods_step(counted, &st);
+        hsbd_rods_step(in_place, NULL);
+        const hsbd_rods_view a = hsbd_rods_get_view(counted), b = hsbd_rods_get_view(in_place);
+        same = memcmp(a.z, b.z, par.n * sizeof *a.z) == 0 &&
+               memcmp(a.y, b.y, par.n * sizeof *a.y) == 0 &&
+               memcmp(a.push, b.push, (par.n + 1) * sizeof *a.push) == 0 && a.unwrap == b.unwrap;
+        if (!same) first_diff = s;
+        for (size_t i = 0; i <= par.n; ++i)
+            pushed += a.push[i] > 0;
+    }
+    CHECK(same, "boundary %d, %d threads: in place differs from counted at step %d", boundary,
+          threads, first_diff);
+    CHECK(pushed > 1000, "boundary %d: only %zu pushes in 300 steps", boundary, pushed);
+    hsbd_rods_free(counted);
+    hsbd_rods_free(in_place);
+}
+
 /* The library's default contact rule (a zero-initialised parameter struct) is the one the
  * CLI's configuration defaults to: a benchmark or a library user then times and runs what
  * `hsbd run` runs (the library once defaulted to the paper's sticky rule). */
@@ -435,6 +484,10 @@ int main(void) {
     test_mixture_step_vs_oracle(HSBD_RODS_WALLS);
     test_step_stats(HSBD_CONTACT_STICKY);
     test_step_stats(HSBD_CONTACT_REFLECT);
+    for (int threads = 1; threads <= 3; threads += 2) {
+        test_reflect_in_place(HSBD_RODS_PERIODIC, threads);
+        test_reflect_in_place(HSBD_RODS_WALLS, threads);
+    }
     for (int rule = 0; rule <= 1; ++rule) {
         test_stats_on_threads(rule ? HSBD_CONTACT_STICKY : HSBD_CONTACT_REFLECT,
                               HSBD_RODS_PERIODIC);
