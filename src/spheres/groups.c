@@ -984,8 +984,27 @@ static inline __attribute__((always_inline)) void prefetch_group_neighbours(cons
     }
 }
 
-/* The groups of slab k, in order, in a worker's copies of the state (the neighbours of
- * the group two ahead asked for in advance). Returns 0, or -1 when out of memory. */
+/* The rows (their first line) and row counts of group a's particles, which
+ * prefetch_group_neighbours reads a few groups later: asked for first, so that its reads
+ * do not wait. A slab's groups hold particles only (no shell exits or walls: slab_of_group).
+ * Always inlined, as above. */
+static inline __attribute__((always_inline)) void prefetch_group_rows(const hsbd_spheres *s,
+                                                                      int32_t a) {
+    const sph_groups *g = s->groups;
+    for (int32_t o = g->start[a]; o < g->start[a] + g->count[a]; ++o) {
+        const int32_t ends[2] = {g->by_i[o], g->by_j[o]};
+        for (int e = 0; e < 2; ++e) {
+            __builtin_prefetch(s->nb + (size_t)ends[e] * s->nb_cap);
+            __builtin_prefetch(s->nb_count + ends[e]);
+        }
+    }
+}
+
+enum { ROWS_AHEAD = 8, NEIGHBOURS_AHEAD = 3 }; /* groups ahead in the slab's list */
+
+/* The groups of slab k, in order, in a worker's copies of the state (the rows of the
+ * group eight ahead and the neighbours of the group three ahead asked for in advance).
+ * Returns 0, or -1 when out of memory. */
 static int run_slab(hsbd_spheres *s, int k) {
     sph_groups *g = s->groups;
     g->slab = k;
@@ -994,8 +1013,10 @@ static int run_slab(hsbd_spheres *s, int k) {
     const int ahead = s->n >= SPH_PREFETCH_MIN_N;
     for (size_t q = g->slab_first[k]; q < g->slab_first[k + 1]; ++q) {
         const int32_t a = g->slab_groups[q];
-        if (ahead && q + 2 < g->slab_first[k + 1])
-            prefetch_group_neighbours(s, g->slab_groups[q + 2]);
+        if (ahead && q + ROWS_AHEAD < g->slab_first[k + 1])
+            prefetch_group_rows(s, g->slab_groups[q + ROWS_AHEAD]);
+        if (ahead && q + NEIGHBOURS_AHEAD < g->slab_first[k + 1])
+            prefetch_group_neighbours(s, g->slab_groups[q + NEIGHBOURS_AHEAD]);
         if (g->state[a] != GROUP_PENDING) continue; /* joined by an earlier run */
         sph_worker *w = g->worker;
         w->lone_len = w->joined_len = w->undo_len = w->ran_len = 0;

@@ -38,6 +38,8 @@ static inline __attribute__((always_inline)) void sph_prefetch_neighbours(const 
     for (uint32_t q = 0; q < s->nb_count[i]; ++q) {
         __builtin_prefetch(s->x + 3 * (size_t)row[q]);
         __builtin_prefetch(s->v + 3 * (size_t)row[q]);
+        __builtin_prefetch(s->t_local + row[q]);
+        __builtin_prefetch(s->sigma + row[q]);
     }
 }
 /* Places every particle's shell at its position and builds all neighbour lists. Returns

@@ -168,14 +168,54 @@ static void sort_leaving(hsbd_spheres *s, int axis, int nslabs, size_t first[]) 
             s->leaving[count[shell_slab(s, axis, nslabs, (int32_t)i)]++] = (int32_t)i;
 }
 
+/* Beyond the caches (SPH_PREFETCH_MIN_N) a shell move waits on loads whose addresses
+ * come from other loads: its neighbours' rows from its own row, the cells from its
+ * position. So the data are asked for in two stages: the own row, count and position of
+ * the move SHELL_ROWS_AHEAD places ahead, then, once they are in cache, the neighbours'
+ * rows and the cells around the new centre of the move SHELL_NEIGHBOURS_AHEAD ahead.
+ * Hints only: no result changes. Always inlined (see groups.c). */
+enum { SHELL_ROWS_AHEAD = 8, SHELL_NEIGHBOURS_AHEAD = 3 };
+
+static inline __attribute__((always_inline)) void prefetch_shell_own(const hsbd_spheres *s,
+                                                                     int32_t i) {
+    __builtin_prefetch(s->nb + (size_t)i * s->nb_cap);
+    __builtin_prefetch(s->nb_count + i);
+    __builtin_prefetch(s->x + 3 * (size_t)i);
+    __builtin_prefetch(s->cells.cell_of + i);
+}
+
+static inline __attribute__((always_inline)) void prefetch_shell_around(const hsbd_spheres *s,
+                                                                        int32_t i) {
+    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    for (uint32_t q = 0; q < s->nb_count[i]; ++q) {
+        __builtin_prefetch(s->nb + (size_t)row[q] * s->nb_cap, 1);
+        __builtin_prefetch(s->nb_count + row[q], 1);
+    }
+    int32_t around[27];
+    const hsbd_cells *c = &s->cells;
+    const int nc = hsbd_cells_around(c, s->x + 3 * (size_t)i, around);
+    for (int k = 0; k < nc; ++k) {
+        const size_t cell = (size_t)around[k];
+        __builtin_prefetch(c->count + cell);
+        __builtin_prefetch(c->id + cell * c->cap);
+        __builtin_prefetch(c->pos + 3 * cell * c->cap);
+        __builtin_prefetch(c->pos + 3 * cell * c->cap + 8);
+    }
+}
+
 /* Moves the shells of s->leaving[from .. to) in order; the first is already lifted when
  * `lifted`. Without `may_grow` it stops before a pair or a point that would need a full row
  * or cell to grow, that particle lifted. Returns the position reached (to when done), or
  * -1 when out of memory; *moved counts the shells lifted. */
 static long move_shells(hsbd_spheres *s, size_t from, size_t to, int lifted, int may_grow,
                         sph_near *near, uint64_t *moved) {
+    const int ahead = s->n >= SPH_PREFETCH_MIN_N;
     for (size_t q = from; q < to; ++q) {
         const int32_t i = s->leaving[q];
+        if (ahead && q + SHELL_ROWS_AHEAD < to)
+            prefetch_shell_own(s, s->leaving[q + SHELL_ROWS_AHEAD]);
+        if (ahead && q + SHELL_NEIGHBOURS_AHEAD < to)
+            prefetch_shell_around(s, s->leaving[q + SHELL_NEIGHBOURS_AHEAD]);
         if (!(lifted && q == from)) {
             sph_shell_lift(s, i, s->x + 3 * (size_t)i);
             (*moved)++;
