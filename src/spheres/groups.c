@@ -996,6 +996,9 @@ static inline __attribute__((always_inline)) void prefetch_group_rows(const hsbd
         for (int e = 0; e < 2; ++e) {
             __builtin_prefetch(s->nb + (size_t)ends[e] * s->nb_cap);
             __builtin_prefetch(s->nb_count + ends[e]);
+            __builtin_prefetch(g->last_segment + ends[e]); /* its run's own bookkeeping */
+            __builtin_prefetch(g->parent + ends[e]);
+            __builtin_prefetch(s->counter + ends[e]);
         }
     }
 }
