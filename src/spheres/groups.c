@@ -107,7 +107,8 @@ struct sph_groups {
     double slab_scale;     /* slabs per unit length */
     double slab_shift;     /* 0, or 0.5 in the second round: the slabs moved half a width */
     int32_t *group_slab;   /* per group: the slab holding all its particles, or -1 */
-    int32_t *slab_groups;  /* the groups of slab k in order, from slab_first[k] */
+    int32_t *slab_groups;  /* the groups of slab k in order, from slab_first[k]; then
+                            * the groups left for the serial pass */
     size_t slab_first[SPH_MAX_SLABS + 1];
     size_t slab_seg[SPH_MAX_SLABS + 1]; /* slab k logs in [slab_seg[k], slab_seg[k + 1]) */
     sph_worker *workers;
@@ -977,7 +978,7 @@ static inline __attribute__((always_inline)) void prefetch_group_neighbours(cons
     const sph_groups *g = s->groups;
     for (int32_t o = g->start[a]; o < g->start[a] + g->count[a]; ++o) {
         const int32_t ends[2] = {g->by_i[o], g->by_j[o]};
-        for (int e = 0; e < 2; ++e) {
+        for (int e = 0; e < 1 + (ends[1] >= 0); ++e) { /* not a shell exit or a wall */
             sph_prefetch_neighbours(s, ends[e]);
             __builtin_prefetch(s->centre + 3 * (size_t)ends[e]); /* its shell-exit test */
         }
@@ -985,15 +986,14 @@ static inline __attribute__((always_inline)) void prefetch_group_neighbours(cons
 }
 
 /* The rows (their first line) and row counts of group a's particles, which
- * prefetch_group_neighbours reads a few groups later: asked for first, so that its reads
- * do not wait. A slab's groups hold particles only (no shell exits or walls: slab_of_group).
- * Always inlined, as above. */
+ * prefetch_group_neighbours reads a few groups later, and their own bookkeeping: asked for
+ * first, so that those reads do not wait. Always inlined, as above. */
 static inline __attribute__((always_inline)) void prefetch_group_rows(const hsbd_spheres *s,
                                                                       int32_t a) {
     const sph_groups *g = s->groups;
     for (int32_t o = g->start[a]; o < g->start[a] + g->count[a]; ++o) {
         const int32_t ends[2] = {g->by_i[o], g->by_j[o]};
-        for (int e = 0; e < 2; ++e) {
+        for (int e = 0; e < 1 + (ends[1] >= 0); ++e) {
             __builtin_prefetch(s->nb + (size_t)ends[e] * s->nb_cap);
             __builtin_prefetch(s->nb_count + ends[e]);
             __builtin_prefetch(g->last_segment + ends[e]); /* its run's own bookkeeping */
@@ -1003,7 +1003,15 @@ static inline __attribute__((always_inline)) void prefetch_group_rows(const hsbd
     }
 }
 
-enum { ROWS_AHEAD = 8, NEIGHBOURS_AHEAD = 3 }; /* groups ahead in the slab's list */
+enum { ROWS_AHEAD = 8, NEIGHBOURS_AHEAD = 3 }; /* groups ahead in a list */
+
+/* Before the q-th of the groups list[0 .. len) runs (beyond the caches): the rows of the
+ * group ROWS_AHEAD places on, and the neighbours of the one NEIGHBOURS_AHEAD on. */
+static inline __attribute__((always_inline)) void
+prefetch_groups_ahead(const hsbd_spheres *s, const int32_t *list, size_t q, size_t len) {
+    if (q + ROWS_AHEAD < len) prefetch_group_rows(s, list[q + ROWS_AHEAD]);
+    if (q + NEIGHBOURS_AHEAD < len) prefetch_group_neighbours(s, list[q + NEIGHBOURS_AHEAD]);
+}
 
 /* The groups of slab k, in order, in a worker's copies of the state (the rows of the
  * group eight ahead and the neighbours of the group three ahead asked for in advance).
@@ -1016,10 +1024,7 @@ static int run_slab(hsbd_spheres *s, int k) {
     const int ahead = s->n >= SPH_PREFETCH_MIN_N;
     for (size_t q = g->slab_first[k]; q < g->slab_first[k + 1]; ++q) {
         const int32_t a = g->slab_groups[q];
-        if (ahead && q + ROWS_AHEAD < g->slab_first[k + 1])
-            prefetch_group_rows(s, g->slab_groups[q + ROWS_AHEAD]);
-        if (ahead && q + NEIGHBOURS_AHEAD < g->slab_first[k + 1])
-            prefetch_group_neighbours(s, g->slab_groups[q + NEIGHBOURS_AHEAD]);
+        if (ahead) prefetch_groups_ahead(s, g->slab_groups, q, g->slab_first[k + 1]);
         if (g->state[a] != GROUP_PENDING) continue; /* joined by an earlier run */
         sph_worker *w = g->worker;
         w->lone_len = w->joined_len = w->undo_len = w->ran_len = 0;
@@ -1121,9 +1126,17 @@ int sph_groups_run(hsbd_spheres *s) {
         g->slab_shift = 0.5 * round;
         if (run_slabs(s)) return -1;
     }
-    for (size_t a = 0; a < g->ngroups; ++a) {
-        if (g->state[a] != GROUP_PENDING) continue;
-        const int32_t rc = run_group(s, (int32_t)a);
+    /* the groups left, in order, into slab_groups (the first pass is done with it), so
+     * that their data can be asked for ahead */
+    size_t pending = 0;
+    for (size_t a = 0; a < g->ngroups; ++a)
+        if (g->state[a] == GROUP_PENDING) g->slab_groups[pending++] = (int32_t)a;
+    const int ahead = s->n >= SPH_PREFETCH_MIN_N;
+    for (size_t q = 0; q < pending; ++q) {
+        const int32_t a = g->slab_groups[q];
+        if (ahead) prefetch_groups_ahead(s, g->slab_groups, q, pending);
+        if (g->state[a] != GROUP_PENDING) continue; /* joined by an earlier run */
+        const int32_t rc = run_group(s, a);
         if (rc == OUT_OF_MEMORY) return -1;
         if (rc == NO_JOIN) continue;
         for (size_t b = 0; b < g->ngroups; ++b) /* give up: the whole step back to its start */
