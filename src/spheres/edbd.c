@@ -305,7 +305,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->nb_cap = 16;
         s->nb_count = calloc(n, sizeof *s->nb_count);
         s->nb_upper = calloc(n, sizeof *s->nb_upper);
-        s->nb = malloc(n * s->nb_cap * sizeof *s->nb);
+        s->nb = sph_rows_alloc(n, s->nb_cap);
         if (!s->nb_count || !s->nb_upper || !s->nb) goto oom;
         s->predict_row = sph_predict_row_select();
         s->cells_near = sph_cells_near_select();

@@ -20,6 +20,11 @@ static uint32_t nb_next_cap(uint32_t cap) {
     return next;
 }
 
+int32_t *sph_rows_alloc(size_t n, uint32_t cap) {
+    const size_t line = 64, bytes = n * cap * sizeof(int32_t);
+    return aligned_alloc(line, bytes ? (bytes + line - 1) / line * line : line); /* whole lines */
+}
+
 static int nb_grow(hsbd_spheres *s) {
     const uint32_t cap = nb_next_cap(s->nb_cap);
     if (cap > s->scan_cap) { /* a row's scan takes the whole row */
@@ -30,7 +35,7 @@ static int nb_grow(hsbd_spheres *s) {
         if (!sj || !st) return -1;
         s->scan_cap = cap;
     }
-    int32_t *nb = malloc(s->n * cap * sizeof *nb);
+    int32_t *nb = sph_rows_alloc(s->n, cap);
     if (!nb) return -1;
     for (size_t i = 0; i < s->n; ++i)
         memcpy(nb + i * cap, s->nb + i * s->nb_cap, s->nb_count[i] * sizeof *nb);

@@ -8,6 +8,11 @@
 /* The functions returning int give 0, or -1 when out of memory: the rows may then miss
  * pairs (the caller fails the step; sph_rebuild_neighbours puts them right). */
 
+/* Room for n rows of cap entries, aligned to 64 bytes: with cap a multiple of 16 every
+ * row starts a cache line (a row of 16 fits one line, not two). NULL when out of memory;
+ * released with free(). */
+int32_t *sph_rows_alloc(size_t n, uint32_t cap);
+
 /* Adds j to row i (upper part when j > i); the rows grow when one is full. */
 int sph_nb_add(hsbd_spheres *s, int32_t i, int32_t j);
 void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j);

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "spheres/neighbours.h"
 #include "spheres/order.h"
 
 /* The slab (of `slabs` along `axis`) holding the middle of cell k. */
@@ -130,7 +131,7 @@ static size_t per_particle_table(hsbd_spheres *s, per_particle *t) {
 static int permute_neighbours(hsbd_spheres *s, const int32_t *new_to_old,
                               const int32_t *old_to_new) {
     const size_t n = s->n, cap = s->nb_cap;
-    int32_t *nb = malloc(n * cap * sizeof *nb);
+    int32_t *nb = sph_rows_alloc(n, cap);
     uint32_t *count = malloc(n * sizeof *count), *upper = malloc(n * sizeof *upper);
     if (!nb || !count || !upper) {
         free(nb);

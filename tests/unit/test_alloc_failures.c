@@ -33,9 +33,11 @@
 void *__real_malloc(size_t size);
 void *__real_calloc(size_t count, size_t size);
 void *__real_realloc(void *p, size_t size);
+void *__real_aligned_alloc(size_t alignment, size_t size);
 void *__wrap_malloc(size_t size);
 void *__wrap_calloc(size_t count, size_t size);
 void *__wrap_realloc(void *p, size_t size);
+void *__wrap_aligned_alloc(size_t alignment, size_t size);
 
 static uint64_t allocations; /* since the start of the process */
 static uint64_t fail_at;     /* this allocation fails (0: none) */
@@ -66,6 +68,11 @@ void *__wrap_calloc(size_t count, size_t size) {
 
 void *__wrap_realloc(void *p, size_t size) {
     return this_one_fails(__builtin_return_address(0)) ? NULL : __real_realloc(p, size);
+}
+
+void *__wrap_aligned_alloc(size_t alignment, size_t size) {
+    return this_one_fails(__builtin_return_address(0)) ? NULL
+                                                       : __real_aligned_alloc(alignment, size);
 }
 
 /* After a library call that made the allocations (before, allocations]: it reports a
