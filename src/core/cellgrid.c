@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { CELLS_FIRST_CAP = 4 };
+_Static_assert(sizeof(hsbd_cell) == 128, "a cell record fills two cache lines");
+
+enum { CELL_ALIGN = 64 };
 
 int hsbd_cells_init(hsbd_cells *c, int dim, const double box[3], double min_size, size_t npoints) {
     memset(c, 0, sizeof *c);
@@ -22,13 +24,13 @@ int hsbd_cells_init(hsbd_cells *c, int dim, const double box[3], double min_size
         c->inv_width[a] = a < dim ? n / box[a] : 0.0;
         c->ncells *= (size_t)n;
     }
-    c->cap = CELLS_FIRST_CAP;
-    c->count = calloc(c->ncells, sizeof *c->count);
-    c->id = calloc(c->ncells * c->cap, sizeof *c->id); /* empty slots are read (cellgrid.h) */
-    c->pos = calloc(3 * c->ncells * c->cap + 1, sizeof *c->pos); /* + 1: see cellgrid.h */
+    /* calloc, aligned by hand: aligned_alloc would have to zero every page at once */
+    c->cell_block = calloc(c->ncells * sizeof *c->cell + CELL_ALIGN, 1);
     c->cell_of = malloc(npoints * sizeof *c->cell_of);
     c->slot_of = malloc(npoints * sizeof *c->slot_of);
-    if (!c->count || !c->id || !c->pos || !c->cell_of || !c->slot_of) return -1;
+    if (!c->cell_block || !c->cell_of || !c->slot_of) return -1;
+    const uintptr_t at = (uintptr_t)c->cell_block;
+    c->cell = (hsbd_cell *)((char *)c->cell_block + (CELL_ALIGN - at % CELL_ALIGN) % CELL_ALIGN);
     hsbd_cells_clear(c);
     return 0;
 }
@@ -47,16 +49,16 @@ int hsbd_cells_reserve_points(hsbd_cells *c, size_t npoints) {
 }
 
 void hsbd_cells_free(hsbd_cells *c) {
-    free(c->count);
-    free(c->id);
-    free(c->pos);
+    free(c->cell_block);
+    free(c->more);
     free(c->cell_of);
     free(c->slot_of);
     memset(c, 0, sizeof *c);
 }
 
 void hsbd_cells_clear(hsbd_cells *c) {
-    memset(c->count, 0, c->ncells * sizeof *c->count);
+    for (size_t k = 0; k < c->ncells; ++k)
+        if (c->cell[k].count) c->cell[k].count = 0; /* a clear grid's pages stay untouched */
     for (size_t i = 0; i < c->npoints; ++i)
         c->cell_of[i] = -1;
 }
@@ -75,35 +77,30 @@ int32_t hsbd_cells_index(const hsbd_cells *c, const double x[3]) {
     return (int32_t)((kz * c->nc[1] + ky) * c->nc[0] + kx);
 }
 
-/* Twice the slots per cell, every cell copied over. */
+/* Twice the slots per cell (overflow chunks 1, 3, 7, ...), every cell's copied over. */
 static int grow(hsbd_cells *c) {
-    const uint32_t cap = 2 * c->cap;
-    int32_t *id = calloc(c->ncells * cap, sizeof *id);
-    double *pos = calloc(3 * c->ncells * cap + 1, sizeof *pos);
-    if (!id || !pos) {
-        free(id);
-        free(pos);
-        return -1;
-    }
+    const uint32_t chunks = 2 * c->more_chunks + 1;
+    hsbd_cell_chunk *more = calloc(c->ncells * chunks, sizeof *more);
+    if (!more) return -1;
     for (size_t k = 0; k < c->ncells; ++k) {
-        memcpy(id + k * cap, c->id + k * c->cap, c->count[k] * sizeof *id);
-        memcpy(pos + 3 * k * cap, c->pos + 3 * k * c->cap, 3 * c->count[k] * sizeof *pos);
+        const uint32_t used = c->cell[k].count > HSBD_CELL_CHUNK
+                                  ? (c->cell[k].count - 1) / HSBD_CELL_CHUNK /* beyond the first */
+                                  : 0;
+        if (used) memcpy(more + k * chunks, c->more + k * c->more_chunks, used * sizeof *more);
     }
-    free(c->id);
-    free(c->pos);
-    c->id = id;
-    c->pos = pos;
-    c->cap = cap;
+    free(c->more);
+    c->more = more;
+    c->more_chunks = chunks;
     return 0;
 }
 
 int hsbd_cells_insert(hsbd_cells *c, int32_t i, const double x[3]) {
     const int32_t k = hsbd_cells_index(c, x);
-    if (c->count[k] == c->cap && grow(c)) return -1;
-    const uint32_t u = c->count[k]++;
-    const size_t slot = (size_t)k * c->cap + u;
-    c->id[slot] = i;
-    memcpy(c->pos + 3 * slot, x, 3 * sizeof *x);
+    if (c->cell[k].count == hsbd_cells_room(c) && grow(c)) return -1;
+    const uint32_t u = c->cell[k].count++;
+    hsbd_cell_chunk *chunk = hsbd_cells_chunk(c, k, u / HSBD_CELL_CHUNK);
+    chunk->id[u % HSBD_CELL_CHUNK] = i;
+    memcpy(chunk->pos + 3 * (u % HSBD_CELL_CHUNK), x, 3 * sizeof *x);
     c->cell_of[i] = k;
     c->slot_of[i] = (int32_t)u;
     return 0;
@@ -112,13 +109,15 @@ int hsbd_cells_insert(hsbd_cells *c, int32_t i, const double x[3]) {
 void hsbd_cells_remove(hsbd_cells *c, int32_t i) {
     const int32_t k = c->cell_of[i];
     if (k < 0) return;
-    const size_t base = (size_t)k * c->cap, slot = base + (uint32_t)c->slot_of[i];
-    const size_t last = base + --c->count[k];
-    if (slot != last) { /* the last point fills the hole */
-        const int32_t moved = c->id[last];
-        c->id[slot] = moved;
-        memcpy(c->pos + 3 * slot, c->pos + 3 * last, 3 * sizeof *c->pos);
-        c->slot_of[moved] = c->slot_of[i];
+    const uint32_t u = (uint32_t)c->slot_of[i], last = --c->cell[k].count;
+    if (u != last) { /* the last point fills the hole */
+        hsbd_cell_chunk *to = hsbd_cells_chunk(c, k, u / HSBD_CELL_CHUNK);
+        const hsbd_cell_chunk *from = hsbd_cells_chunk(c, k, last / HSBD_CELL_CHUNK);
+        const int32_t moved = from->id[last % HSBD_CELL_CHUNK];
+        to->id[u % HSBD_CELL_CHUNK] = moved;
+        memcpy(to->pos + 3 * (u % HSBD_CELL_CHUNK), from->pos + 3 * (last % HSBD_CELL_CHUNK),
+               3 * sizeof *to->pos);
+        c->slot_of[moved] = (int32_t)u;
     }
     c->cell_of[i] = -1;
 }

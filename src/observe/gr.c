@@ -350,24 +350,21 @@ int hsbd_gr_sample(hsbd_gr *g, const hsbd_spheres_view *v) {
     for (size_t c = 0; c < cells->ncells; ++c) {
         const uint32_t nin = hsbd_cells_count(cells, (int32_t)c);
         if (!nin) continue;
-        const int32_t *ids = hsbd_cells_ids(cells, (int32_t)c);
-        const double *pos = hsbd_cells_positions(cells, (int32_t)c);
         int32_t around[27];
-        const int nc = hsbd_cells_around(cells, pos, around);
+        const int nc = hsbd_cells_around(cells, hsbd_cells_position(cells, (int32_t)c, 0), around);
         for (uint32_t p = 0; p < nin; ++p) {
-            const int32_t i = ids[p];
-            const double *xi = pos + 3 * (size_t)p;
+            const int32_t i = hsbd_cells_id(cells, (int32_t)c, p);
+            const double *xi = hsbd_cells_position(cells, (int32_t)c, p);
             const size_t si = (size_t)v->species[i];
             for (int q = 0; q < nc; ++q) {
                 const uint32_t cnt = hsbd_cells_count(cells, around[q]);
-                const int32_t *jd = hsbd_cells_ids(cells, around[q]);
-                const double *xj = hsbd_cells_positions(cells, around[q]);
                 for (uint32_t u = 0; u < cnt; ++u) {
-                    const int32_t j = jd[u];
+                    const int32_t j = hsbd_cells_id(cells, around[q], u);
                     if (j <= i) continue;
+                    const double *xj = hsbd_cells_position(cells, around[q], u);
                     double r2 = 0;
                     for (int a = 0; a < g->dim; ++a) {
-                        const double d = hsbd_wrap_delta(xj[3 * (size_t)u + a] - xi[a], g->wrap[a]);
+                        const double d = hsbd_wrap_delta(xj[a] - xi[a], g->wrap[a]);
                         r2 += d * d;
                     }
                     if (r2 >= rmax2) continue;

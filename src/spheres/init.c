@@ -19,7 +19,7 @@ static int overlaps_any(const hsbd_spheres *s, const hsbd_cells *c, const double
     const int nc = hsbd_cells_around(c, x, around);
     for (int q = 0; q < nc; ++q)
         for (uint32_t u = 0; u < hsbd_cells_count(c, around[q]); ++u) {
-            const int32_t j = hsbd_cells_ids(c, around[q])[u];
+            const int32_t j = hsbd_cells_id(c, around[q], u);
             if (j == self) continue;
             double r2 = 0;
             for (int a = 0; a < 3; ++a) {

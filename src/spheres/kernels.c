@@ -56,14 +56,14 @@ uint32_t sph_cells_near_scalar(const hsbd_cells *cells, const int32_t *list, int
     uint32_t found = 0;
     for (int q = 0; q < nlist; ++q) {
         const uint32_t m = hsbd_cells_count(cells, list[q]);
-        const int32_t *id = hsbd_cells_ids(cells, list[q]);
-        const double *p = hsbd_cells_positions(cells, list[q]);
         for (uint32_t u = 0; u < m; ++u) {
+            const double *p = hsbd_cells_position(cells, list[q], u);
+            const int32_t j = hsbd_cells_id(cells, list[q], u);
             double r[3];
             for (int a = 0; a < 3; ++a)
-                r[a] = hsbd_wrap_delta(p[3 * u + a] - c[a], box[a]);
-            const double reach = reach_base + 0.5 * sigma[id[u]];
-            out[found] = id[u];
+                r[a] = hsbd_wrap_delta(p[a] - c[a], box[a]);
+            const double reach = reach_base + 0.5 * sigma[j];
+            out[found] = j;
             found += hsbd_dot3(r, r) < reach * reach;
         }
     }

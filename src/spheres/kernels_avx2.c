@@ -276,20 +276,19 @@ uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int n
     uint32_t found = 0;
     for (int q = 0; q < nlist; ++q) {
         const uint32_t m = hsbd_cells_count(cells, list[q]);
-        const int32_t *id = hsbd_cells_ids(cells, list[q]);
-        const double *p = hsbd_cells_positions(cells, list[q]);
-        /* The first four slots of every cell in one pass, even when fewer are filled (a
-         * cell has at least four slots): no branch on the count, which varies from cell to
-         * cell and would mispredict; fuller cells take more passes. */
-        for (uint32_t u = 0; u == 0 || u < m; u += 4) {
+        /* The first chunk of every cell in one pass, even when fewer slots are filled: no
+         * branch on the count, which varies from cell to cell and would mispredict; fuller
+         * cells take more passes. */
+        for (uint32_t u = 0; u == 0 || u < m; u += HSBD_CELL_CHUNK) {
+            const hsbd_cell_chunk *chunk = hsbd_cells_chunk(cells, list[q], u / HSBD_CELL_CHUNK);
             const uint32_t lanes = m - u < 4 ? m - u : 4;
-            const int32_t slot[4] = {(int32_t)u, (int32_t)u + 1, (int32_t)u + 2, (int32_t)u + 3};
+            static const int32_t slot[4] = {0, 1, 2, 3};
             const __m128i filled = /* the lanes below the count; empty slots read particle 0 */
                 _mm_cmpgt_epi32(_mm_set1_epi32((int32_t)lanes), _mm_setr_epi32(0, 1, 2, 3));
             const __m128i who =
-                _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(id + u)), filled);
+                _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)chunk->id), filled);
             __m256d r[3];
-            load_transposed(p, slot, r);
+            load_transposed(chunk->pos, slot, r);
             for (int a = 0; a < 3; ++a)
                 r[a] = wrap4(_mm256_sub_pd(r[a], centre[a]), box[a], half[a], neg_half[a]);
             const __m256d sj = _mm256_i32gather_pd(sigma, who, 8);

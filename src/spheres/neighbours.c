@@ -98,7 +98,7 @@ void sph_nb_remove(hsbd_spheres *s, int32_t i, int32_t j) {
 
 int sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *point_sigma, int32_t i,
                     sph_near *out, uint32_t *found) {
-    const size_t room = 27 * (size_t)cells->cap + SPH_NEAR_PAD;
+    const size_t room = 27 * (size_t)hsbd_cells_room(cells) + SPH_NEAR_PAD;
     if (room > out->cap) {
         int32_t *id = realloc(out->id, room * sizeof *id);
         if (!id) return -1;
@@ -123,9 +123,9 @@ void sph_shell_lift(hsbd_spheres *s, int32_t i, const double x[3]) {
 }
 
 int sph_shell_fits(const hsbd_spheres *s, int32_t i, const int32_t *near, uint32_t found) {
-    int fits =
-        found <= s->nb_cap &&
-        s->cells.count[hsbd_cells_index(&s->cells, s->centre + 3 * (size_t)i)] < s->cells.cap;
+    int fits = found <= s->nb_cap &&
+               hsbd_cells_count(&s->cells, hsbd_cells_index(&s->cells, s->centre + 3 * (size_t)i)) <
+                   hsbd_cells_room(&s->cells);
     for (uint32_t k = 0; k < found; ++k) /* no early exit: almost every row has room */
         fits &= s->nb_count[near[k]] < s->nb_cap;
     return fits;

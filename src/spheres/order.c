@@ -161,11 +161,11 @@ static int permute_neighbours(hsbd_spheres *s, const int32_t *new_to_old,
     s->nb = nb;
     s->nb_count = count;
     s->nb_upper = upper;
-    for (size_t cell = 0; cell < s->cells.ncells; ++cell) {
-        int32_t *id = s->cells.id + cell * s->cells.cap;
-        for (uint32_t q = 0; q < s->cells.count[cell]; ++q)
-            id[q] = old_to_new[id[q]];
-    }
+    for (size_t cell = 0; cell < s->cells.ncells; ++cell)
+        for (uint32_t u = 0; u < hsbd_cells_count(&s->cells, (int32_t)cell); ++u) {
+            int32_t *id = hsbd_cells_chunk(&s->cells, (int32_t)cell, u / HSBD_CELL_CHUNK)->id;
+            id[u % HSBD_CELL_CHUNK] = old_to_new[id[u % HSBD_CELL_CHUNK]];
+        }
     return 0;
 }
 

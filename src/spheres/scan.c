@@ -195,11 +195,9 @@ static inline __attribute__((always_inline)) void prefetch_shell_around(const hs
     const hsbd_cells *c = &s->cells;
     const int nc = hsbd_cells_around(c, s->x + 3 * (size_t)i, around);
     for (int k = 0; k < nc; ++k) {
-        const size_t cell = (size_t)around[k];
-        __builtin_prefetch(c->count + cell);
-        __builtin_prefetch(c->id + cell * c->cap);
-        __builtin_prefetch(c->pos + 3 * cell * c->cap);
-        __builtin_prefetch(c->pos + 3 * cell * c->cap + 8);
+        const char *record = (const char *)(c->cell + around[k]);
+        __builtin_prefetch(record); /* both lines of the record: the first chunk and count */
+        __builtin_prefetch(record + 64);
     }
 }
 
