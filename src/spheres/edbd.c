@@ -266,6 +266,9 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         if (s->diffusion[i] > dmax) dmax = s->diffusion[i];
         sigma_sum += s->sigma[i];
     }
+    s->one_sigma = 1;
+    for (size_t i = 0; i < n; ++i)
+        s->one_sigma &= s->sigma[i] == s->sigma_max;
     s->par.species = s->species; /* the copies */
     s->par.species_sigma = s->sp_sigma;
     s->par.species_diffusion = s->sp_diffusion;

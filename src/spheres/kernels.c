@@ -62,7 +62,7 @@ uint32_t sph_cells_near_scalar(const hsbd_cells *cells, const int32_t *list, int
             double r[3];
             for (int a = 0; a < 3; ++a)
                 r[a] = hsbd_wrap_delta(p[a] - c[a], box[a]);
-            const double reach = reach_base + 0.5 * sigma[j];
+            const double reach = sigma ? reach_base + 0.5 * sigma[j] : reach_base;
             out[found] = j;
             found += hsbd_dot3(r, r) < reach * reach;
         }

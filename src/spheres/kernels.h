@@ -97,7 +97,8 @@ sph_half_scan_fn sph_half_scan_select(void);
 
 /* The points p of cells list[0..nlist) with |minimum image of p - c|^2 < (reach_base +
  * sigma[id] / 2)^2, in list and slot order, to out (room for the cells' total count plus
- * SPH_NEAR_PAD); returns their number. */
+ * SPH_NEAR_PAD); returns their number. sigma NULL: all points have one diameter, whose half
+ * the caller has added to reach_base (the same sum: no diameters to read). */
 enum { SPH_NEAR_PAD = 4 };
 typedef uint32_t (*sph_cells_near_fn)(const hsbd_cells *cells, const int32_t *list, int nlist,
                                       const double c[3], const double box[3], const double *sigma,

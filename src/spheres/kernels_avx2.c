@@ -291,8 +291,10 @@ uint32_t sph_cells_near_avx2(const hsbd_cells *cells, const int32_t *list, int n
             load_transposed(chunk->pos, slot, r);
             for (int a = 0; a < 3; ++a)
                 r[a] = wrap4(_mm256_sub_pd(r[a], centre[a]), box[a], half[a], neg_half[a]);
-            const __m256d sj = _mm256_i32gather_pd(sigma, who, 8);
-            const __m256d reach = _mm256_add_pd(base, _mm256_mul_pd(one_half, sj));
+            const __m256d reach = /* with one diameter, no gather (a miss per cell at large N) */
+                sigma ? _mm256_add_pd(base,
+                                      _mm256_mul_pd(one_half, _mm256_i32gather_pd(sigma, who, 8)))
+                      : base;
             const __m256d near = _mm256_cmp_pd(dot4(r, r), _mm256_mul_pd(reach, reach), _CMP_LT_OQ);
             const int mask = _mm256_movemask_pd(near) & ((1 << lanes) - 1);
             store_set_lanes(who, mask, out + (size_t)found); /* the near ids, at once */

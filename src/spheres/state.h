@@ -85,6 +85,7 @@ struct hsbd_spheres {
     double *sp_sigma, *sp_diffusion;
     size_t nspecies;
     double sigma_max, shell;
+    int one_sigma; /* every particle has diameter sigma_max */
     /* neighbours: pairs whose shells overlap, |c_i - c_j| < sigma_ij + 2 shell */
     uint32_t nb_cap;
     uint32_t *nb_count, *nb_upper; /* entries of each row; those with j > i (first) */

@@ -335,10 +335,15 @@ static void test_cells_near_kernels(void) {
     const int avx2 = __builtin_cpu_supports("avx2") != 0;
     int32_t *out = malloc((27 * hsbd_cells_room(&cells) + SPH_NEAR_PAD) * sizeof *out), ref[N];
     int total = 0;
-    for (int i = 0; i < N; i += 7) {
+    /* every point with its own diameter, then all with one (sigma NULL, folded into the
+     * base) */
+    for (int pass = 0; pass < 2 * N; pass += 7) {
+        const int one = pass >= N, i = pass % N;
         int32_t around[27];
         const int nc = hsbd_cells_around(&cells, x + 3 * i, around);
-        const double base = 0.5 * sigma[i] + 0.6;
+        const double base = 0.5 * sigma[i] + 0.6, common = 0.7;
+        const double *point_sigma = one ? NULL : sigma;
+        const double kernel_base = one ? base + 0.5 * common : base;
         uint32_t nref = 0;
         for (int q = 0; q < nc; ++q) /* brute force in the kernels' order: cell, then slot */
             for (int j = 0; j < N; ++j) {
@@ -348,16 +353,16 @@ static void test_cells_near_kernels(void) {
                     const double d = hsbd_wrap_delta(x[3 * j + a] - x[3 * i + a], box[a]);
                     r2 += d * d;
                 }
-                const double reach = base + 0.5 * sigma[j];
+                const double reach = base + 0.5 * (one ? common : sigma[j]);
                 if (r2 < reach * reach) ref[nref++] = j;
             }
         for (int kernel = 0; kernel < 1 + avx2; ++kernel) {
-            const uint32_t got =
-                kernel
-                    ? sph_cells_near_avx2(&cells, around, nc, x + 3 * i, box, sigma, base, out)
-                    : sph_cells_near_scalar(&cells, around, nc, x + 3 * i, box, sigma, base, out);
-            CHECK(got == nref, "point %d, kernel %d: %u found, brute force %u", i, kernel, got,
-                  nref);
+            const uint32_t got = kernel ? sph_cells_near_avx2(&cells, around, nc, x + 3 * i, box,
+                                                              point_sigma, kernel_base, out)
+                                        : sph_cells_near_scalar(&cells, around, nc, x + 3 * i, box,
+                                                                point_sigma, kernel_base, out);
+            CHECK(got == nref, "point %d, kernel %d, one diameter %d: %u found, brute force %u", i,
+                  kernel, one, got, nref);
             for (uint32_t k = 0; k < got && k < nref; ++k) {
                 int seen = 0;
                 for (uint32_t l = 0; l < nref; ++l)
