@@ -66,6 +66,7 @@ void hsbd_cells_clear(hsbd_cells *c) {
 static int axis_cell(const hsbd_cells *c, int a, double x) {
     const double q = x * c->inv_width[a];
     int k = (int)q; /* truncation: floor for the wrapped (non-negative) positions */
+    if ((unsigned)k < (unsigned)c->nc[a] && q >= 0) return k; /* inside: no division */
     if (q < 0) k = (int)floor(q);
     k %= c->nc[a];
     return k < 0 ? k + c->nc[a] : k;
@@ -129,23 +130,24 @@ static inline int axis_step(int k, int d, int n) {
 }
 
 int hsbd_cells_around(const hsbd_cells *c, const double x[3], int32_t out[27]) {
-    int kc[3] = {axis_cell(c, 0, x[0]), axis_cell(c, 1, x[1]), 0};
-    if (c->dim == 3) kc[2] = axis_cell(c, 2, x[2]);
+    const int kx = axis_cell(c, 0, x[0]), ky = axis_cell(c, 1, x[1]);
+    const int kz = c->dim == 3 ? axis_cell(c, 2, x[2]) : 0, zr = c->dim == 3 ? 1 : 0;
+    int along_x[3], along_y[3]; /* the index offsets of the three columns and rows */
+    for (int d = -1; d <= 1; ++d) {
+        along_x[d + 1] = axis_step(kx, d, c->nc[0]);
+        along_y[d + 1] = axis_step(ky, d, c->nc[1]) * c->nc[0];
+    }
     int count = 0;
-    const int zr = c->dim == 3 ? 1 : 0;
     for (int dz = -zr; dz <= zr; ++dz) {
-        const int kz = axis_step(kc[2], dz, c->nc[2]);
-        for (int dy = -1; dy <= 1; ++dy) {
-            const int ky = axis_step(kc[1], dy, c->nc[1]);
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int kx = axis_step(kc[0], dx, c->nc[0]);
-                const int32_t k = (int32_t)((kz * c->nc[1] + ky) * c->nc[0] + kx);
+        const int plane = axis_step(kz, dz, c->nc[2]) * c->nc[1] * c->nc[0];
+        for (int b = 0; b < 3; ++b)
+            for (int a = 0; a < 3; ++a) {
+                const int32_t k = (int32_t)(plane + along_y[b] + along_x[a]);
                 int seen = 0;
-                for (int q = 0; q < count && c->few && !seen; ++q)
+                for (int q = 0; c->few && q < count && !seen; ++q)
                     seen = out[q] == k;
                 if (!seen) out[count++] = k;
             }
-        }
     }
     return count;
 }
