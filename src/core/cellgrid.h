@@ -34,7 +34,7 @@ typedef struct hsbd_cells {
     hsbd_cell *cell;            /* ncells records, 64-byte aligned inside cell_block */
     void *cell_block;           /* zeroed lazily by the system: untouched cells cost no memory */
     hsbd_cell_chunk *more;      /* ncells x more_chunks chunks: the slots beyond the first chunk */
-    uint32_t more_chunks;       /* 0, doubled when a cell's slots are all taken */
+    uint32_t more_chunks;       /* 0, 1, 3, 7...: the slots per cell double when one fills */
     int32_t *cell_of, *slot_of; /* per point; cell -1 when not inserted */
     size_t npoints;
 } hsbd_cells;
