@@ -99,9 +99,8 @@ int hsbd_cells_insert(hsbd_cells *c, int32_t i, const double x[3]) {
     const int32_t k = hsbd_cells_index(c, x);
     if (c->cell[k].count == hsbd_cells_room(c) && grow(c)) return -1;
     const uint32_t u = c->cell[k].count++;
-    hsbd_cell_chunk *chunk = hsbd_cells_chunk(c, k, u / HSBD_CELL_CHUNK);
-    chunk->id[u % HSBD_CELL_CHUNK] = i;
-    memcpy(chunk->pos + 3 * (u % HSBD_CELL_CHUNK), x, 3 * sizeof *x);
+    *hsbd_cells_id_slot(c, k, u) = i;
+    memcpy(hsbd_cells_position_slot(c, k, u), x, 3 * sizeof *x);
     c->cell_of[i] = k;
     c->slot_of[i] = (int32_t)u;
     return 0;
@@ -112,12 +111,10 @@ void hsbd_cells_remove(hsbd_cells *c, int32_t i) {
     if (k < 0) return;
     const uint32_t u = (uint32_t)c->slot_of[i], last = --c->cell[k].count;
     if (u != last) { /* the last point fills the hole */
-        hsbd_cell_chunk *to = hsbd_cells_chunk(c, k, u / HSBD_CELL_CHUNK);
-        const hsbd_cell_chunk *from = hsbd_cells_chunk(c, k, last / HSBD_CELL_CHUNK);
-        const int32_t moved = from->id[last % HSBD_CELL_CHUNK];
-        to->id[u % HSBD_CELL_CHUNK] = moved;
-        memcpy(to->pos + 3 * (u % HSBD_CELL_CHUNK), from->pos + 3 * (last % HSBD_CELL_CHUNK),
-               3 * sizeof *to->pos);
+        const int32_t moved = hsbd_cells_id(c, k, last);
+        *hsbd_cells_id_slot(c, k, u) = moved;
+        memcpy(hsbd_cells_position_slot(c, k, u), hsbd_cells_position(c, k, last),
+               3 * sizeof(double));
         c->slot_of[moved] = (int32_t)u;
     }
     c->cell_of[i] = -1;

@@ -64,11 +64,18 @@ static inline uint32_t hsbd_cells_room(const hsbd_cells *c) {
 static inline hsbd_cell_chunk *hsbd_cells_chunk(const hsbd_cells *c, int32_t k, uint32_t q) {
     return q ? c->more + (size_t)k * c->more_chunks + (q - 1) : &c->cell[k].first;
 }
+/* Where slot u of cell k keeps its point's index and position. */
+static inline int32_t *hsbd_cells_id_slot(const hsbd_cells *c, int32_t k, uint32_t u) {
+    return hsbd_cells_chunk(c, k, u / HSBD_CELL_CHUNK)->id + u % HSBD_CELL_CHUNK;
+}
+static inline double *hsbd_cells_position_slot(const hsbd_cells *c, int32_t k, uint32_t u) {
+    return hsbd_cells_chunk(c, k, u / HSBD_CELL_CHUNK)->pos + 3 * (u % HSBD_CELL_CHUNK);
+}
 static inline int32_t hsbd_cells_id(const hsbd_cells *c, int32_t k, uint32_t u) {
-    return hsbd_cells_chunk(c, k, u / HSBD_CELL_CHUNK)->id[u % HSBD_CELL_CHUNK];
+    return *hsbd_cells_id_slot(c, k, u);
 }
 static inline const double *hsbd_cells_position(const hsbd_cells *c, int32_t k, uint32_t u) {
-    return hsbd_cells_chunk(c, k, u / HSBD_CELL_CHUNK)->pos + 3 * (u % HSBD_CELL_CHUNK);
+    return hsbd_cells_position_slot(c, k, u);
 }
 
 #endif

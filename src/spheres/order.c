@@ -163,8 +163,8 @@ static int permute_neighbours(hsbd_spheres *s, const int32_t *new_to_old,
     s->nb_upper = upper;
     for (size_t cell = 0; cell < s->cells.ncells; ++cell)
         for (uint32_t u = 0; u < hsbd_cells_count(&s->cells, (int32_t)cell); ++u) {
-            int32_t *id = hsbd_cells_chunk(&s->cells, (int32_t)cell, u / HSBD_CELL_CHUNK)->id;
-            id[u % HSBD_CELL_CHUNK] = old_to_new[id[u % HSBD_CELL_CHUNK]];
+            int32_t *id = hsbd_cells_id_slot(&s->cells, (int32_t)cell, u);
+            *id = old_to_new[*id];
         }
     return 0;
 }
