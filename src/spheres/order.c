@@ -99,107 +99,140 @@ static int spatial_permutation(hsbd_spheres *s, int32_t *new_to_old) {
     return 0;
 }
 
-/* The per-particle arrays that outlive a step, in one table: the permutation moves them
- * all or, when memory runs out, none. */
+/* The per-particle arrays that outlive a step, in one table. */
 typedef struct {
-    void **array;
-    size_t bytes; /* per particle */
-    size_t pad;   /* extra bytes at the end (vector loads past the last particle) */
+    void *array;
+    size_t bytes; /* per particle: 4, 8 or 24 */
 } per_particle;
 
-enum { PER_PARTICLE_ARRAYS = 12 }; /* most entries of per_particle_table */
+enum { PER_PARTICLE_ARRAYS = 14 }; /* most entries of per_particle_table */
 
 static size_t per_particle_table(hsbd_spheres *s, per_particle *t) {
     size_t k = 0;
-    t[k++] = (per_particle){(void **)&s->x, 3 * sizeof *s->x, sizeof *s->x};
-    t[k++] = (per_particle){(void **)&s->image, 3 * sizeof *s->image, 0};
-    t[k++] = (per_particle){(void **)&s->counter, sizeof *s->counter, 0};
-    t[k++] = (per_particle){(void **)&s->sigma, sizeof *s->sigma, 0};
-    t[k++] = (per_particle){(void **)&s->diffusion, sizeof *s->diffusion, 0};
-    t[k++] = (per_particle){(void **)&s->noise_amp, sizeof *s->noise_amp, 0};
-    t[k++] = (per_particle){(void **)&s->species, sizeof *s->species, 0};
-    t[k++] = (per_particle){(void **)&s->label, sizeof *s->label, 0};
-    t[k++] = (per_particle){(void **)&s->centre, 3 * sizeof *s->centre, 0};
-    t[k++] = (per_particle){(void **)&s->cells.cell_of, sizeof *s->cells.cell_of, 0};
-    t[k++] = (per_particle){(void **)&s->cells.slot_of, sizeof *s->cells.slot_of, 0};
-    if (s->drift_mu) t[k++] = (per_particle){(void **)&s->drift_mu, sizeof *s->drift_mu, 0};
+    t[k++] = (per_particle){s->x, 3 * sizeof *s->x};
+    t[k++] = (per_particle){s->image, 3 * sizeof *s->image};
+    t[k++] = (per_particle){s->counter, sizeof *s->counter};
+    t[k++] = (per_particle){s->sigma, sizeof *s->sigma};
+    t[k++] = (per_particle){s->diffusion, sizeof *s->diffusion};
+    t[k++] = (per_particle){s->noise_amp, sizeof *s->noise_amp};
+    t[k++] = (per_particle){s->species, sizeof *s->species};
+    t[k++] = (per_particle){s->label, sizeof *s->label};
+    t[k++] = (per_particle){s->centre, 3 * sizeof *s->centre};
+    t[k++] = (per_particle){s->cells.cell_of, sizeof *s->cells.cell_of};
+    t[k++] = (per_particle){s->cells.slot_of, sizeof *s->cells.slot_of};
+    if (s->drift_mu) t[k++] = (per_particle){s->drift_mu, sizeof *s->drift_mu};
+    if (s->nb) {
+        t[k++] = (per_particle){s->nb_count, sizeof *s->nb_count};
+        t[k++] = (per_particle){s->nb_upper, sizeof *s->nb_upper};
+    }
     return k;
 }
 
-/* The neighbour rows in the new order with the new indices, each row again holding its
- * neighbours j > i first; the cells' point indices renumbered. */
-static int permute_neighbours(hsbd_spheres *s, const int32_t *new_to_old,
-                              const int32_t *old_to_new) {
-    const size_t n = s->n, cap = s->nb_cap;
-    int32_t *nb = sph_rows_alloc(n, cap);
-    uint32_t *count = malloc(n * sizeof *count), *upper = malloc(n * sizeof *upper);
-    if (!nb || !count || !upper) {
-        free(nb);
-        free(count);
-        free(upper);
-        return -1;
+/* array[k] = array[new_to_old[k]] for elements of `bytes` (4, 8 or 24), through scratch
+ * (room for n elements of 24 bytes). */
+static void permute_array(void *array, size_t bytes, size_t n, const int32_t *new_to_old,
+                          void *scratch) {
+    if (bytes == 4) {
+        const uint32_t *from = array;
+        uint32_t *to = scratch;
+        for (size_t k = 0; k < n; ++k)
+            to[k] = from[new_to_old[k]];
+    } else if (bytes == 8) {
+        const uint64_t *from = array;
+        uint64_t *to = scratch;
+        for (size_t k = 0; k < n; ++k)
+            to[k] = from[new_to_old[k]];
+    } else {
+        const char *from = array;
+        char *to = scratch;
+        for (size_t k = 0; k < n; ++k)
+            memcpy(to + k * bytes, from + (size_t)new_to_old[k] * bytes, bytes);
     }
-    for (size_t k = 0; k < n; ++k) {
-        const size_t old = (size_t)new_to_old[k];
-        const int32_t *from = s->nb + old * cap;
-        int32_t *row = nb + k * cap;
+    memcpy(array, scratch, n * bytes);
+}
+
+/* Every row, where it is, with the new indices and its neighbours j > i first (i's new
+ * index), the rest after them in the reverse of their order; nb_upper[old] the count of
+ * the first. tmp: room for a row. */
+static void renumber_rows(hsbd_spheres *s, const int32_t *old_to_new, int32_t *tmp) {
+    const size_t cap = s->nb_cap;
+    for (size_t old = 0; old < s->n; ++old) {
+        int32_t *row = s->nb + old * cap;
+        const int32_t k = old_to_new[old];
         const uint32_t c = s->nb_count[old];
+        memcpy(tmp, row, c * sizeof *row);
         uint32_t up = 0, low = c;
         for (uint32_t q = 0; q < c; ++q) {
-            const int32_t j = old_to_new[from[q]];
-            if (j > (int32_t)k)
+            const int32_t j = old_to_new[tmp[q]];
+            if (j > k)
                 row[up++] = j;
             else
                 row[--low] = j;
         }
-        count[k] = c;
-        upper[k] = up;
+        s->nb_upper[old] = up;
     }
-    free(s->nb);
-    free(s->nb_count);
-    free(s->nb_upper);
-    s->nb = nb;
-    s->nb_count = count;
-    s->nb_upper = upper;
+}
+
+/* Row k takes the row new_to_old[k] was, cycle by cycle of the permutation (moved: a bit
+ * per row, zero on entry; tmp: room for a row). Only the entries in use move; the counts
+ * move with the other per-particle arrays. */
+static void move_rows(hsbd_spheres *s, const int32_t *new_to_old, uint64_t *moved, int32_t *tmp) {
+    const size_t cap = s->nb_cap, row_bytes = cap * sizeof *s->nb;
+    for (size_t start = 0; start < s->n; ++start) {
+        if (moved[start / 64] >> (start % 64) & 1 || (size_t)new_to_old[start] == start) continue;
+        memcpy(tmp, s->nb + start * cap, row_bytes);
+        size_t at = start;
+        for (;;) {
+            moved[at / 64] |= (uint64_t)1 << (at % 64);
+            const size_t from = (size_t)new_to_old[at];
+            if (from == start) {
+                memcpy(s->nb + at * cap, tmp, s->nb_count[from] * sizeof *s->nb);
+                break;
+            }
+            memcpy(s->nb + at * cap, s->nb + from * cap, s->nb_count[from] * sizeof *s->nb);
+            at = from;
+        }
+    }
+}
+
+/* The cells' point indices renumbered. */
+static void renumber_cells(hsbd_spheres *s, const int32_t *old_to_new) {
     for (size_t cell = 0; cell < s->cells.ncells; ++cell)
         for (uint32_t u = 0; u < hsbd_cells_count(&s->cells, (int32_t)cell); ++u) {
             int32_t *id = hsbd_cells_id_slot(&s->cells, (int32_t)cell, u);
             *id = old_to_new[*id];
         }
-    return 0;
 }
 
 /* Applies new_to_old to every per-particle array, the neighbour lists and the cells
  * (between steps: t_local is 0 and v is redrawn). The shells stay where they are, so the
- * run goes on as if nothing had moved. Returns 0, or -1 with nothing changed when out of
- * memory. */
+ * run goes on as if nothing had moved. Everything moves in place, through x_start (which
+ * only a step uses) and a few small buffers: a sort that took fresh arrays and freed the
+ * old ones cost, at N 10^6, about five steps' time in page faults and in the slower step
+ * after it (docs/spheres.md). Returns 0, or -1 with nothing changed when out of memory. */
 static int permute_particles(hsbd_spheres *s, const int32_t *new_to_old) {
-    per_particle table[PER_PARTICLE_ARRAYS];
-    const size_t count = per_particle_table(s, table), n = s->n;
-    void *fresh[PER_PARTICLE_ARRAYS];
-    size_t ready = 0;
-    while (ready < count && (fresh[ready] = calloc(1, n * table[ready].bytes + table[ready].pad)))
-        ++ready;
-    int32_t *old_to_new = ready == count ? malloc(n * sizeof *old_to_new) : NULL;
-    if (old_to_new)
-        for (size_t k = 0; k < n; ++k)
-            old_to_new[new_to_old[k]] = (int32_t)k;
-    if (!old_to_new || permute_neighbours(s, new_to_old, old_to_new)) {
-        free(old_to_new);
-        while (ready-- > 0)
-            free(fresh[ready]);
+    const size_t n = s->n, rows = s->nb ? n : 0;
+    int32_t *old_to_new = malloc(n * sizeof *old_to_new);
+    int32_t *tmp = malloc((rows ? s->nb_cap : 1) * sizeof *tmp);
+    uint64_t *moved = calloc(rows / 64 + 1, sizeof *moved);
+    void *own = s->x_start ? NULL : malloc(3 * n * sizeof *s->x);
+    void *scratch = s->x_start ? (void *)s->x_start : own;
+    if (!old_to_new || !tmp || !moved || !scratch) {
+        free(old_to_new), free(tmp), free(moved), free(own);
         return -1;
     }
-    free(old_to_new);
-    for (size_t a = 0; a < count; ++a) {
-        const size_t b = table[a].bytes;
-        const char *old = *table[a].array;
-        char *out = fresh[a];
-        for (size_t k = 0; k < n; ++k)
-            memcpy(out + k * b, old + (size_t)new_to_old[k] * b, b);
-        free(*table[a].array);
-        *table[a].array = fresh[a];
+    for (size_t k = 0; k < n; ++k)
+        old_to_new[new_to_old[k]] = (int32_t)k;
+    if (rows) {
+        renumber_rows(s, old_to_new, tmp);
+        move_rows(s, new_to_old, moved, tmp);
+        renumber_cells(s, old_to_new);
     }
+    per_particle table[PER_PARTICLE_ARRAYS];
+    const size_t count = per_particle_table(s, table);
+    for (size_t a = 0; a < count; ++a)
+        permute_array(table[a].array, table[a].bytes, n, new_to_old, scratch);
+    free(old_to_new), free(tmp), free(moved), free(own);
     s->reordered = 0;
     for (size_t k = 0; k < n && !s->reordered; ++k)
         s->reordered = s->label[k] != (int32_t)k;
