@@ -208,7 +208,7 @@ static void renumber_cells(hsbd_spheres *s, const int32_t *old_to_new) {
  * (between steps: t_local is 0 and v is redrawn). The shells stay where they are, so the
  * run goes on as if nothing had moved. Everything moves in place, through x_start (which
  * only a step uses) and a few small buffers: a sort that took fresh arrays and freed the
- * old ones cost, at N 10^6, about five steps' time in page faults and in the slower step
+ * old ones cost, at N 10^6, two to three steps' time in page faults and in the slower step
  * after it (docs/spheres.md). Returns 0, or -1 with nothing changed when out of memory. */
 static int permute_particles(hsbd_spheres *s, const int32_t *new_to_old) {
     const size_t n = s->n, rows = s->nb ? n : 0;
