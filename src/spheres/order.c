@@ -142,11 +142,11 @@ static void permute_array(void *array, size_t bytes, size_t n, const int32_t *ne
         uint64_t *to = scratch;
         for (size_t k = 0; k < n; ++k)
             to[k] = from[new_to_old[k]];
-    } else {
-        const char *from = array;
-        char *to = scratch;
+    } else { /* three doubles or three int64 */
+        const uint64_t *from = array;
+        uint64_t *to = scratch;
         for (size_t k = 0; k < n; ++k)
-            memcpy(to + k * bytes, from + (size_t)new_to_old[k] * bytes, bytes);
+            memcpy(to + 3 * k, from + 3 * (size_t)new_to_old[k], 3 * sizeof *to);
     }
     memcpy(array, scratch, n * bytes);
 }
@@ -177,10 +177,10 @@ static void renumber_rows(hsbd_spheres *s, const int32_t *old_to_new, int32_t *t
  * per row, zero on entry; tmp: room for a row). Only the entries in use move; the counts
  * move with the other per-particle arrays. */
 static void move_rows(hsbd_spheres *s, const int32_t *new_to_old, uint64_t *moved, int32_t *tmp) {
-    const size_t cap = s->nb_cap, row_bytes = cap * sizeof *s->nb;
+    const size_t cap = s->nb_cap;
     for (size_t start = 0; start < s->n; ++start) {
         if (moved[start / 64] >> (start % 64) & 1 || (size_t)new_to_old[start] == start) continue;
-        memcpy(tmp, s->nb + start * cap, row_bytes);
+        memcpy(tmp, s->nb + start * cap, s->nb_count[start] * sizeof *tmp);
         size_t at = start;
         for (;;) {
             moved[at / 64] |= (uint64_t)1 << (at % 64);
