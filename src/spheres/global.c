@@ -55,7 +55,7 @@ static inline __attribute__((always_inline)) void prefetch_ahead(const hsbd_sphe
     if (far)
         for (int e = 0; e < 1 + (far->j >= 0); ++e) {
             const int32_t p = e ? far->j : far->i;
-            __builtin_prefetch(s->nb + (size_t)p * s->nb_cap);
+            sph_prefetch_row(s, p);
             __builtin_prefetch(s->nb_count + p);
         }
     const sph_event *next = sph_calendar_peek(&s->calendar, GLOBAL_PREFETCH_NEIGHBOURS);

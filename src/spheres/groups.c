@@ -985,7 +985,7 @@ static inline __attribute__((always_inline)) void prefetch_group_neighbours(cons
     }
 }
 
-/* The rows (their first line) and row counts of group a's particles, which
+/* The rows (their first 16 entries) and row counts of group a's particles, which
  * prefetch_group_neighbours reads a few groups later, and their own bookkeeping: asked for
  * first, so that those reads do not wait. Always inlined, as above. */
 static inline __attribute__((always_inline)) void prefetch_group_rows(const hsbd_spheres *s,
@@ -994,7 +994,7 @@ static inline __attribute__((always_inline)) void prefetch_group_rows(const hsbd
     for (int32_t o = g->start[a]; o < g->start[a] + g->count[a]; ++o) {
         const int32_t ends[2] = {g->by_i[o], g->by_j[o]};
         for (int e = 0; e < 1 + (ends[1] >= 0); ++e) {
-            __builtin_prefetch(s->nb + (size_t)ends[e] * s->nb_cap);
+            sph_prefetch_row(s, ends[e]);
             __builtin_prefetch(s->nb_count + ends[e]);
             __builtin_prefetch(g->last_segment + ends[e]); /* its run's own bookkeeping */
             __builtin_prefetch(g->parent + ends[e]);

@@ -33,6 +33,16 @@ int sph_shell_land(hsbd_spheres *s, int32_t i, const int32_t *near, uint32_t fou
 /* From this many particles on the state leaves the caches, and the loops whose loads
  * jump through memory ask for their data ahead (software prefetch). */
 enum { SPH_PREFETCH_MIN_N = 8192 };
+/* Asks for the lines holding row i's first 16 entries, which the kernels read: one line
+ * when the row starts a line, two otherwise (rows of 24 entries, the usual capacity at phi
+ * 0.3, are 96 bytes apart, so every second row straddles two lines; asking for the first
+ * line alone left the second to miss). A hint only (always inlined, see groups.c). */
+static inline __attribute__((always_inline)) void sph_prefetch_row(const hsbd_spheres *s,
+                                                                   int32_t i) {
+    const int32_t *row = s->nb + (size_t)i * s->nb_cap;
+    __builtin_prefetch(row);
+    __builtin_prefetch(row + 15);
+}
 /* Asks for the positions and velocities of i's neighbours ahead of a row prediction that
  * will read them: beyond the caches these loads, whose addresses come from the row, were
  * most of the row kernel's time. A hint only: no result changes (always inlined, see

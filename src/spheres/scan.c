@@ -178,7 +178,7 @@ enum { SHELL_ROWS_AHEAD = 8, SHELL_NEIGHBOURS_AHEAD = 3 };
 
 static inline __attribute__((always_inline)) void prefetch_shell_own(const hsbd_spheres *s,
                                                                      int32_t i) {
-    __builtin_prefetch(s->nb + (size_t)i * s->nb_cap);
+    sph_prefetch_row(s, i);
     __builtin_prefetch(s->nb_count + i);
     __builtin_prefetch(s->x + 3 * (size_t)i);
     __builtin_prefetch(s->cells.cell_of + i);
@@ -188,7 +188,9 @@ static inline __attribute__((always_inline)) void prefetch_shell_around(const hs
                                                                         int32_t i) {
     const int32_t *row = s->nb + (size_t)i * s->nb_cap;
     for (uint32_t q = 0; q < s->nb_count[i]; ++q) {
-        __builtin_prefetch(s->nb + (size_t)row[q] * s->nb_cap, 1);
+        const int32_t *other = s->nb + (size_t)row[q] * s->nb_cap; /* loses i: written */
+        __builtin_prefetch(other, 1);
+        __builtin_prefetch(other + 15, 1); /* its first 16 entries, as sph_prefetch_row */
         __builtin_prefetch(s->nb_count + row[q], 1);
     }
     int32_t around[27];
