@@ -599,9 +599,8 @@ static void keep_start_positions(hsbd_spheres *s) {
 /* Sorted again once the fastest particle could have moved about half a cell (rms
  * displacement sqrt(0.6) sigma_max): often enough to keep neighbours near in memory,
  * rarely enough that the renumbering costs little (N 10^6: 0.1 s, a third of a step, per
- * 100 steps; docs/spheres.md). The
- * clock advances after each step that succeeded. Returns 0, or -1 when out of memory
- * (then nothing changed). */
+ * 100 steps; docs/spheres.md). The clock advances after each step that succeeded.
+ * Returns 0, or -1 when out of memory (then nothing changed). */
 static int keep_spatial_order(hsbd_spheres *s) {
     if (!s->sort_enabled || s->sort_clock < 0.1 * s->sigma_max * s->sigma_max) return 0;
     if (sph_sort_spatially(s)) return -1;
