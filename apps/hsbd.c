@@ -184,6 +184,16 @@ static void default_out_dir(const char *config_path, char *out, size_t len) {
 
 /* ---- ensembles of replicas over MPI ranks (docs/scaling.md) ----------------------------- */
 
+/* This process's rank when started by mpirun (OpenMPI or a PMI launcher), else NULL; read
+ * from the launcher's environment, without initialising MPI (merge and resume use one
+ * process: rank 0) */
+static const char *mpirun_rank(void) {
+    const char *rank = getenv("OMPI_COMM_WORLD_RANK");
+    if (!rank) rank = getenv("PMI_RANK");
+    if (!rank) rank = getenv("PMIX_RANK");
+    return rank;
+}
+
 /* status of a rank that stopped because another rank failed (that one prints why) */
 enum { HSBD_ESILENT = -1 };
 
@@ -243,14 +253,16 @@ static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_
     if (replicas == 1) {
         if (r.rank == 0) rc = hsbd_run(cfg, opt, err);
     } else {
-        if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, err);
-        const int prepared = rc == HSBD_OK; /* on rank 0 */
+        int set_aside = 0; /* this run set an earlier ensemble aside (--force), on rank 0 */
+        if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, &set_aside, err);
         rc = ranks_agree(&r, rc, err);
-        if (rc == HSBD_OK) rc = hsbd_ensemble_run(cfg, opt, replicas, r.rank, r.size, err);
-        if (rc != HSBD_ESILENT) rc = ranks_agree(&r, rc, err);
+        if (rc == HSBD_OK) { /* on every rank or on none: each meets the second agreement */
+            rc = hsbd_ensemble_run(cfg, opt, replicas, r.rank, r.size, err);
+            rc = ranks_agree(&r, rc, err);
+        }
         if (rc == HSBD_OK && r.rank == 0) rc = hsbd_ensemble_merge(cfg, replicas, err);
-        /* an earlier ensemble set aside by --force: removed, or back after a failure */
-        if (r.rank == 0 && prepared) {
+        /* the earlier ensemble this run set aside: removed, or back after a failure */
+        if (set_aside) {
             const int status = rc == HSBD_ESILENT ? err->status : rc;
             const int done = hsbd_ensemble_finish(cfg, status, err);
             if (rc != HSBD_ESILENT || done != status) rc = done;
@@ -269,9 +281,10 @@ static void merge_help(void) {
            "Refused (exit 2, nothing written): fewer than two directories, a run that did\n"
            "not finish, runs that are no replicas, the same replica twice, runs of\n"
            "different configurations (any parameter but run.replica, run.replicas,\n"
-           "run.threads and output.dir) or of different contents of an input file, replicas\n"
-           "that do not hold the same tables, a table cut short or holding a cell that is no\n"
-           "number, and an OUT that is or holds one of the directories merged.\n"
+           "run.threads and output.dir), of different builds of hsbd (version, git) or of\n"
+           "different contents of an input file, replicas that do not hold the same\n"
+           "tables, a table cut short or holding a cell that is no number, and an OUT that\n"
+           "is or holds one of the directories merged.\n"
            "Under mpirun only rank 0 merges.\n\n"
            "  --force  write into an existing, non-empty OUT (an earlier result's files)\n");
 }
@@ -305,9 +318,7 @@ static int cmd_merge(int argc, char **argv) {
         return free(dirs), EXIT_INPUT;
     }
     /* started by mpirun, one process merges (the others would write the same OUT) */
-    const char *rank = getenv("OMPI_COMM_WORLD_RANK");
-    if (!rank) rank = getenv("PMI_RANK");
-    if (!rank) rank = getenv("PMIX_RANK");
+    const char *rank = mpirun_rank();
     if (rank && strcmp(rank, "0")) {
         fprintf(stderr, "hsbd merge: rank %.20s of mpirun: rank 0 merges\n", rank);
         return free(dirs), 0;
@@ -435,12 +446,15 @@ static void resume_help(void) {
            "Continues the run in DIR from its newest checkpoint (checkpoint.hsbd, or\n"
            "checkpoint.prev.hsbd when the newest is damaged). The configuration is the run's\n"
            "own, read again from the checkpoint; stream files (trajectory.xyz, current.tsv) are\n"
-           "cut back to the checkpoint. The results equal those of a run never stopped.\n\n"
+           "cut back to the checkpoint. The results equal those of a run never stopped.\n"
+           "One process writes a run directory at a time: a resume (or run) of a directory\n"
+           "another hsbd process is writing is refused. Under mpirun only rank 0 resumes.\n\n"
            "  --set run.t_total=T  a longer production time: extends the run (also a\n"
            "                       completed one)\n"
            "  --quiet              no progress line\n\n"
            "Exit status: 0 done, 2 bad input (no or a damaged checkpoint, a completed run\n"
-           "without a longer run.t_total), 129/130/143 stopped by SIGHUP/SIGINT/SIGTERM (a\n"
+           "without a longer run.t_total, a directory in use), 129/130/143 stopped by "
+           "SIGHUP/SIGINT/SIGTERM (a\n"
            "checkpoint and the results so far written), 1 other errors.\n");
 }
 
@@ -478,6 +492,13 @@ static int cmd_resume(int argc, char **argv) {
     if (rc == 0 && !dir) {
         fprintf(stderr, "hsbd resume: no run directory given (hsbd resume --help)\n");
         rc = EXIT_INPUT;
+    }
+    /* started by mpirun, one process resumes (the others would write the same files) */
+    const char *rank = mpirun_rank();
+    if (rc == 0 && rank && strcmp(rank, "0")) {
+        fprintf(stderr, "hsbd resume: rank %.20s of mpirun: rank 0 resumes\n", rank);
+        free(sets);
+        return 0;
     }
     if (rc == 0) {
         hsbd_error err;

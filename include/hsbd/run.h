@@ -60,13 +60,16 @@ HSBD_API int hsbd_resume(const char *dir, const char *const *sets, size_t nsets,
 HSBD_API size_t hsbd_ensemble_size(const hsbd_config *cfg, int ranks);
 /* Checks the ensemble's directory (one process, before any replica runs): an existing one
  * is refused when it holds anything unless force; with force, an earlier ensemble's or
- * run's files (checked to be nothing else) are set aside as DIR.earlier; a missing
- * directory is made by the replicas once their input is accepted. */
-HSBD_API int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err);
-/* After the ensemble (the process that prepared it), with its status: the earlier files
- * set aside are removed when it succeeded; when it failed they come back if no replica
- * began, else they stay as DIR.earlier; err's message (status != 0) then says which.
- * Returns status, or an error when the set-aside files cannot be removed. */
+ * run's files (checked to be nothing else) are set aside as DIR.earlier, and *set_aside
+ * is set (else 0); a missing directory is made by the replicas once their input is
+ * accepted. */
+HSBD_API int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, int *set_aside,
+                                   hsbd_error *err);
+/* After an ensemble whose prepare set earlier files aside (only then: a DIR.earlier left by
+ * another run is not this one's), with its status: they are removed when it succeeded; when
+ * it failed they come back if no replica began, else they stay as DIR.earlier; err's
+ * message (status != 0) then says which. Returns status, or an error when the set-aside
+ * files cannot be removed. */
 HSBD_API int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_error *err);
 /* Runs replicas k = rank, rank + ranks, ... below `replicas`, each into DIR/replica-k. */
 HSBD_API int hsbd_ensemble_run(const hsbd_config *cfg, const hsbd_run_options *opt, size_t replicas,

@@ -1,9 +1,11 @@
 #define _XOPEN_SOURCE 700 /* realpath */
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <dirent.h>
 #include <unistd.h>
@@ -243,6 +245,32 @@ int hsbd_dir_create(const char *dir, hsbd_error *err) {
         return hsbd_error_set(err, HSBD_EINPUT, "cannot create output directory '%s': %s", dir,
                               strerror(errno));
     return probe_writable(dir, err);
+}
+
+int run_dir_claim(const char *dir, int create, int *fd, hsbd_error *err) {
+    *fd = -1;
+    struct stat st;
+    if (!dir[0]) return HSBD_OK;
+    if (create && stat(dir, &st) != 0) {
+        char buf[HSBD_PATH_MAX];
+        snprintf(buf, sizeof buf, "%s", dir);
+        if (mkdir_parents(buf) != 0) return HSBD_OK; /* hsbd_dir_create says why */
+    }
+    const int d = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (d < 0) return HSBD_OK;
+    if (flock(d, LOCK_EX | LOCK_NB) == 0) return *fd = d, HSBD_OK;
+    const int busy = errno == EWOULDBLOCK;
+    close(d);
+    if (!busy) return HSBD_OK; /* no locks on this file system */
+    return hsbd_error_set(err, HSBD_EINPUT,
+                          "run directory '%s' is in use: another hsbd process (a run or a "
+                          "resume) is writing there; wait until it ends, or choose another "
+                          "directory",
+                          dir);
+}
+
+void run_dir_release(int fd) {
+    if (fd >= 0) close(fd); /* closing drops the lock */
 }
 
 int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err) {

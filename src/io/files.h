@@ -20,5 +20,13 @@ int run_dir_is_empty(const char *dir);
 int run_path_nesting(const char *a, const char *b);
 /* "replica-<digits>": the name of an ensemble's replica directory */
 int run_is_replica_name(const char *name);
+/* Claims run directory dir for this process until run_dir_release: with create, dir made
+ * if missing (without the checks of hsbd_run_dir_prepare, which come after the claim); an
+ * exclusive advisory lock (flock) on it, which the system drops when the process ends,
+ * however it ends. *fd gets the lock's descriptor, or -1 where no lock can be had (dir
+ * not a directory, or a file system without locks): the caller's own checks then speak.
+ * HSBD_EINPUT when another process holds the lock (a run or resume writing there). */
+int run_dir_claim(const char *dir, int create, int *fd, hsbd_error *err);
+void run_dir_release(int fd);
 
 #endif

@@ -85,8 +85,9 @@ static int input_inside(const hsbd_config *cfg, const char *dir, hsbd_error *err
     return HSBD_OK;
 }
 
-int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err) {
+int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, int *set_aside, hsbd_error *err) {
     hsbd_error_clear(err);
+    *set_aside = 0;
     const char *dir = cfg->output.dir;
     struct stat dst;
     if (dir[0] && stat(dir, &dst) != 0) /* a new directory is made by the first replica */
@@ -120,6 +121,7 @@ int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_error *err) {
                               "cannot set the earlier results in '%s' aside as '%s': %s; remove "
                               "them yourself or choose another --out",
                               dir, aside, strerror(errno));
+    *set_aside = 1;
     return HSBD_OK;
 }
 

@@ -13,6 +13,7 @@
 #include "core/progress.h"
 #include "hsbd/observe.h"
 #include "hsbd_version.h"
+#include "io/files.h"
 #include "io/tables.h"
 #include "run/checkpoint.h"
 
@@ -325,6 +326,8 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
     /* everything that can refuse the input happens before the directory is touched */
     int rc = cfg->system.model == HSBD_MODEL_SPHERES ? run_spheres_build(&r, err)
                                                      : run_rods_build(&r, err);
+    int lock = -1; /* claimed before its checks: no other run writes there meanwhile */
+    if (rc == HSBD_OK) rc = run_dir_claim(cfg->output.dir, 1, &lock, err);
     if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(cfg->output.dir, opt->force, err);
     if (rc == HSBD_OK) rc = open_streams(&r, err);
     if (rc == HSBD_OK) {
@@ -334,6 +337,7 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
         rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     release(&r);
+    run_dir_release(lock);
     return rc;
 }
 
@@ -601,7 +605,9 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     if (!cfg) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     run r = {.opt = opt};
     resumed_source rs = {0};
-    int rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
+    int lock = -1; /* a second resume of the same run is refused, not raced */
+    int rc = run_dir_claim(dir, 0, &lock, err);
+    if (rc == HSBD_OK) rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
     /* from here on the stream files are the stopped run's: kept whatever happens (release()
      * removes the files of a run that never started) */
     r.started = 1;
@@ -622,6 +628,7 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
         rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     unload(&r, cfg, &rs);
+    run_dir_release(lock);
     return rc;
 }
 

@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/input.h"
 #include "hsbd/io.h"
 #include "io/files.h"
 #include "io/tables.h"
@@ -123,6 +124,15 @@ static int holds_file(const char *dir, const char *name) {
     return stat(path, &st) == 0 && S_ISREG(st.st_mode);
 }
 
+/* A summary's run.replica value ("-1" or digits, then a comma or the end) into *index. */
+static int replica_index(const char *v, long *index) {
+    char *end;
+    errno = 0;
+    *index = strtol(v, &end, 10);
+    const int digits = end > v && (v[0] == '-' || (v[0] >= '0' && v[0] <= '9'));
+    return digits && errno == 0 && (*end == ',' || *end == '\0') && *index >= -1;
+}
+
 static int load_source(merge_source *s, hsbd_error *err) {
     int rc = read_in(s->dir, "summary.json", &s->sum, err);
     if (rc != HSBD_OK && holds_file(s->dir, "checkpoint.hsbd"))
@@ -149,8 +159,13 @@ static int load_source(merge_source *s, hsbd_error *err) {
         if (v && !strcmp(key, "parameters")) s->params = k;
         if (s->params && k > s->params && (v = json_entry(s->sum.line[k], 6, key, sizeof key)) &&
             !strcmp(key, "replica"))
-            s->index = strtol(v, NULL, 10), found = 1;
+            found = replica_index(v, &s->index) ? 1 : -1;
     }
+    if (found < 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s/summary.json' gives run.replica as something other "
+                              "than a whole number: the file was edited or damaged",
+                              s->dir);
     if (!s->params || !found)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: '%s/summary.json' has no parameters with run.replica: not "
@@ -203,6 +218,26 @@ static int same_inputs(const merge_source *a, const merge_source *b, hsbd_error 
                           "same input can be merged",
                           a->dir, b->dir, la > 300 ? 300 : la, ia[0] ? ia : "none",
                           lb > 300 ? 300 : lb, ib[0] ? ib : "none");
+}
+
+/* The replicas were made by one build of hsbd (the summaries' version and git): another
+ * build may give other results, and the merged files name one. */
+static int same_build(const merge_source *a, const merge_source *b, hsbd_error *err) {
+    static const char *const keys[] = {"version", "git"};
+    for (size_t k = 0; k < 2; ++k) {
+        const char *va = summary_value(a, keys[k]), *vb = summary_value(b, keys[k]);
+        if (!va) va = "none";
+        if (!vb) vb = "none";
+        const int la = value_len(va), lb = value_len(vb);
+        if (la == lb && !strncmp(va, vb, (size_t)la)) continue;
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s' and '%s' were made by different builds of hsbd (%s "
+                              "%.*s in the first, %.*s in the second); another build may give "
+                              "other results: run all replicas with one build",
+                              a->dir, b->dir, keys[k], la > 80 ? 80 : la, va, lb > 80 ? 80 : lb,
+                              vb);
+    }
+    return HSBD_OK;
 }
 
 static int by_index(const void *a, const void *b) {
@@ -450,6 +485,17 @@ static int table_columns(table_set *t, hsbd_error *err) {
     return HSBD_OK;
 }
 
+/* A cell as the tables write it (printf's %g): a decimal number, or nan, -nan, inf, -inf
+ * (an estimate without data); nothing before or after it. */
+static int table_number(const char *cell, double *v) {
+    static const char *const special[] = {"nan", "-nan", "inf", "-inf"};
+    static const double value[] = {NAN, NAN, INFINITY, -INFINITY};
+    for (size_t k = 0; k < 4; ++k)
+        if (!strcmp(cell, special[k])) return *v = value[k], 1;
+    const size_t len = hsbd_scan_decimal(cell, v);
+    return len > 0 && cell[len] == '\0' && isfinite(*v);
+}
+
 /* Row i of replica k's table into t->val: ncol cells, each a whole number. */
 static int parse_row(table_set *t, const char *name, const merge_source *src, size_t k, size_t i,
                      hsbd_error *err) {
@@ -459,9 +505,8 @@ static int parse_row(table_set *t, const char *name, const merge_source *src, si
         return hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' line %zu has %zu columns, not %zu",
                               src[k].dir, name, line + 1, nc, t->ncol);
     for (size_t j = 1; j < nc; ++j) {
-        char *end;
-        const double v = strtod(t->cell[j], &end);
-        if (end == t->cell[j] || *end)
+        double v;
+        if (!table_number(t->cell[j], &v))
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "merge: '%s/%s' line %zu, column %s: '%.40s' is not a number",
                                   src[k].dir, name, line + 1, t->names[j], t->cell[j]);
@@ -570,7 +615,11 @@ static int merge_blocks_table(FILE *f, const char *name, const merge_source *src
     int rc = load_tables(base, src, n, &t, err);
     int brc = load_tables(name, src, n, &b, rc == HSBD_OK ? err : &(hsbd_error){0});
     if (rc == HSBD_OK) rc = brc;
-    if (rc == HSBD_OK && (b.rows != t.rows || t.ncol < 2))
+    if (rc == HSBD_OK && t.ncol < 2)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "merge: %s of '%s' has %zu column, no values for %s to hold", base,
+                            src[0].dir, t.ncol, name);
+    if (rc == HSBD_OK && b.rows != t.rows)
         rc = hsbd_error_set(err, HSBD_EINPUT, "merge: %s of '%s' has %zu rows, %s has %zu", name,
                             src[0].dir, b.rows, base, t.rows);
     if (rc == HSBD_OK) {
@@ -857,6 +906,7 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
         if (src[k].index == src[k - 1].index)
             rc = hsbd_error_set(err, HSBD_EINPUT, "merge: '%s' and '%s' are both replica %ld",
                                 src[k - 1].dir, src[k].dir, src[k].index);
+        if (rc == HSBD_OK) rc = same_build(&src[0], &src[k], err);
         if (rc == HSBD_OK) rc = same_parameters(&src[0], &src[k], err);
         if (rc == HSBD_OK) rc = same_inputs(&src[0], &src[k], err);
     }

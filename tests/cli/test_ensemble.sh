@@ -11,7 +11,12 @@
 # nothing written); a table of more than 64 columns merges whole. An ensemble's --force
 # keeps the earlier results when the input is bad (set aside as DIR.earlier when a later
 # replica is refused), refuses an input inside DIR and a replica directory that is a link
-# before it moves anything; an ensemble's own merge that fails leaves no merged file. A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
+# before it moves anything; an ensemble's own merge that fails leaves no merged file. A
+# DIR.earlier that another run set aside stays where it is. Under mpirun a directory rank 0
+# refuses ends the run with its message on every rank, and hsbd resume runs on rank 0
+# alone. Merge refuses replicas of
+# different builds, a replica index or a cell that is no number as hsbd writes them
+# (nan merges). A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
 set -u
 HSBD=${1:?usage: test_ensemble.sh path/to/hsbd}
@@ -167,6 +172,22 @@ refused "an output still being written" "current.tsv.part', an output" rods-part
 refused "a cell that is no number" "column msd: 'garbage' is not a number" rods-r0 rods-garbage
 refused "a table cut short" 'ends inside line' rods-r0 rods-cut
 refused "another input file content" 'different contents of their input files' rods-t0 rods-t1
+cp -r rods-r1 rods-otherbuild && sed -i 's/^  "git": .*/  "git": "0000000",/' rods-otherbuild/summary.json
+refused "another build" 'made by different builds of hsbd (git' rods-r0 rods-otherbuild
+cp -r rods-r1 rods-badindex && sed -i 's/^      "replica": 1,/      "replica": abc,/' rods-badindex/summary.json
+refused "a replica index that is no number" 'run.replica as something other' rods-r0 rods-badindex
+for cell in ' 0x1p3' '1e400' '2 '; do
+    cp -r rods-r1 rods-cell && awk -F'\t' -v OFS='\t' -v c="$cell" '!/^#/ && ++n == 3 {$2 = c} 1' \
+        rods-r1/msd.tsv >rods-cell/msd.tsv
+    refused "the cell '$cell'" "column msd: '$cell' is not a number" rods-r0 rods-cell
+    rm -r rods-cell
+done
+# a cell as printf writes an estimate without data merges (to nan)
+cp -r rods-r1 rods-nan && awk -F'\t' -v OFS='\t' '!/^#/ && ++n == 3 {$2 = "-nan"} 1' \
+    rods-r1/msd.tsv >rods-nan/msd.tsv
+if "$HSBD" merge rods-mergednan rods-r0 rods-nan 2>err.txt &&
+    [ "$(grep -v '^#' rods-mergednan/msd.tsv | sed -n 3p | cut -f2)" = nan ]; then ok
+else bad "merge of a nan cell: $(cat err.txt)"; fi
 refused "an empty size distribution" "add up to 0, not 1" rods-r0 rods-noclusters
 refused "a size distribution cut after a row" "clusters.tsv' add up to" rods-r0 rods-clustercut
 long=$(printf 'd%.0s' $(seq 1 1100))
@@ -251,6 +272,39 @@ rm -r rsi.earlier
 rc=$?
 if [ $rc -eq 0 ] && [ ! -e rsi.earlier ] && same_merged "ensemble --force replaces" rsi rsi-copy
 then :; else bad "ensemble --force over an earlier one: exit $rc, $(cat err.txt)"; fi
+# a DIR.earlier this run did not set aside (no --force) is not its to remove or move back
+mkdir own.earlier && echo keep >own.earlier/notes.txt
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --out own 2>err.txt || bad "ensemble beside X.earlier"
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --set init.positions=missing.txt --out own2 \
+    2>/dev/null
+mkdir own2.earlier && echo keep >own2.earlier/notes.txt
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --set init.positions=missing.txt --out own2 \
+    2>err.txt
+rc=$?
+if [ -d own/replica-1 ] && [ "$(cat own.earlier/notes.txt)" = keep ] && [ $rc -eq 2 ] &&
+    [ ! -e own2 ] && [ "$(cat own2.earlier/notes.txt)" = keep ] && ! grep -q earlier err.txt
+then ok; else bad "a foreign DIR.earlier touched: exit $rc, $(cat err.txt)"; fi
+# under mpirun, an output directory rank 0 refuses stops every rank with its message (no
+# rank left waiting for the others)
+if [ ${#MPIRUN[@]} -gt 0 ]; then
+    echo junk >a-file
+    timeout 300 "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --out a-file >err.txt 2>&1
+    rc=$?
+    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "exists and is not a directory" err.txt
+    then ok; else bad "mpirun, output refused on rank 0: exit $rc (124: hung), $(cat err.txt)"; fi
+    # hsbd resume under mpirun: rank 0 resumes, the others leave it alone
+    "$HSBD" run rods.ini --quiet --replica 0 --set run.t_total=1 --out rods-ext1 || bad "t_total 1"
+    cp -r rods-ext1 rods-ext2
+    timeout 300 "${MPIRUN[@]}" "$HSBD" resume rods-ext1 --quiet --set run.t_total=2 >err.txt 2>&1
+    rc=$?
+    "$HSBD" resume rods-ext2 --quiet --set run.t_total=2 || bad "resume to t_total 2"
+    if [ $rc -eq 0 ] && diff -r -x summary.json -x "checkpoint*" rods-ext1 rods-ext2 >/dev/null; then ok
+    else bad "mpirun -n 2 hsbd resume: exit $rc, $(cat err.txt)"; fi
+    timeout 300 "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --out rods-ens >err.txt 2>&1
+    rc=$?
+    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "already exists and is not empty" err.txt
+    then ok; else bad "mpirun, an existing ensemble: exit $rc (124: hung), $(cat err.txt)"; fi
+fi
 # the ensemble's own merge meeting a full file-size limit leaves no merged file (the
 # replicas' blocks tables, one column per replica, exceed 4 KiB; the replicas' own not)
 (trap '' XFSZ; ulimit -f 4; "$HSBD" run rods.ini --quiet --set run.replicas=24 \

@@ -12,7 +12,8 @@
 # over it), damaged or foreign checkpoints are refused with exit 2, a completed run is
 # refused unless extended; an extension stopped before its first checkpoint or before its
 # results, and a resume refused for a damaged stream, lose nothing; a run started with
-# --force past the sticky step check resumes; --force replaces every output of a run.
+# --force past the sticky step check resumes; --force replaces every output of a run; a
+# directory another process writes is refused to a resume and to run --force.
 set -u
 HSBD=${1:?usage: test_resume.sh path/to/hsbd [model]}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -257,6 +258,28 @@ if [ -z "$ONLY" ] || [ "$ONLY" = spheres ]; then
     walls="--set system.boundary=walls,periodic,walls --set field.type=tilt --set field.force=-0.5 --set species.coupling=1,2 --set run.t_total=0.1 --set run.t_equil=0"
     "$HSBD" run spheres.ini --quiet $walls --out sw 2>/dev/null
     if "$HSBD" run spheres.ini --quiet $walls --out sw --force 2>err; then ok; else bad "--force over walls outputs: $(cat err)"; fi
+fi
+
+# one process writes a run directory at a time: while another holds it (the lock a run or
+# a resume takes, here held by flock(1)), hsbd resume and hsbd run --force are refused
+# with exit 2 and change nothing; once it is free the run extends as before
+if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
+    "$HSBD" run rods.ini --quiet --set run.t_total=0.5 --out locked || bad "run to lock"
+    before=$(cat locked/* | sha256sum)
+    flock -o locked sleep 60 & # -o: the lock stays with flock itself, not with sleep
+    holder=$!
+    while flock -n locked true; do sleep 0.05; done
+    "$HSBD" resume locked --quiet --set run.t_total=1 2>err
+    rc=$?
+    "$HSBD" run rods.ini --quiet --force --out locked 2>err2
+    rc2=$?
+    if [ $rc -eq 2 ] && [ $rc2 -eq 2 ] && grep -q "is in use" err && grep -q "is in use" err2 &&
+        [ "$(cat locked/* | sha256sum)" = "$before" ]; then ok
+    else bad "a directory in use: exit $rc and $rc2, $(cat err err2)"; fi
+    pkill -P $holder sleep
+    wait $holder 2>/dev/null
+    if "$HSBD" resume locked --quiet --set run.t_total=1 2>err; then ok
+    else bad "resume once the directory is free: $(cat err)"; fi
 fi
 
 echo "test_resume: $pass passed, $fail failed"
