@@ -1,5 +1,6 @@
 /* hsbd: command-line front end. Subcommands: run, bench, theory, validate, config-doc,
  * version; each takes --help. */
+#define _GNU_SOURCE /* sched_getaffinity: the CPUs of an MPI rank */
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -22,6 +23,10 @@
 
 #ifdef HSBD_HAVE_MPI
 #include <mpi.h>
+#include <sched.h>
+#endif
+#ifdef _OPENMP
+#include <omp.h>
 #endif
 
 enum { EXIT_INPUT = 2, EXIT_INTERRUPTED = 130 };
@@ -139,7 +144,8 @@ static void run_help(void) {
            "  --replica K run replica K of an ensemble alone (same as --set run.replica=K;\n"
            "              join replicas with hsbd merge)\n"
            "  --threads N threads of the run (same as --set run.threads=N; default: the\n"
-           "              cores the process may use; the same results for every N)\n"
+           "              cores the process may use, under mpirun its rank's share of\n"
+           "              them; the same results for every N)\n"
            "  --defaults  no configuration file: every key at its default (runs/defaults);\n"
            "              a file that sets no key is refused\n"
            "  --force     write into an existing, non-empty run directory\n"
@@ -243,6 +249,39 @@ static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
     return HSBD_ESILENT;
 }
 
+/* The threads each rank of an ensemble takes when neither run.threads nor OMP_NUM_THREADS
+ * sets them: the CPUs it may use divided by the most ranks of its node that may use one of
+ * them, so that ranks and threads do not oversubscribe the node (ranks bound to cores keep
+ * theirs; unbound ones, or ranks bound to a socket, split their CPUs). A collective over
+ * MPI_COMM_WORLD; 0 when unknown (no MPI, or no CPU masks). */
+static int rank_threads_share(const ranks *r) {
+#if defined(HSBD_HAVE_MPI) && defined(__linux__) && defined(CPU_COUNT)
+    if (!r->mpi) return 0;
+    cpu_set_t own;
+    const int known = sched_getaffinity(0, sizeof own, &own) == 0;
+    if (!known) CPU_ZERO(&own); /* it still takes part in the collective */
+    MPI_Comm node;
+    if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) !=
+        MPI_SUCCESS)
+        return 0;
+    int mine[CPU_SETSIZE], ranks_on[CPU_SETSIZE]; /* ranks of the node that may use each CPU */
+    for (int c = 0; c < CPU_SETSIZE; ++c)
+        mine[c] = CPU_ISSET(c, &own) ? 1 : 0;
+    const int summed =
+        MPI_Allreduce(mine, ranks_on, CPU_SETSIZE, MPI_INT, MPI_SUM, node) == MPI_SUCCESS;
+    MPI_Comm_free(&node);
+    int sharing = 0; /* the most ranks on any of this rank's CPUs */
+    for (int c = 0; c < CPU_SETSIZE; ++c)
+        if (mine[c] && ranks_on[c] > sharing) sharing = ranks_on[c];
+    if (!known || !summed || sharing < 1) return 0;
+    const int cpus = CPU_COUNT(&own);
+    return cpus / sharing > 1 ? cpus / sharing : 1;
+#else
+    (void)r;
+    return 0;
+#endif
+}
+
 /* A single run, or run.replicas replicas spread over the ranks (replica k on rank k mod
  * P, each in DIR/replica-k) and merged by rank 0 in replica order. */
 static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_error *err) {
@@ -253,6 +292,13 @@ static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_
     if (replicas == 1) {
         if (r.rank == 0) rc = hsbd_run(cfg, opt, err);
     } else {
+        /* on every rank (a collective); the default's value, so that run.threads stays 0
+         * in the parameters, as in one process */
+        const int share = rank_threads_share(&r);
+#ifdef _OPENMP
+        if (share > 0 && cfg->run.threads == 0 && !getenv("OMP_NUM_THREADS"))
+            omp_set_num_threads(share);
+#endif
         int set_aside = 0; /* this run set an earlier ensemble aside (--force), on rank 0 */
         if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, &set_aside, err);
         rc = ranks_agree(&r, rc, err);

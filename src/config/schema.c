@@ -178,7 +178,8 @@ const key_spec config_schema[] = {
      "run replica K of an ensemble alone (hsbd run --replica K, e.g. one task of a job array; "
      "join them with hsbd merge); -1: not a replica"},
     {"run", "threads", ALL_MODELS, K_INT, OFF(run.threads), 0, 1024, NO_HEADER, "0", 0,
-     "threads of one run (hsbd run --threads N); 0: the cores the process may use. Rods: the "
+     "threads of one run (hsbd run --threads N); 0: the cores the process may use (under "
+     "mpirun: its rank's share of them). Rods: the "
      "noise, field and contact pushes in parallel, results identical for every count; "
      "spheres: the noise, the start-of-step scan, the event groups (not the global calendar) "
      "and the final move in parallel, results identical for every count "

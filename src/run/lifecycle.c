@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/progress.h"
+#include "core/threads.h"
 #include "hsbd/observe.h"
 #include "hsbd_version.h"
 #include "io/files.h"
@@ -235,6 +236,9 @@ void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
             (unsigned long long)r->steps_done, (unsigned long long)hsbd_config_steps(cfg),
             (unsigned long long)r->equil_done);
     fprintf(f, "  \"resumes\": %llu,\n", (unsigned long long)r->resumes);
+    /* the threads of the process that wrote this (run.threads, or the default's value) */
+    fprintf(f, "  \"threads_used\": %d,\n",
+            cfg->run.threads > 0 ? (int)cfg->run.threads : hsbd_threads_available());
     if (!r->ninputs) return;
     fprintf(f, "  \"input_checksums\": {"); /* of the input files read, as read (CRC-64) */
     for (size_t k = 0; k < r->ninputs; ++k) {

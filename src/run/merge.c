@@ -649,8 +649,8 @@ static int merge_blocks_table(FILE *f, const char *name, const merge_source *src
 
 static int timing_key(const char *key) {
     return strstr(key, "wall") || strstr(key, "cpu") || strstr(key, "per_second") ||
-           !strcmp(key, "resumes") || !strcmp(key, "stop_reason") || !strcmp(key, "completed") ||
-           !strcmp(key, "replicas");
+           !strcmp(key, "resumes") || !strcmp(key, "threads_used") || !strcmp(key, "stop_reason") ||
+           !strcmp(key, "completed") || !strcmp(key, "replicas");
 }
 
 static int is_number(const char *v) {

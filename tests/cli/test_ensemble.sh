@@ -13,8 +13,8 @@
 # replica is refused), refuses an input inside DIR and a replica directory that is a link
 # before it moves anything; an ensemble's own merge that fails leaves no merged file. A
 # DIR.earlier that another run set aside stays where it is. Under mpirun a directory rank 0
-# refuses ends the run with its message on every rank, and hsbd resume runs on rank 0
-# alone. Merge refuses replicas of
+# refuses ends the run with its message on every rank, hsbd resume runs on rank 0 alone,
+# and by default the ranks of a node share its CPUs out. Merge refuses replicas of
 # different builds, a replica index or a cell that is no number as hsbd writes them
 # (nan merges). A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
@@ -292,6 +292,20 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     rc=$?
     if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "exists and is not a directory" err.txt
     then ok; else bad "mpirun, output refused on rank 0: exit $rc (124: hung), $(cat err.txt)"; fi
+    # the ranks share the node's CPUs out by default (no oversubscription: each replica
+    # of 2 ranks takes at most half the CPUs); run.threads set is kept
+    env -u OMP_NUM_THREADS "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --out rods-share \
+        >err.txt 2>&1 || bad "mpirun, threads by default: $(cat err.txt)"
+    half=$(( $(nproc) / 2 > 1 ? $(nproc) / 2 : 1 ))
+    for k in 0 1; do
+        t=$(sed -n 's/^  "threads_used": \([0-9]*\),$/\1/p' rods-share/replica-$k/summary.json)
+        if [ -n "$t" ] && [ "$t" -ge 1 ] && [ "$t" -le "$half" ]; then ok
+        else bad "mpirun -n 2: replica $k took '$t' threads of $(nproc) CPUs"; fi
+    done
+    "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --threads 3 --out rods-three >err.txt 2>&1 ||
+        bad "mpirun, --threads 3: $(cat err.txt)"
+    if grep -q '^  "threads_used": 3,$' rods-three/replica-1/summary.json; then ok
+    else bad "mpirun: --threads 3 not kept"; fi
     # hsbd resume under mpirun: rank 0 resumes, the others leave it alone
     "$HSBD" run rods.ini --quiet --replica 0 --set run.t_total=1 --out rods-ext1 || bad "t_total 1"
     cp -r rods-ext1 rods-ext2

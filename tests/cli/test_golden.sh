@@ -106,7 +106,7 @@ fingerprint() { # every result file of a run directory: one hash per file
     done
     # summary.json: its lines without timings and the input files' checksums, as a set (the
     # order of the fields is free)
-    printf '%s summary.json\n' "$(grep -v -E 'second|"git"|"version"|"dir"|checkpoint|resumes|input_checksums' "$dir/summary.json" |
+    printf '%s summary.json\n' "$(grep -v -E 'second|"git"|"version"|"dir"|checkpoint|resumes|threads_used|input_checksums' "$dir/summary.json" |
         sed 's/,$//' | sort | sha256sum | cut -c1-16)"
 }
 

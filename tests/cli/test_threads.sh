@@ -102,8 +102,8 @@ same_on_threads() {
         for f in "$name-1"/*.tsv; do
             cmp -s "$f" "$name-$t/$(basename "$f")" || { same=0; bad "$name: $(basename "$f") differs on $t threads"; }
         done
-        diff <(grep -v -E 'second|"threads"|"dir"' "$name-1/summary.json") \
-            <(grep -v -E 'second|"threads"|"dir"' "$name-$t/summary.json") >/dev/null ||
+        diff <(grep -v -E 'second|"threads(_used)?"|"dir"' "$name-1/summary.json") \
+            <(grep -v -E 'second|"threads(_used)?"|"dir"' "$name-$t/summary.json") >/dev/null ||
             { same=0; bad "$name: summary.json differs on $t threads"; }
         [ $same -eq 1 ] && ok
     done
@@ -169,8 +169,8 @@ same_event_orders() {
         cmp -s <(grep -v 'run.events' "$f") <(grep -v 'run.events' "$2/$(basename "$f")") ||
             { same=0; bad "$1: $(basename "$f") differs between run.events = auto and groups"; }
     done
-    diff <(grep -v -E 'second|"threads"|"dir"|events' "$1/summary.json") \
-        <(grep -v -E 'second|"threads"|"dir"|events' "$2/summary.json") >/dev/null ||
+    diff <(grep -v -E 'second|"threads(_used)?"|"dir"|events' "$1/summary.json") \
+        <(grep -v -E 'second|"threads(_used)?"|"dir"|events' "$2/summary.json") >/dev/null ||
         { same=0; bad "$1: summary.json differs between run.events = auto and groups"; }
     [ $same -eq 1 ] && ok
 }
