@@ -15,6 +15,7 @@
  * replica must hold the same tables. */
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,11 +42,16 @@ static void text_free(text_lines *t) {
     t->buf = NULL, t->line = NULL, t->n = 0;
 }
 
-/* The file's lines (without their newlines); -1 when it cannot be read, -2 out of memory. */
+/* The file's lines (without their newlines); -1 when it cannot be read, -2 out of memory,
+ * -3 when it is no regular file (a FIFO would block the merge). */
 static int text_read(const char *path, text_lines *t) {
     memset(t, 0, sizeof *t);
-    FILE *f = fopen(path, "rb");
-    if (!f) return -1;
+    const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return -1;
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) return close(fd), -3;
+    FILE *f = fdopen(fd, "rb");
+    if (!f) return close(fd), -1;
     size_t cap = 1 << 16, len = 0;
     t->buf = malloc(cap + 1);
     for (size_t got; t->buf && (got = fread(t->buf + len, 1, cap - len, f)) > 0;) {
@@ -83,6 +89,8 @@ static int read_in(const char *dir, const char *name, text_lines *t, hsbd_error 
     snprintf(path, sizeof path, "%s/%s", dir, name);
     const int rc = text_read(path, t);
     if (rc == -2) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory reading '%s'", path);
+    if (rc == -3)
+        return hsbd_error_set(err, HSBD_EINPUT, "merge: '%s' is not a regular file", path);
     if (rc != 0)
         return hsbd_error_set(err, HSBD_EINPUT, "merge: cannot read '%s': %s", path,
                               strerror(errno));
@@ -135,6 +143,9 @@ static int replica_index(const char *v, long *index) {
 
 static int load_source(merge_source *s, hsbd_error *err) {
     int rc = read_in(s->dir, "summary.json", &s->sum, err);
+    char path[HSBD_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/summary.json", s->dir);
+    if (rc != HSBD_OK && access(path, F_OK) == 0) return rc; /* there, but not readable */
     if (rc != HSBD_OK && holds_file(s->dir, "checkpoint.hsbd"))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: the run in '%s' did not finish (a checkpoint, no "

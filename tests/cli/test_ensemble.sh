@@ -16,7 +16,7 @@
 # refuses ends the run with its message on every rank, hsbd resume runs on rank 0 alone,
 # and by default the ranks of a node share its CPUs out. Merge refuses replicas of
 # different builds, a replica index or a cell that is no number as hsbd writes them
-# (nan merges). A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
+# (nan merges), and a file that is no regular file. A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
 set -u
 HSBD=${1:?usage: test_ensemble.sh path/to/hsbd}
@@ -182,6 +182,8 @@ for cell in ' 0x1p3' '1e400' '2 '; do
     refused "the cell '$cell'" "column msd: '$cell' is not a number" rods-r0 rods-cell
     rm -r rods-cell
 done
+cp -r rods-r1 rods-fifo && rm rods-fifo/msd.tsv && mkfifo rods-fifo/msd.tsv
+refused "a table that is a FIFO (it would block)" "msd.tsv' is not a regular file" rods-r0 rods-fifo
 # a cell as printf writes an estimate without data merges (to nan)
 cp -r rods-r1 rods-nan && awk -F'\t' -v OFS='\t' '!/^#/ && ++n == 3 {$2 = "-nan"} 1' \
     rods-r1/msd.tsv >rods-nan/msd.tsv
