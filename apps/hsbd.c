@@ -2,6 +2,7 @@
  * version; each takes --help. */
 #define _GNU_SOURCE /* sched_getaffinity: the CPUs of an MPI rank */
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -30,6 +31,17 @@
 #endif
 
 enum { EXIT_INPUT = 2, EXIT_INTERRUPTED = 130 };
+
+#ifdef HSBD_HAVE_MPI
+enum { HSBD_WITH_MPI = 1 };
+#else
+enum { HSBD_WITH_MPI = 0 };
+#endif
+#ifdef _OPENMP
+enum { HSBD_WITH_OPENMP = 1 };
+#else
+enum { HSBD_WITH_OPENMP = 0 };
+#endif
 
 static volatile sig_atomic_t stop_flag = 0;
 
@@ -190,16 +202,6 @@ static void default_out_dir(const char *config_path, char *out, size_t len) {
 
 /* ---- ensembles of replicas over MPI ranks (docs/scaling.md) ----------------------------- */
 
-/* This process's rank when started by mpirun (OpenMPI or a PMI launcher), else NULL; read
- * from the launcher's environment, without initialising MPI (merge and resume use one
- * process: rank 0) */
-static const char *mpirun_rank(void) {
-    const char *rank = getenv("OMPI_COMM_WORLD_RANK");
-    if (!rank) rank = getenv("PMI_RANK");
-    if (!rank) rank = getenv("PMIX_RANK");
-    return rank;
-}
-
 /* status of a rank that stopped because another rank failed (that one prints why) */
 enum { HSBD_ESILENT = -1 };
 
@@ -247,6 +249,31 @@ static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
     if (worst == HSBD_OK || rc != HSBD_OK) return rc;
     err->status = worst;
     return HSBD_ESILENT;
+}
+
+/* The lowest rank given the same directory as this one (its own rank when none below
+ * is): under mpirun one process resumes or merges into a directory, while ranks given
+ * directories of their own (a job step with one per task) all work. Paths are compared
+ * resolved (symbolic links, . and ..), as a 64-bit FNV-1a hash. A collective. */
+static int first_rank_for(const ranks *r, const char *dir) {
+#ifdef HSBD_HAVE_MPI
+    if (!r->mpi) return r->rank;
+    char resolved[PATH_MAX];
+    const char *path = realpath(dir, resolved) ? resolved : dir;
+    uint64_t key = UINT64_C(14695981039346656037);
+    for (const char *c = path; *c; ++c)
+        key = (key ^ (unsigned char)*c) * UINT64_C(1099511628211);
+    uint64_t *keys = malloc((size_t)r->size * sizeof *keys);
+    if (!keys) return r->rank; /* every rank works: the directory lock refuses the others */
+    int first = r->rank;
+    if (MPI_Allgather(&key, 1, MPI_UINT64_T, keys, 1, MPI_UINT64_T, MPI_COMM_WORLD) == MPI_SUCCESS)
+        for (int k = 0; k < r->rank && first == r->rank; ++k)
+            if (keys[k] == key) first = k;
+    free(keys);
+    return first;
+#else
+    return r->rank;
+#endif
 }
 
 /* The threads each rank of an ensemble takes when neither run.threads nor OMP_NUM_THREADS
@@ -298,6 +325,8 @@ static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_
 #ifdef _OPENMP
         if (share > 0 && cfg->run.threads == 0 && !getenv("OMP_NUM_THREADS"))
             omp_set_num_threads(share);
+#else
+        (void)share; /* one thread anyway */
 #endif
         int set_aside = 0; /* this run set an earlier ensemble aside (--force), on rank 0 */
         if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, &set_aside, err);
@@ -331,7 +360,7 @@ static void merge_help(void) {
            "different contents of an input file, replicas that do not hold the same\n"
            "tables, a table cut short or holding a cell that is no number, and an OUT that\n"
            "is or holds one of the directories merged.\n"
-           "Under mpirun only rank 0 merges.\n\n"
+           "Under mpirun, ranks given the same OUT leave it to the lowest of them.\n\n"
            "  --force  write into an existing, non-empty OUT (an earlier result's files)\n");
 }
 
@@ -363,14 +392,17 @@ static int cmd_merge(int argc, char **argv) {
         fprintf(stderr, "hsbd merge: no output directory given (hsbd merge OUT DIR...)\n");
         return free(dirs), EXIT_INPUT;
     }
-    /* started by mpirun, one process merges (the others would write the same OUT) */
-    const char *rank = mpirun_rank();
-    if (rank && strcmp(rank, "0")) {
-        fprintf(stderr, "hsbd merge: rank %.20s of mpirun: rank 0 merges\n", rank);
-        return free(dirs), 0;
-    }
+    /* under mpirun, one process merges into each OUT */
+    ranks r = ranks_begin();
+    const int first = first_rank_for(&r, out);
     hsbd_error err;
-    const int rc = hsbd_merge(out, dirs, ndirs, force, &err);
+    int rc = HSBD_OK;
+    if (first == r.rank)
+        rc = hsbd_merge(out, dirs, ndirs, force, &err);
+    else
+        fprintf(stderr, "hsbd merge: rank %d of mpirun: rank %d merges into '%s'\n", r.rank, first,
+                out);
+    ranks_end(&r);
     free(dirs);
     return rc == HSBD_OK ? 0 : fail(rc, err.message);
 }
@@ -494,14 +526,15 @@ static void resume_help(void) {
            "own, read again from the checkpoint; stream files (trajectory.xyz, current.tsv) are\n"
            "cut back to the checkpoint. The results equal those of a run never stopped.\n"
            "One process writes a run directory at a time: a resume (or run) of a directory\n"
-           "another hsbd process is writing is refused. Under mpirun only rank 0 resumes.\n\n"
+           "another hsbd process is writing is refused. Under mpirun, ranks given the same\n"
+           "DIR leave it to the lowest of them; ranks given their own DIR each resume it.\n\n"
            "  --set run.t_total=T  a longer production time: extends the run (also a\n"
            "                       completed one)\n"
            "  --quiet              no progress line\n\n"
            "Exit status: 0 done, 2 bad input (no or a damaged checkpoint, a completed run\n"
-           "without a longer run.t_total, a directory in use), 129/130/143 stopped by "
-           "SIGHUP/SIGINT/SIGTERM (a\n"
-           "checkpoint and the results so far written), 1 other errors.\n");
+           "without a longer run.t_total, a directory in use), 129/130/143 stopped by\n"
+           "SIGHUP/SIGINT/SIGTERM (a checkpoint and the results so far written), 1 other\n"
+           "errors.\n");
 }
 
 static int cmd_resume(int argc, char **argv) {
@@ -539,19 +572,21 @@ static int cmd_resume(int argc, char **argv) {
         fprintf(stderr, "hsbd resume: no run directory given (hsbd resume --help)\n");
         rc = EXIT_INPUT;
     }
-    /* started by mpirun, one process resumes (the others would write the same files) */
-    const char *rank = mpirun_rank();
-    if (rc == 0 && rank && strcmp(rank, "0")) {
-        fprintf(stderr, "hsbd resume: rank %.20s of mpirun: rank 0 resumes\n", rank);
-        free(sets);
-        return 0;
-    }
-    if (rc == 0) {
+    if (rc == 0) { /* under mpirun, one process resumes each directory */
+        ranks r = ranks_begin();
+        const int first = first_rank_for(&r, dir);
         hsbd_error err;
+        int status = HSBD_OK;
         catch_stop_signals();
-        const int status = hsbd_resume(dir, sets, nsets, &opt, &err);
+        if (first == r.rank)
+            status = hsbd_resume(dir, sets, nsets, &opt, &err);
+        else
+            fprintf(stderr, "hsbd resume: rank %d of mpirun: rank %d resumes '%s'\n", r.rank, first,
+                    dir);
+        ranks_end(&r);
         rc = status == HSBD_OK ? 0 : fail(status, err.message);
-        if (status == HSBD_OK && opt.progress) fprintf(stderr, "hsbd: results in %s/\n", dir);
+        if (status == HSBD_OK && first == r.rank && opt.progress)
+            fprintf(stderr, "hsbd: results in %s/\n", dir);
     }
     free(sets);
     return rc;
@@ -1100,6 +1135,8 @@ int main(int argc, char **argv) {
     }
     if (!strcmp(cmd, "version") || !strcmp(cmd, "--version")) {
         printf("hsbd %s (git %s)\n", HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
+        printf("built with:%s%s\n", HSBD_WITH_MPI ? " mpi (replicas over mpirun ranks)" : " no mpi",
+               HSBD_WITH_OPENMP ? ", openmp (threads)" : ", no openmp");
         return 0;
     }
     if (!strcmp(cmd, "help") || !strcmp(cmd, "--help") || !strcmp(cmd, "-h")) {

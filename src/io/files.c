@@ -104,7 +104,7 @@ static int is_run_output(const char *name) {
         "fs.tsv",          "summary.json",         "trajectory.xyz",     "trajectory.gsd",
         "checkpoint.hsbd", "checkpoint.prev.hsbd", "theory.tsv",         "percus.tsv",
         "plot.png",        ".hsbd-probe",          "density_phases.tsv", "density_x.tsv",
-        "density_y.tsv",   "density_z.tsv"};
+        "density_y.tsv",   "density_z.tsv",        RUN_LOCK_FILE};
     char base[256];
     snprintf(base, sizeof base, "%s", name);
     const size_t len = strlen(base);
@@ -157,7 +157,8 @@ int run_dir_is_empty(const char *dir) {
     DIR *d = opendir(dir);
     int empty = 1;
     for (struct dirent *e; d && (e = readdir(d));)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) empty = 0;
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && strcmp(e->d_name, RUN_LOCK_FILE))
+            empty = 0;
     if (d) closedir(d);
     return empty;
 }
@@ -206,7 +207,10 @@ static int clear_earlier_run(const char *dir, hsbd_error *err) {
     if (rc != HSBD_OK) return rc;
     DIR *d = opendir(dir);
     for (struct dirent *e; d && (e = readdir(d));) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        /* the lock stays: this process may hold it, and a new file would be another lock */
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") ||
+            !strcmp(e->d_name, RUN_LOCK_FILE))
+            continue;
         char path[HSBD_PATH_MAX + 300];
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
         if (remove(path) != 0 && rc == HSBD_OK)
@@ -247,30 +251,42 @@ int hsbd_dir_create(const char *dir, hsbd_error *err) {
     return probe_writable(dir, err);
 }
 
-int run_dir_claim(const char *dir, int create, int *fd, hsbd_error *err) {
+int run_dir_claim(const char *dir, run_dir_use use, int *fd, hsbd_error *err) {
     *fd = -1;
-    struct stat st;
     if (!dir[0]) return HSBD_OK;
-    if (create && stat(dir, &st) != 0) {
+    struct stat st;
+    if (use == RUN_DIR_WRITE_NEW && stat(dir, &st) != 0) {
         char buf[HSBD_PATH_MAX];
         snprintf(buf, sizeof buf, "%s", dir);
         if (mkdir_parents(buf) != 0) return HSBD_OK; /* hsbd_dir_create says why */
     }
-    const int d = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (d < 0) return HSBD_OK;
-    if (flock(d, LOCK_EX | LOCK_NB) == 0) return *fd = d, HSBD_OK;
+    char path[HSBD_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/%s", dir, RUN_LOCK_FILE);
+    /* NFS grants an exclusive lock only on a file open for writing */
+    const int mode = use == RUN_DIR_READ    ? O_RDONLY
+                     : use == RUN_DIR_CHECK ? O_RDWR
+                                            : O_RDWR | O_CREAT;
+    const int f = open(path, mode | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (f < 0) return HSBD_OK; /* no directory (its checks speak), or no writer ever */
+    if (flock(f, (use == RUN_DIR_READ ? LOCK_SH : LOCK_EX) | LOCK_NB) == 0) return *fd = f, HSBD_OK;
     const int busy = errno == EWOULDBLOCK;
-    close(d);
+    close(f);
     if (!busy) return HSBD_OK; /* no locks on this file system */
     return hsbd_error_set(err, HSBD_EINPUT,
                           "run directory '%s' is in use: another hsbd process (a run or a "
-                          "resume) is writing there; wait until it ends, or choose another "
-                          "directory",
+                          "resume) is writing there; wait until it ends",
                           dir);
 }
 
 void run_dir_release(int fd) {
     if (fd >= 0) close(fd); /* closing drops the lock */
+}
+
+int run_dir_remove(const char *dir) {
+    char path[HSBD_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/%s", dir, RUN_LOCK_FILE);
+    unlink(path);
+    return rmdir(dir);
 }
 
 int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err) {

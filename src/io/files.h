@@ -20,13 +20,26 @@ int run_dir_is_empty(const char *dir);
 int run_path_nesting(const char *a, const char *b);
 /* "replica-<digits>": the name of an ensemble's replica directory */
 int run_is_replica_name(const char *name);
-/* Claims run directory dir for this process until run_dir_release: with create, dir made
- * if missing (without the checks of hsbd_run_dir_prepare, which come after the claim); an
- * exclusive advisory lock (flock) on it, which the system drops when the process ends,
- * however it ends. *fd gets the lock's descriptor, or -1 where no lock can be had (dir
- * not a directory, or a file system without locks): the caller's own checks then speak.
- * HSBD_EINPUT when another process holds the lock (a run or resume writing there). */
-int run_dir_claim(const char *dir, int create, int *fd, hsbd_error *err);
+/* One writer per run directory: hsbd run, hsbd resume and hsbd merge (into OUT) hold an
+ * exclusive advisory lock (flock) on the file RUN_LOCK_FILE in it while they write there
+ * (a file, not the directory: NFS locks only files opened for writing); merge holds shared
+ * locks on its inputs while it reads them. The system drops a lock when its process ends,
+ * however it ends; the file stays, a run's file like the others (an empty directory may
+ * hold it). */
+#define RUN_LOCK_FILE ".hsbd.lock"
+typedef enum run_dir_use {
+    RUN_DIR_WRITE_NEW, /* a writer; the directory (and parents) made if missing */
+    RUN_DIR_WRITE,     /* a writer of an existing directory */
+    RUN_DIR_READ,      /* a reader: a shared lock, no lock file made */
+    RUN_DIR_CHECK      /* nobody writes there (the caller releases the lock at once) */
+} run_dir_use;
+/* Claims dir for `use` (taken before the directory's own checks, which come after): *fd
+ * gets the lock's descriptor, or -1 where no lock is needed or can be had (no directory or
+ * no lock file yet, or a file system without locks). HSBD_EINPUT when another process holds
+ * a lock that conflicts (a writer's, or for a writer a reader's). */
+int run_dir_claim(const char *dir, run_dir_use use, int *fd, hsbd_error *err);
 void run_dir_release(int fd);
+/* Removes the empty run directory dir with its lock file (rmdir's result). */
+int run_dir_remove(const char *dir);
 
 #endif

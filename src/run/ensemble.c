@@ -33,6 +33,14 @@ int run_replica_dir(const char *dir, size_t k, char *out, size_t len, hsbd_error
     return HSBD_OK;
 }
 
+/* No process writes in dir (a run or a resume of it): HSBD_OK, else HSBD_EINPUT naming it. */
+static int not_in_use(const char *dir, hsbd_error *err) {
+    int lock;
+    const int rc = run_dir_claim(dir, RUN_DIR_CHECK, &lock, err);
+    run_dir_release(lock);
+    return rc;
+}
+
 /* Each entry replica-K of an earlier ensemble in dir: a directory of its own (not a
  * symbolic link, which --force would follow out of dir) holding only a run's files. With
  * remove, they are then removed; without, only checked. */
@@ -53,10 +61,10 @@ static int earlier_replicas(const char *dir, int remove, hsbd_error *err) {
                                 "earlier run's files: choose another --out",
                                 dir, e->d_name);
         else if (!remove)
-            rc = run_dir_check_earlier(sub, 0, err);
+            rc = not_in_use(sub, err) == HSBD_OK ? run_dir_check_earlier(sub, 0, err) : err->status;
         else if (hsbd_run_dir_prepare(sub, 1, err) != HSBD_OK)
             rc = err->status;
-        else if (rmdir(sub) != 0)
+        else if (run_dir_remove(sub) != 0)
             rc = hsbd_error_set(err, HSBD_EINPUT, "cannot remove '%s' of the earlier run: %s", sub,
                                 strerror(errno));
     }
@@ -106,6 +114,7 @@ int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, int *set_aside, hsb
     char aside[HSBD_PATH_MAX + 16];
     struct stat st;
     int rc = input_inside(cfg, dir, err);
+    if (rc == HSBD_OK) rc = not_in_use(dir, err); /* a single run's directory */
     if (rc == HSBD_OK) rc = earlier_replicas(dir, 0, err);
     if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
     if (rc != HSBD_OK) return rc;
@@ -138,7 +147,7 @@ int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_error *err) {
         hsbd_error_clear(&e);
         if (earlier_replicas(aside, 1, &e) == HSBD_OK &&
             hsbd_run_dir_prepare(aside, 1, &e) == HSBD_OK) {
-            if (rmdir(aside) == 0) return HSBD_OK;
+            if (run_dir_remove(aside) == 0) return HSBD_OK;
             hsbd_error_set(&e, HSBD_EIO, "%s", strerror(errno));
         }
         return hsbd_error_set(err, HSBD_EIO,
@@ -150,7 +159,7 @@ int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_error *err) {
      * results go back; else both stay */
     int restored = 0;
     if (stat(dir, &st) != 0 || run_dir_is_empty(dir)) {
-        rmdir(dir); /* empty: made by a replica refused after */
+        run_dir_remove(dir); /* empty: made by a replica refused after */
         restored = rename(aside, dir) == 0;
     }
     snprintf(more, room, "%s%s '%s'", len ? "; " : "",

@@ -237,8 +237,7 @@ void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
             (unsigned long long)r->equil_done);
     fprintf(f, "  \"resumes\": %llu,\n", (unsigned long long)r->resumes);
     /* the threads of the process that wrote this (run.threads, or the default's value) */
-    fprintf(f, "  \"threads_used\": %d,\n",
-            cfg->run.threads > 0 ? (int)cfg->run.threads : hsbd_threads_available());
+    fprintf(f, "  \"threads_used\": %d,\n", run_threads(cfg));
     if (!r->ninputs) return;
     fprintf(f, "  \"input_checksums\": {"); /* of the input files read, as read (CRC-64) */
     for (size_t k = 0; k < r->ninputs; ++k) {
@@ -300,6 +299,10 @@ static int open_streams(run *r, hsbd_error *err) {
     return HSBD_OK;
 }
 
+int run_threads(const hsbd_config *cfg) {
+    return cfg->run.threads > 0 ? (int)cfg->run.threads : hsbd_threads_available();
+}
+
 size_t run_input_files(const hsbd_config *cfg, const char *key[3], const char *path[3]) {
     size_t n = 0;
     if (cfg->field.type & HSBD_FIELD_TABLE) /* both models */
@@ -331,7 +334,7 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
     int rc = cfg->system.model == HSBD_MODEL_SPHERES ? run_spheres_build(&r, err)
                                                      : run_rods_build(&r, err);
     int lock = -1; /* claimed before its checks: no other run writes there meanwhile */
-    if (rc == HSBD_OK) rc = run_dir_claim(cfg->output.dir, 1, &lock, err);
+    if (rc == HSBD_OK) rc = run_dir_claim(cfg->output.dir, RUN_DIR_WRITE_NEW, &lock, err);
     if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(cfg->output.dir, opt->force, err);
     if (rc == HSBD_OK) rc = open_streams(&r, err);
     if (rc == HSBD_OK) {
@@ -602,6 +605,14 @@ static void restore_streams(run *r, const char *dir) {
                 why.message);
 }
 
+static int holds_checkpoint(const char *dir) {
+    char path[HSBD_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/checkpoint.hsbd", dir);
+    if (access(path, F_OK) == 0) return 1;
+    snprintf(path, sizeof path, "%s/checkpoint.prev.hsbd", dir);
+    return access(path, F_OK) == 0;
+}
+
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
                 hsbd_error *err) {
     hsbd_error_clear(err);
@@ -609,8 +620,9 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     if (!cfg) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     run r = {.opt = opt};
     resumed_source rs = {0};
-    int lock = -1; /* a second resume of the same run is refused, not raced */
-    int rc = run_dir_claim(dir, 0, &lock, err);
+    int lock = -1; /* a second resume of the same run is refused, not raced (a directory
+                    * without checkpoints gets no lock file: the load refuses it) */
+    int rc = holds_checkpoint(dir) ? run_dir_claim(dir, RUN_DIR_WRITE, &lock, err) : HSBD_OK;
     if (rc == HSBD_OK) rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
     /* from here on the stream files are the stopped run's: kept whatever happens (release()
      * removes the files of a run that never started) */

@@ -101,6 +101,7 @@ static int read_in(const char *dir, const char *name, text_lines *t, hsbd_error 
 
 typedef struct merge_source {
     const char *dir;
+    int lock;       /* its shared lock (run_dir_claim), or -1 */
     long index;     /* run.replica */
     text_lines sum; /* summary.json */
     size_t params;  /* its line `  "parameters": {` */
@@ -895,7 +896,7 @@ static int write_files(const char *out, const merged_file *files, size_t count, 
         snprintf(path, sizeof path, "%s/%s", out, files[k].name);
         remove(path);
     }
-    if (prepare && !existed) rmdir(out);
+    if (prepare && !existed) run_dir_remove(out);
     return rc;
 }
 
@@ -908,9 +909,12 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
     merge_source *src = calloc(ndirs, sizeof *src);
     if (!src) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     int rc = HSBD_OK;
-    for (size_t k = 0; k < ndirs && rc == HSBD_OK; ++k) {
+    for (size_t k = 0; k < ndirs; ++k)
+        src[k].lock = -1;
+    for (size_t k = 0; k < ndirs && rc == HSBD_OK; ++k) { /* read while no run writes there */
         src[k].dir = dirs[k];
-        rc = load_source(&src[k], err);
+        rc = run_dir_claim(src[k].dir, RUN_DIR_READ, &src[k].lock, err);
+        if (rc == HSBD_OK) rc = load_source(&src[k], err);
     }
     if (rc == HSBD_OK) qsort(src, ndirs, sizeof *src, by_index);
     for (size_t k = 1; k < ndirs && rc == HSBD_OK; ++k) {
@@ -932,13 +936,16 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
     if (rc == HSBD_OK) rc = make_file(&files[nnames], "summary.json", src, ndirs, out, err);
     /* everything was read and checked before the output directory is touched; the
      * summary, which says a result is whole, goes last */
+    int out_lock = -1; /* an existing OUT: no run writes there while the merge does */
+    if (rc == HSBD_OK && prepare) rc = run_dir_claim(out, RUN_DIR_WRITE, &out_lock, err);
     if (rc == HSBD_OK) rc = write_files(out, files, nnames + 1, prepare, force, err);
+    run_dir_release(out_lock);
     for (size_t k = 0; files && k <= nnames; ++k)
         free(files[k].text);
     free_names(names, nnames);
     free(files);
     for (size_t k = 0; k < ndirs; ++k)
-        text_free(&src[k].sum);
+        text_free(&src[k].sum), run_dir_release(src[k].lock);
     free(src);
     return rc;
 }

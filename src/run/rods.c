@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/threads.h"
 #include "core/vmath.h"
 #include "hsbd/io.h"
 #include "hsbd/observe.h"
@@ -104,7 +103,7 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
         .contact_rule = cfg->system.contact_rule,
         .boundary =
             cfg->system.boundary == HSBD_BOUNDARY_WALLS ? HSBD_RODS_WALLS : HSBD_RODS_PERIODIC,
-        .threads = cfg->run.threads > 0 ? (int)cfg->run.threads : hsbd_threads_available(),
+        .threads = run_threads(cfg),
     };
     return p;
 }

@@ -127,6 +127,9 @@ uint64_t run_every(const hsbd_config *cfg, double period);
  * named length_key in messages; a table is loaded into *table (the caller frees it). */
 int run_build_field(const hsbd_config *cfg, double L, int periodic, const char *length_key,
                     hsbd_table **table, hsbd_field *field, hsbd_error *err);
+/* The threads a run uses: run.threads, or when 0 the default's value (the cores the
+ * process may use, or what the CLI set for an MPI rank). */
+int run_threads(const hsbd_config *cfg);
 /* The input files the configuration reads (at most 3): their keys and paths; the count. */
 size_t run_input_files(const hsbd_config *cfg, const char *key[3], const char *path[3]);
 int run_rods_build(run *r, hsbd_error *err);

@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/threads.h"
 #include "hsbd/io.h"
 #include "hsbd/observe.h"
 #include "hsbd/spheres.h"
@@ -157,8 +156,7 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .field_axis = cfg->field.axis,
                              .particle_coupling = m->coupling,
                              .event_order = (hsbd_spheres_event_order)cfg->run.events,
-                             .threads = cfg->run.threads > 0 ? (int)cfg->run.threads
-                                                             : hsbd_threads_available()};
+                             .threads = run_threads(cfg)};
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a],
         p.walls[a] = cfg->system.walls[a];

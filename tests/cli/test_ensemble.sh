@@ -13,8 +13,10 @@
 # replica is refused), refuses an input inside DIR and a replica directory that is a link
 # before it moves anything; an ensemble's own merge that fails leaves no merged file. A
 # DIR.earlier that another run set aside stays where it is. Under mpirun a directory rank 0
-# refuses ends the run with its message on every rank, hsbd resume runs on rank 0 alone,
-# and by default the ranks of a node share its CPUs out. Merge refuses replicas of
+# refuses ends the run with its message on every rank, hsbd resume of one directory runs
+# on one rank (ranks with directories of their own each resume theirs), and by default
+# the ranks of a node share its CPUs out. A directory another process writes is refused
+# to an ensemble's --force and to merge (reading or writing it). Merge refuses replicas of
 # different builds, a replica index or a cell that is no number as hsbd writes them
 # (nan merges), and a file that is no regular file. A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
@@ -74,8 +76,7 @@ same_merged() { # same_merged WHAT DIR1 DIR2
 }
 
 MPIRUN=()
-if command -v mpirun >/dev/null && "$HSBD" version >/dev/null &&
-    grep -q "mpirun -n P" <("$HSBD" run --help); then
+if command -v mpirun >/dev/null && "$HSBD" version | grep -q "built with: mpi"; then
     # OpenMPI's own allocations live until exit: LeakSanitizer (make asan) would report
     # them; hsbd's own leaks are checked by every case without mpirun (same code paths)
     MPIRUN=(env "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
@@ -308,6 +309,17 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
         bad "mpirun, --threads 3: $(cat err.txt)"
     if grep -q '^  "threads_used": 3,$' rods-three/replica-1/summary.json; then ok
     else bad "mpirun: --threads 3 not kept"; fi
+    # ranks given their own directories each resume theirs (one job step, a task each)
+    for k in 0 1; do
+        "$HSBD" run rods.ini --quiet --replica $k --set run.t_total=1 --out rods-task$k ||
+            bad "task $k"
+    done
+    "${MPIRUN[@]}" sh -c '"$0" resume rods-task${OMPI_COMM_WORLD_RANK:-$PMI_RANK} --quiet \
+        --set run.t_total=2' "$HSBD" >err.txt 2>&1 || bad "mpirun, a resume per rank: $(cat err.txt)"
+    for k in 0 1; do
+        if grep -q '"steps": 2000,' rods-task$k/summary.json; then ok
+        else bad "mpirun, a resume per rank: rods-task$k not extended"; fi
+    done
     # hsbd resume under mpirun: rank 0 resumes, the others leave it alone
     "$HSBD" run rods.ini --quiet --replica 0 --set run.t_total=1 --out rods-ext1 || bad "t_total 1"
     cp -r rods-ext1 rods-ext2
@@ -321,6 +333,38 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "already exists and is not empty" err.txt
     then ok; else bad "mpirun, an existing ensemble: exit $rc (124: hung), $(cat err.txt)"; fi
 fi
+# a directory another process writes (its lock held, here by flock(1)) is refused to an
+# ensemble's --force (a single run's directory, or a replica being resumed), to hsbd merge
+# reading it, and to hsbd merge --force writing into it; nothing is touched
+hold() { # hold DIR: the lock of DIR held until release
+    flock -o "$1/.hsbd.lock" sleep 120 &
+    holder=$!
+    while flock -n "$1/.hsbd.lock" true; do sleep 0.05; done
+}
+release() { pkill -P $holder sleep; wait $holder 2>/dev/null; }
+in_use() { # in_use WHAT DIR CMD...: exit 2, "is in use", DIR unchanged
+    local what=$1 dir=$2 before rc
+    shift 2
+    before=$(ls -AR "$dir"; cat "$dir"/* 2>/dev/null | sha256sum)
+    "$@" >/dev/null 2>err.txt
+    rc=$?
+    if [ $rc -eq 2 ] && grep -q "is in use" err.txt &&
+        [ "$(ls -AR "$dir"; cat "$dir"/* 2>/dev/null | sha256sum)" = "$before" ]; then ok
+    else bad "$what while it is written: exit $rc, $(cat err.txt)"; fi
+}
+"$HSBD" run rods.ini --quiet --out busy-run || bad "busy-run"
+hold busy-run
+in_use "ensemble --force over a run" busy-run "$HSBD" run rods.ini --quiet --force \
+    --set run.replicas=2 --out busy-run
+in_use "merge --force into a run" busy-run "$HSBD" merge --force busy-run rods-r0 rods-r1
+release
+hold rods-one3/replica-1
+in_use "ensemble --force over a replica" rods-one3 "$HSBD" run rods.ini --quiet --force \
+    --set run.replicas=3 --out rods-one3
+in_use "merge of a replica" rods-r0 "$HSBD" merge busy-merged rods-r0 rods-one3/replica-1
+release
+[ ! -e busy-merged ] || bad "merge of a replica in use wrote busy-merged"
+[ ! -e rods-one3.earlier ] || bad "ensemble --force over a replica in use set it aside"
 # the ensemble's own merge meeting a full file-size limit leaves no merged file (the
 # replicas' blocks tables, one column per replica, exceed 4 KiB; the replicas' own not)
 (trap '' XFSZ; ulimit -f 4; "$HSBD" run rods.ini --quiet --set run.replicas=24 \

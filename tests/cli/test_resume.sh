@@ -265,16 +265,16 @@ fi
 # with exit 2 and change nothing; once it is free the run extends as before
 if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     "$HSBD" run rods.ini --quiet --set run.t_total=0.5 --out locked || bad "run to lock"
-    before=$(cat locked/* | sha256sum)
-    flock -o locked sleep 60 & # -o: the lock stays with flock itself, not with sleep
+    before=$(ls -A locked; cat locked/* | sha256sum)
+    flock -o locked/.hsbd.lock sleep 60 & # -o: the lock stays with flock, not with sleep
     holder=$!
-    while flock -n locked true; do sleep 0.05; done
+    while flock -n locked/.hsbd.lock true; do sleep 0.05; done
     "$HSBD" resume locked --quiet --set run.t_total=1 2>err
     rc=$?
     "$HSBD" run rods.ini --quiet --force --out locked 2>err2
     rc2=$?
     if [ $rc -eq 2 ] && [ $rc2 -eq 2 ] && grep -q "is in use" err && grep -q "is in use" err2 &&
-        [ "$(cat locked/* | sha256sum)" = "$before" ]; then ok
+        [ "$(ls -A locked; cat locked/* | sha256sum)" = "$before" ]; then ok
     else bad "a directory in use: exit $rc and $rc2, $(cat err err2)"; fi
     pkill -P $holder sleep
     wait $holder 2>/dev/null
