@@ -251,6 +251,32 @@ static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
     return HSBD_ESILENT;
 }
 
+#ifdef HSBD_HAVE_MPI
+/* path resolved (symbolic links, . and ..) into out; one that does not exist yet is its
+ * parent resolved with its last part appended (so "D" and "./D" agree before D is made) */
+static void resolved_path(const char *path, char *out, size_t len) {
+    char head[PATH_MAX], base[PATH_MAX];
+    if (realpath(path, out) && strlen(out) < len) return;
+    snprintf(head, sizeof head, "%s", path);
+    size_t n = strlen(head);
+    while (n > 1 && head[n - 1] == '/')
+        head[--n] = '\0';
+    char *slash = strrchr(head, '/');
+    snprintf(base, sizeof base, "%s", slash ? slash + 1 : head);
+    if (slash == head)
+        head[1] = '\0';
+    else if (slash)
+        *slash = '\0';
+    else
+        snprintf(head, sizeof head, ".");
+    char parent[PATH_MAX];
+    if (realpath(head, parent))
+        snprintf(out, len, "%s/%s", parent, base);
+    else
+        snprintf(out, len, "%s", path);
+}
+#endif
+
 /* The lowest rank given the same directory as this one (its own rank when none below
  * is): under mpirun one process resumes or merges into a directory, while ranks given
  * directories of their own (a job step with one per task) all work. Paths are compared
@@ -258,13 +284,16 @@ static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
 static int first_rank_for(const ranks *r, const char *dir) {
 #ifdef HSBD_HAVE_MPI
     if (!r->mpi) return r->rank;
-    char resolved[PATH_MAX];
-    const char *path = realpath(dir, resolved) ? resolved : dir;
+    char path[2 * PATH_MAX];
+    resolved_path(dir, path, sizeof path);
     uint64_t key = UINT64_C(14695981039346656037);
     for (const char *c = path; *c; ++c)
         key = (key ^ (unsigned char)*c) * UINT64_C(1099511628211);
     uint64_t *keys = malloc((size_t)r->size * sizeof *keys);
-    if (!keys) return r->rank; /* every rank works: the directory lock refuses the others */
+    if (!keys) { /* the others wait in the gather */
+        fprintf(stderr, "hsbd: out of memory\n");
+        MPI_Abort(MPI_COMM_WORLD, 1);
+    }
     int first = r->rank;
     if (MPI_Allgather(&key, 1, MPI_UINT64_T, keys, 1, MPI_UINT64_T, MPI_COMM_WORLD) == MPI_SUCCESS)
         for (int k = 0; k < r->rank && first == r->rank; ++k)
@@ -310,6 +339,18 @@ static int rank_threads_share(const ranks *r) {
 #endif
 }
 
+/* Under mpirun, the default thread count (run.threads 0) becomes the rank's share of its
+ * node's CPUs (rank_threads_share) unless OMP_NUM_THREADS sets it; run.threads stays 0 in
+ * the parameters, as in one process. A collective. */
+static void share_rank_threads(const ranks *r) {
+    const int share = rank_threads_share(r);
+#ifdef _OPENMP
+    if (share > 0 && !getenv("OMP_NUM_THREADS")) omp_set_num_threads(share);
+#else
+    (void)share; /* one thread anyway */
+#endif
+}
+
 /* A single run, or run.replicas replicas spread over the ranks (replica k on rank k mod
  * P, each in DIR/replica-k) and merged by rank 0 in replica order. */
 static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_error *err) {
@@ -320,27 +361,20 @@ static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_
     if (replicas == 1) {
         if (r.rank == 0) rc = hsbd_run(cfg, opt, err);
     } else {
-        /* on every rank (a collective); the default's value, so that run.threads stays 0
-         * in the parameters, as in one process */
-        const int share = rank_threads_share(&r);
-#ifdef _OPENMP
-        if (share > 0 && cfg->run.threads == 0 && !getenv("OMP_NUM_THREADS"))
-            omp_set_num_threads(share);
-#else
-        (void)share; /* one thread anyway */
-#endif
-        int set_aside = 0; /* this run set an earlier ensemble aside (--force), on rank 0 */
-        if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, &set_aside, err);
+        share_rank_threads(&r); /* on every rank: a collective */
+        hsbd_ensemble_claim claim = {.lock = -1, .aside_lock = -1}; /* rank 0's */
+        if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, &claim, err);
         rc = ranks_agree(&r, rc, err);
         if (rc == HSBD_OK) { /* on every rank or on none: each meets the second agreement */
             rc = hsbd_ensemble_run(cfg, opt, replicas, r.rank, r.size, err);
             rc = ranks_agree(&r, rc, err);
         }
         if (rc == HSBD_OK && r.rank == 0) rc = hsbd_ensemble_merge(cfg, replicas, err);
-        /* the earlier ensemble this run set aside: removed, or back after a failure */
-        if (set_aside) {
+        /* the directory's lock released; an earlier ensemble this run set aside removed,
+         * or back after a failure */
+        if (r.rank == 0) {
             const int status = rc == HSBD_ESILENT ? err->status : rc;
-            const int done = hsbd_ensemble_finish(cfg, status, err);
+            const int done = hsbd_ensemble_finish(cfg, status, &claim, err);
             if (rc != HSBD_ESILENT || done != status) rc = done;
         }
     }
@@ -359,7 +393,8 @@ static void merge_help(void) {
            "different configurations (any parameter but run.replica, run.replicas,\n"
            "run.threads and output.dir), of different builds of hsbd (version, git) or of\n"
            "different contents of an input file, replicas that do not hold the same\n"
-           "tables, a table cut short or holding a cell that is no number, and an OUT that\n"
+           "tables, a table cut short or holding a cell that is no number, a file that is\n"
+           "no regular file, a directory another hsbd process is writing, and an OUT that\n"
            "is or holds one of the directories merged.\n"
            "Under mpirun, ranks given the same OUT leave it to the lowest of them.\n\n"
            "  --force  write into an existing, non-empty OUT (an earlier result's files)\n");
@@ -576,6 +611,7 @@ static int cmd_resume(int argc, char **argv) {
     if (rc == 0) { /* under mpirun, one process resumes each directory */
         ranks r = ranks_begin();
         const int first = first_rank_for(&r, dir);
+        share_rank_threads(&r);
         hsbd_error err;
         int status = HSBD_OK;
         catch_stop_signals();

@@ -58,19 +58,27 @@ HSBD_API int hsbd_resume(const char *dir, const char *const *sets, size_t nsets,
 /* The replicas of an ensemble started on `ranks` processes: run.replicas, or one per rank
  * when it is 0; 1 means a single run. */
 HSBD_API size_t hsbd_ensemble_size(const hsbd_config *cfg, int ranks);
-/* Checks the ensemble's directory (one process, before any replica runs): an existing one
- * is refused when it holds anything unless force; with force, an earlier ensemble's or
- * run's files (checked to be nothing else) are set aside as DIR.earlier, and *set_aside
- * is set (else 0); a missing directory is made by the replicas once their input is
- * accepted. */
-HSBD_API int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, int *set_aside,
+/* What hsbd_ensemble_prepare holds for the ensemble until hsbd_ensemble_finish. */
+typedef struct hsbd_ensemble_claim {
+    int lock;       /* DIR's lock (one writer per run directory, docs/runs.md), or -1 */
+    int aside_lock; /* DIR.earlier's, while earlier results are set aside, or -1 */
+    int set_aside;  /* the earlier results in DIR were set aside as DIR.earlier */
+    int created;    /* DIR was made here */
+} hsbd_ensemble_claim;
+/* Checks and claims the ensemble's directory (one process, before any replica runs): a
+ * missing one is made, an existing one is refused when it holds anything unless force, or
+ * when another process writes there (or in one of its replica-K); with force, an earlier
+ * ensemble's or run's files (checked to be nothing else) are set aside as DIR.earlier and
+ * a new DIR is made. */
+HSBD_API int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_ensemble_claim *claim,
                                    hsbd_error *err);
-/* After an ensemble whose prepare set earlier files aside (only then: a DIR.earlier left by
- * another run is not this one's), with its status: they are removed when it succeeded; when
- * it failed they come back if no replica began, else they stay as DIR.earlier; err's
- * message (status != 0) then says which. Returns status, or an error when the set-aside
- * files cannot be removed. */
-HSBD_API int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_error *err);
+/* After the ensemble (the process that prepared it, whatever prepare returned), with its
+ * status: earlier files set aside are removed when it succeeded; when it failed they come
+ * back if no replica began, else they stay as DIR.earlier, and err's message says which; a
+ * DIR made by prepare goes again if it failed before any replica began. The locks are
+ * released. Returns status, or an error when the set-aside files cannot be removed. */
+HSBD_API int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_ensemble_claim *claim,
+                                  hsbd_error *err);
 /* Runs replicas k = rank, rank + ranks, ... below `replicas`, each into DIR/replica-k. */
 HSBD_API int hsbd_ensemble_run(const hsbd_config *cfg, const hsbd_run_options *opt, size_t replicas,
                                int rank, int ranks, hsbd_error *err);

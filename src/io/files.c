@@ -251,6 +251,35 @@ int hsbd_dir_create(const char *dir, hsbd_error *err) {
     return probe_writable(dir, err);
 }
 
+/* Opens dir's lock file for `use`: its descriptor, -1 when there is none to take (no
+ * directory, no lock file yet for a reader or a check, a directory of foreign files, which
+ * the caller's checks refuse: no lock file is left there), or -2 with err set when the
+ * name is taken by something that is no lock file (a link, a FIFO, a directory). */
+static int open_lock_file(const char *dir, run_dir_use use, hsbd_error *err) {
+    char path[HSBD_PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/%s", dir, RUN_LOCK_FILE);
+    hsbd_error ignored;
+    const int writer = use == RUN_DIR_WRITE_NEW || use == RUN_DIR_WRITE;
+    const int create =
+        writer && (run_dir_is_empty(dir) || run_dir_check_earlier(dir, 1, &ignored) == HSBD_OK);
+    /* NFS grants an exclusive lock only on a file open for writing; O_NONBLOCK: a FIFO
+     * must not block the open */
+    const int flags = O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK;
+    int f = open(path, (use == RUN_DIR_READ ? O_RDONLY : O_RDWR) | (create ? O_CREAT : 0) | flags,
+                 0666);
+    if (f < 0 && errno == EACCES && use != RUN_DIR_READ)       /* another user's: local locks */
+        f = open(path, O_RDONLY | flags);                      /* need no write access */
+    if (f < 0 && errno != ELOOP && errno != EISDIR) return -1; /* none, or no directory */
+    struct stat st;
+    if (f >= 0 && fstat(f, &st) == 0 && S_ISREG(st.st_mode)) return f;
+    if (f >= 0) close(f);
+    hsbd_error_set(err, HSBD_EINPUT,
+                   "'%s' is not the lock file of a run directory (a link or another kind of "
+                   "file): remove it, or choose another directory",
+                   path);
+    return -2;
+}
+
 int run_dir_claim(const char *dir, run_dir_use use, int *fd, hsbd_error *err) {
     *fd = -1;
     if (!dir[0]) return HSBD_OK;
@@ -260,22 +289,17 @@ int run_dir_claim(const char *dir, run_dir_use use, int *fd, hsbd_error *err) {
         snprintf(buf, sizeof buf, "%s", dir);
         if (mkdir_parents(buf) != 0) return HSBD_OK; /* hsbd_dir_create says why */
     }
-    char path[HSBD_PATH_MAX + 32];
-    snprintf(path, sizeof path, "%s/%s", dir, RUN_LOCK_FILE);
-    /* NFS grants an exclusive lock only on a file open for writing */
-    const int mode = use == RUN_DIR_READ    ? O_RDONLY
-                     : use == RUN_DIR_CHECK ? O_RDWR
-                                            : O_RDWR | O_CREAT;
-    const int f = open(path, mode | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (f < 0) return HSBD_OK; /* no directory (its checks speak), or no writer ever */
+    const int f = open_lock_file(dir, use, err);
+    if (f == -2) return err->status;
+    if (f < 0) return HSBD_OK;
     if (flock(f, (use == RUN_DIR_READ ? LOCK_SH : LOCK_EX) | LOCK_NB) == 0) return *fd = f, HSBD_OK;
     const int busy = errno == EWOULDBLOCK;
     close(f);
     if (!busy) return HSBD_OK; /* no locks on this file system */
     return hsbd_error_set(err, HSBD_EINPUT,
-                          "run directory '%s' is in use: another hsbd process (a run or a "
-                          "resume) is writing there; wait until it ends",
-                          dir);
+                          "run directory '%s' is in use: another hsbd process (a run, a resume, "
+                          "an ensemble or a merge) is %s there; wait until it ends",
+                          dir, use == RUN_DIR_READ ? "writing" : "writing or reading");
 }
 
 void run_dir_release(int fd) {

@@ -93,15 +93,65 @@ static int input_inside(const hsbd_config *cfg, const char *dir, hsbd_error *err
     return HSBD_OK;
 }
 
-int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, int *set_aside, hsbd_error *err) {
-    hsbd_error_clear(err);
-    *set_aside = 0;
+static void hsbd_ensemble_finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim);
+
+/* An empty or missing DIR: claimed (made when missing), then checked as a run directory. */
+static int prepare_new(const char *dir, int force, hsbd_ensemble_claim *claim, hsbd_error *err) {
+    struct stat st;
+    const int existed = dir[0] && stat(dir, &st) == 0;
+    int rc = existed && !S_ISDIR(st.st_mode)
+                 ? HSBD_OK /* a file: the check below refuses it */
+                 : run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->lock, err);
+    claim->created = !existed && dir[0] && stat(dir, &st) == 0;
+    if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(dir, force, err);
+    if (rc != HSBD_OK) hsbd_ensemble_finish_dir(dir, rc, claim);
+    return rc;
+}
+
+/* --force over earlier results in dir (checked to be a run's or an ensemble's, with no
+ * process writing in it or in a replica-K): they are set aside as DIR.earlier, not removed
+ * (the new ensemble may still fail on a replica's input), and a new DIR is claimed. */
+static int set_earlier_aside(const hsbd_config *cfg, hsbd_ensemble_claim *claim, hsbd_error *err) {
     const char *dir = cfg->output.dir;
-    struct stat dst;
-    if (dir[0] && stat(dir, &dst) != 0) /* a new directory is made by the first replica */
-        return errno == ENOENT ? HSBD_OK : hsbd_run_dir_prepare(dir, force, err);
-    if (!dir[0] || !S_ISDIR(dst.st_mode) || run_dir_is_empty(dir))
-        return hsbd_run_dir_prepare(dir, force, err);
+    char aside[HSBD_PATH_MAX + 16];
+    struct stat st;
+    int rc = run_dir_claim(dir, RUN_DIR_WRITE, &claim->aside_lock, err); /* a run's writer */
+    if (rc == HSBD_OK) rc = input_inside(cfg, dir, err);
+    if (rc == HSBD_OK) rc = earlier_replicas(dir, 0, err); /* and their writers */
+    if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
+    if (rc == HSBD_OK && earlier_path(dir, aside, sizeof aside))
+        rc = hsbd_error_set(err, HSBD_EINPUT, "output.dir '%.200s...' is too long", dir);
+    if (rc == HSBD_OK && lstat(aside, &st) == 0)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "'%s' exists (earlier results set aside by a --force that did not "
+                            "finish); remove or rename it before replacing '%s'",
+                            aside, dir);
+    if (rc == HSBD_OK && rename(dir, aside) != 0)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "cannot set the earlier results in '%s' aside as '%s': %s; remove "
+                            "them yourself or choose another --out",
+                            dir, aside, strerror(errno));
+    if (rc != HSBD_OK) {
+        run_dir_release(claim->aside_lock);
+        claim->aside_lock = -1;
+        return rc;
+    }
+    claim->set_aside = 1;
+    rc = run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->lock, err);
+    claim->created = rc == HSBD_OK;
+    return rc == HSBD_OK ? rc : hsbd_ensemble_finish(cfg, rc, claim, err);
+}
+
+int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_ensemble_claim *claim,
+                          hsbd_error *err) {
+    hsbd_error_clear(err);
+    *claim = (hsbd_ensemble_claim){.lock = -1, .aside_lock = -1};
+    const char *dir = cfg->output.dir;
+    struct stat st;
+    if (dir[0] && stat(dir, &st) != 0 && errno != ENOENT)
+        return hsbd_run_dir_prepare(dir, force, err); /* its message */
+    if (!dir[0] || stat(dir, &st) != 0 || !S_ISDIR(st.st_mode) || run_dir_is_empty(dir))
+        return prepare_new(dir, force, claim, err);
     if (!force)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "output directory '%s' already exists and is not empty; choose "
@@ -109,36 +159,24 @@ int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, int *set_aside, hsb
                               "continue an interrupted ensemble replica by replica (hsbd "
                               "resume %s/replica-K, then hsbd merge)",
                               dir, dir);
-    /* --force: the earlier files (checked to be a run's or an ensemble's) are set aside as
-     * DIR.earlier, not removed: the new ensemble may still fail on a replica's input */
-    char aside[HSBD_PATH_MAX + 16];
-    struct stat st;
-    int rc = input_inside(cfg, dir, err);
-    if (rc == HSBD_OK) rc = not_in_use(dir, err); /* a single run's directory */
-    if (rc == HSBD_OK) rc = earlier_replicas(dir, 0, err);
-    if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
-    if (rc != HSBD_OK) return rc;
-    if (earlier_path(dir, aside, sizeof aside))
-        return hsbd_error_set(err, HSBD_EINPUT, "output.dir '%.200s...' is too long", dir);
-    if (lstat(aside, &st) == 0)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "'%s' exists (earlier results set aside by a --force that did not "
-                              "finish); remove or rename it before replacing '%s'",
-                              aside, dir);
-    if (rename(dir, aside) != 0)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "cannot set the earlier results in '%s' aside as '%s': %s; remove "
-                              "them yourself or choose another --out",
-                              dir, aside, strerror(errno));
-    *set_aside = 1;
-    return HSBD_OK;
+    return set_earlier_aside(cfg, claim, err);
 }
 
-int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_error *err) {
-    char aside[HSBD_PATH_MAX + 16];
+/* The end of an ensemble in dir that did not set earlier results aside: a directory it made
+ * goes again when it failed before any replica began (the replicas make theirs once their
+ * input is accepted); the lock goes. */
+static void hsbd_ensemble_finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim) {
+    if (status != HSBD_OK && claim->created && run_dir_is_empty(dir)) run_dir_remove(dir);
+    run_dir_release(claim->lock);
+    claim->lock = -1;
+    claim->created = 0;
+}
+
+/* The earlier results set aside in `aside`, after the ensemble in dir: removed when it
+ * succeeded; when it failed, back in dir if no replica began, else left (err's message
+ * says which). Returns status, or an error when they cannot be removed. */
+static int finish_aside(const char *dir, const char *aside, int status, hsbd_error *err) {
     struct stat st;
-    const char *dir = cfg->output.dir;
-    if (earlier_path(dir, aside, sizeof aside) || lstat(aside, &st) != 0) return status;
     const size_t len = strlen(err->message);
     char *more = err->message + len;
     const size_t room = sizeof err->message - len;
@@ -155,17 +193,32 @@ int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_error *err) {
                               "aside as '%s' could not be removed: %s",
                               dir, aside, e.message);
     }
-    /* no replica began (each makes its directory once its input is accepted): the earlier
-     * results go back; else both stay */
     int restored = 0;
     if (stat(dir, &st) != 0 || run_dir_is_empty(dir)) {
-        run_dir_remove(dir); /* empty: made by a replica refused after */
+        run_dir_remove(dir); /* empty: made here, or by a replica refused after */
         restored = rename(aside, dir) == 0;
     }
     snprintf(more, room, "%s%s '%s'", len ? "; " : "",
              restored ? "the earlier results are back in" : "the earlier results were set aside as",
              restored ? dir : aside);
     return status;
+}
+
+int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_ensemble_claim *claim,
+                         hsbd_error *err) {
+    const char *dir = cfg->output.dir;
+    char aside[HSBD_PATH_MAX + 16];
+    if (!claim->set_aside) {
+        hsbd_ensemble_finish_dir(dir, status, claim);
+        return status;
+    }
+    run_dir_release(claim->lock); /* dir's: it may go again, or stay as the results */
+    claim->lock = -1;
+    const int rc =
+        earlier_path(dir, aside, sizeof aside) ? status : finish_aside(dir, aside, status, err);
+    run_dir_release(claim->aside_lock);
+    *claim = (hsbd_ensemble_claim){.lock = -1, .aside_lock = -1};
+    return rc;
 }
 
 /* The source of replica k's checkpoints: the run's own with run.replica=k appended, so

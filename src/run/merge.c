@@ -872,9 +872,7 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
  * removed again, and out itself when the merge made it, so that no partial result is left
  * looking valid. */
 static int write_files(const char *out, const merged_file *files, size_t count, int prepare,
-                       int force, hsbd_error *err) {
-    struct stat st;
-    const int existed = stat(out, &st) == 0;
+                       int force, int existed, hsbd_error *err) {
     int rc = prepare ? hsbd_run_dir_prepare(out, force, err) : HSBD_OK;
     size_t written = 0;
     for (; written < count && rc == HSBD_OK; ++written) {
@@ -936,9 +934,11 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
     if (rc == HSBD_OK) rc = make_file(&files[nnames], "summary.json", src, ndirs, out, err);
     /* everything was read and checked before the output directory is touched; the
      * summary, which says a result is whole, goes last */
-    int out_lock = -1; /* an existing OUT: no run writes there while the merge does */
-    if (rc == HSBD_OK && prepare) rc = run_dir_claim(out, RUN_DIR_WRITE, &out_lock, err);
-    if (rc == HSBD_OK) rc = write_files(out, files, nnames + 1, prepare, force, err);
+    int out_lock = -1; /* no other process writes in OUT while the merge does */
+    struct stat st;
+    const int existed = stat(out, &st) == 0; /* else made by the claim, removed on failure */
+    if (rc == HSBD_OK && prepare) rc = run_dir_claim(out, RUN_DIR_WRITE_NEW, &out_lock, err);
+    if (rc == HSBD_OK) rc = write_files(out, files, nnames + 1, prepare, force, existed, err);
     run_dir_release(out_lock);
     for (size_t k = 0; files && k <= nnames; ++k)
         free(files[k].text);

@@ -16,7 +16,8 @@
 # refuses ends the run with its message on every rank, hsbd resume of one directory runs
 # on one rank (ranks with directories of their own each resume theirs), and by default
 # the ranks of a node share its CPUs out. A directory another process writes is refused
-# to an ensemble's --force and to merge (reading or writing it). Merge refuses replicas of
+# to an ensemble's --force and to merge (reading or writing it), as is a lock file that is
+# a link or a FIFO; a directory of other files gets no lock file. Merge refuses replicas of
 # different builds, a replica index or a cell that is no number as hsbd writes them
 # (nan merges), and a file that is no regular file. A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
@@ -364,6 +365,22 @@ in_use "ensemble --force over a replica" rods-one3 "$HSBD" run rods.ini --quiet 
 in_use "merge of a replica" rods-r0 "$HSBD" merge busy-merged rods-r0 rods-one3/replica-1
 release
 [ ! -e busy-merged ] || bad "merge of a replica in use wrote busy-merged"
+# a .hsbd.lock that is no lock file (a link, a FIFO) is refused, not followed or waited on;
+# a directory of other files gets no lock file from a refused run or merge
+cp -r rods-r1 rods-fifolock && rm rods-fifolock/.hsbd.lock && mkfifo rods-fifolock/.hsbd.lock
+refused "a lock file that is a FIFO" "is not the lock file of a run directory" rods-r0 rods-fifolock
+"$HSBD" run rods.ini --quiet --out planted || bad "planted"
+rm planted/.hsbd.lock && ln -s ../rods-r0/summary.json planted/.hsbd.lock
+"$HSBD" run rods.ini --quiet --force --out planted 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "is not the lock file" err.txt && [ -L planted/.hsbd.lock ] &&
+    [ -s planted/summary.json ]; then ok
+else bad "a lock file that is a link: exit $rc, $(cat err.txt)"; fi
+mkdir foreign && echo notes >foreign/notes.txt
+"$HSBD" run rods.ini --quiet --force --out foreign 2>/dev/null
+"$HSBD" merge --force foreign rods-r0 rods-r1 2>/dev/null
+if [ ! -e foreign/.hsbd.lock ] && [ "$(ls -A foreign)" = notes.txt ]; then ok
+else bad "a directory of other files got: $(ls -A foreign | tr '\n' ' ')"; fi
 [ ! -e rods-one3.earlier ] || bad "ensemble --force over a replica in use set it aside"
 # the ensemble's own merge meeting a full file-size limit leaves no merged file (the
 # replicas' blocks tables, one column per replica, exceed 4 KiB; the replicas' own not)
