@@ -93,7 +93,7 @@ static int input_inside(const hsbd_config *cfg, const char *dir, hsbd_error *err
     return HSBD_OK;
 }
 
-static void hsbd_ensemble_finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim);
+static void finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim);
 
 /* An empty or missing DIR: claimed (made when missing), then checked as a run directory. */
 static int prepare_new(const char *dir, int force, hsbd_ensemble_claim *claim, hsbd_error *err) {
@@ -104,7 +104,7 @@ static int prepare_new(const char *dir, int force, hsbd_ensemble_claim *claim, h
                  : run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->lock, err);
     claim->created = !existed && dir[0] && stat(dir, &st) == 0;
     if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(dir, force, err);
-    if (rc != HSBD_OK) hsbd_ensemble_finish_dir(dir, rc, claim);
+    if (rc != HSBD_OK) finish_dir(dir, rc, claim);
     return rc;
 }
 
@@ -165,7 +165,7 @@ int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_ensemble_claim
 /* The end of an ensemble in dir that did not set earlier results aside: a directory it made
  * goes again when it failed before any replica began (the replicas make theirs once their
  * input is accepted); the lock goes. */
-static void hsbd_ensemble_finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim) {
+static void finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim) {
     if (status != HSBD_OK && claim->created && run_dir_is_empty(dir)) run_dir_remove(dir);
     run_dir_release(claim->lock);
     claim->lock = -1;
@@ -209,13 +209,14 @@ int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_ensemble_claim
     const char *dir = cfg->output.dir;
     char aside[HSBD_PATH_MAX + 16];
     if (!claim->set_aside) {
-        hsbd_ensemble_finish_dir(dir, status, claim);
+        finish_dir(dir, status, claim);
         return status;
     }
-    run_dir_release(claim->lock); /* dir's: it may go again, or stay as the results */
-    claim->lock = -1;
+    /* both locks held until the end: nobody claims dir between its removal and the return
+     * of the earlier results */
     const int rc =
         earlier_path(dir, aside, sizeof aside) ? status : finish_aside(dir, aside, status, err);
+    run_dir_release(claim->lock);
     run_dir_release(claim->aside_lock);
     *claim = (hsbd_ensemble_claim){.lock = -1, .aside_lock = -1};
     return rc;
