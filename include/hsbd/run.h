@@ -63,7 +63,7 @@ typedef struct hsbd_ensemble_claim {
     int lock;       /* DIR's lock (one writer per run directory, docs/runs.md), or -1 */
     int aside_lock; /* DIR.earlier's, while earlier results are set aside, or -1 */
     int set_aside;  /* the earlier results in DIR were set aside as DIR.earlier */
-    int created;    /* DIR was made here */
+    int created;    /* DIR was made here: the levels of its path made (0: none) */
 } hsbd_ensemble_claim;
 /* Checks and claims the ensemble's directory (one process, before any replica runs): a
  * missing one is made, an existing one is refused when it holds anything unless force, or

@@ -259,17 +259,18 @@ static int open_lock_file(const char *dir, run_dir_use use, hsbd_error *err) {
     char path[HSBD_PATH_MAX + 32];
     snprintf(path, sizeof path, "%s/%s", dir, RUN_LOCK_FILE);
     hsbd_error ignored;
-    const int writer = use == RUN_DIR_WRITE_NEW || use == RUN_DIR_WRITE;
     const int create =
-        writer && (run_dir_is_empty(dir) || run_dir_check_earlier(dir, 1, &ignored) == HSBD_OK);
+        use == RUN_DIR_WRITE ||
+        (use == RUN_DIR_WRITE_NEW &&
+         (run_dir_is_empty(dir) || run_dir_check_earlier(dir, 1, &ignored) == HSBD_OK));
     /* NFS grants an exclusive lock only on a file open for writing; O_NONBLOCK: a FIFO
      * must not block the open */
     const int flags = O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK;
     int f = open(path, (use == RUN_DIR_READ ? O_RDONLY : O_RDWR) | (create ? O_CREAT : 0) | flags,
                  0666);
-    if (f < 0 && errno == EACCES && use != RUN_DIR_READ)       /* another user's: local locks */
-        f = open(path, O_RDONLY | flags);                      /* need no write access */
-    if (f < 0 && errno != ELOOP && errno != EISDIR) return -1; /* none, or no directory */
+    if (f < 0 && errno == EACCES && use != RUN_DIR_READ) /* another user's: local locks */
+        f = open(path, O_RDONLY | flags);                /* need no write access */
+    if (f < 0 && errno != ELOOP && errno != EISDIR && errno != ENXIO) return -1; /* none */
     struct stat st;
     if (f >= 0 && fstat(f, &st) == 0 && S_ISREG(st.st_mode)) return f;
     if (f >= 0) close(f);
@@ -304,6 +305,38 @@ int run_dir_claim(const char *dir, run_dir_use use, int *fd, hsbd_error *err) {
 
 void run_dir_release(int fd) {
     if (fd >= 0) close(fd); /* closing drops the lock */
+}
+
+int run_dir_make(const char *dir, int *made) {
+    char buf[HSBD_PATH_MAX];
+    snprintf(buf, sizeof buf, "%s", dir);
+    *made = 0;
+    for (char *p = buf + 1; *p; ++p) { /* the parents, counted from the first one made */
+        if (*p != '/') continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) == 0)
+            ++*made;
+        else if (errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    if (mkdir(buf, 0777) == 0) return ++*made, 0;
+    return errno == EEXIST ? 0 : -1;
+}
+
+void run_dir_unmake(const char *dir, int made) {
+    char buf[HSBD_PATH_MAX];
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (int k = 0; k < made; ++k) {
+        if (k == 0 ? run_dir_remove(buf) != 0 : rmdir(buf) != 0) return; /* not empty */
+        char *slash = strrchr(buf, '/');
+        while (slash && slash > buf && slash[1] == '\0') { /* trailing slashes */
+            *slash = '\0';
+            slash = strrchr(buf, '/');
+        }
+        if (!slash || slash == buf) return;
+        *slash = '\0';
+    }
 }
 
 int run_dir_remove(const char *dir) {

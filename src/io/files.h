@@ -28,8 +28,9 @@ int run_is_replica_name(const char *name);
  * hold it). */
 #define RUN_LOCK_FILE ".hsbd.lock"
 typedef enum run_dir_use {
-    RUN_DIR_WRITE_NEW, /* a writer; the directory (and parents) made if missing */
-    RUN_DIR_WRITE,     /* a writer of an existing directory */
+    RUN_DIR_WRITE_NEW, /* a writer of a new or earlier run's directory, made if missing; no
+                        * lock file made in a directory of other files (its checks refuse it) */
+    RUN_DIR_WRITE,     /* a writer continuing the run in an existing directory (resume) */
     RUN_DIR_READ,      /* a reader: a shared lock, no lock file made */
     RUN_DIR_CHECK      /* nobody writes there (the caller releases the lock at once) */
 } run_dir_use;
@@ -39,7 +40,13 @@ typedef enum run_dir_use {
  * a lock that conflicts (a writer's, or for a writer a reader's). */
 int run_dir_claim(const char *dir, run_dir_use use, int *fd, hsbd_error *err);
 void run_dir_release(int fd);
-/* Removes the empty run directory dir with its lock file (rmdir's result). */
+/* Removes the empty run directory dir with its lock file (rmdir's result); only for a
+ * directory whose lock this process holds, or that no other process can know. */
 int run_dir_remove(const char *dir);
+/* Makes dir and its missing parents; *made counts the levels this call made (0: dir was
+ * there). 0, or -1 with errno. */
+int run_dir_make(const char *dir, int *made);
+/* Takes back what run_dir_make made (`made` levels), as far as they are empty. */
+void run_dir_unmake(const char *dir, int made);
 
 #endif

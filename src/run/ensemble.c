@@ -95,14 +95,22 @@ static int input_inside(const hsbd_config *cfg, const char *dir, hsbd_error *err
 
 static void finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim);
 
+/* Makes DIR (when missing) and claims it: claim->created counts the levels made here, kept
+ * only once the claim holds (a DIR another process claimed first is not this run's). */
+static int make_and_claim(const char *dir, hsbd_ensemble_claim *claim, hsbd_error *err) {
+    int made = 0;
+    if (run_dir_make(dir, &made) != 0) return HSBD_OK; /* hsbd_run_dir_prepare says why */
+    const int rc = run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->lock, err);
+    claim->created = rc == HSBD_OK ? made : 0;
+    return rc;
+}
+
 /* An empty or missing DIR: claimed (made when missing), then checked as a run directory. */
 static int prepare_new(const char *dir, int force, hsbd_ensemble_claim *claim, hsbd_error *err) {
     struct stat st;
-    const int existed = dir[0] && stat(dir, &st) == 0;
-    int rc = existed && !S_ISDIR(st.st_mode)
-                 ? HSBD_OK /* a file: the check below refuses it */
-                 : run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->lock, err);
-    claim->created = !existed && dir[0] && stat(dir, &st) == 0;
+    const int file = dir[0] && stat(dir, &st) == 0 && !S_ISDIR(st.st_mode);
+    int rc = file || !dir[0] ? HSBD_OK /* the check below refuses it */
+                             : make_and_claim(dir, claim, err);
     if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(dir, force, err);
     if (rc != HSBD_OK) finish_dir(dir, rc, claim);
     return rc;
@@ -115,7 +123,7 @@ static int set_earlier_aside(const hsbd_config *cfg, hsbd_ensemble_claim *claim,
     const char *dir = cfg->output.dir;
     char aside[HSBD_PATH_MAX + 16];
     struct stat st;
-    int rc = run_dir_claim(dir, RUN_DIR_WRITE, &claim->aside_lock, err); /* a run's writer */
+    int rc = run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->aside_lock, err); /* a writer */
     if (rc == HSBD_OK) rc = input_inside(cfg, dir, err);
     if (rc == HSBD_OK) rc = earlier_replicas(dir, 0, err); /* and their writers */
     if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
@@ -137,8 +145,7 @@ static int set_earlier_aside(const hsbd_config *cfg, hsbd_ensemble_claim *claim,
         return rc;
     }
     claim->set_aside = 1;
-    rc = run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->lock, err);
-    claim->created = rc == HSBD_OK;
+    rc = make_and_claim(dir, claim, err);
     return rc == HSBD_OK ? rc : hsbd_ensemble_finish(cfg, rc, claim, err);
 }
 
@@ -166,7 +173,8 @@ int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_ensemble_claim
  * goes again when it failed before any replica began (the replicas make theirs once their
  * input is accepted); the lock goes. */
 static void finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim) {
-    if (status != HSBD_OK && claim->created && run_dir_is_empty(dir)) run_dir_remove(dir);
+    if (status != HSBD_OK && claim->created && run_dir_is_empty(dir))
+        run_dir_unmake(dir, claim->created);
     run_dir_release(claim->lock);
     claim->lock = -1;
     claim->created = 0;
@@ -175,7 +183,8 @@ static void finish_dir(const char *dir, int status, hsbd_ensemble_claim *claim) 
 /* The earlier results set aside in `aside`, after the ensemble in dir: removed when it
  * succeeded; when it failed, back in dir if no replica began, else left (err's message
  * says which). Returns status, or an error when they cannot be removed. */
-static int finish_aside(const char *dir, const char *aside, int status, hsbd_error *err) {
+static int finish_aside(const char *dir, const char *aside, int status, int created,
+                        hsbd_error *err) {
     struct stat st;
     const size_t len = strlen(err->message);
     char *more = err->message + len;
@@ -193,9 +202,9 @@ static int finish_aside(const char *dir, const char *aside, int status, hsbd_err
                               "aside as '%s' could not be removed: %s",
                               dir, aside, e.message);
     }
-    int restored = 0;
-    if (stat(dir, &st) != 0 || run_dir_is_empty(dir)) {
-        run_dir_remove(dir); /* empty: made here, or by a replica refused after */
+    int restored = 0; /* a dir made here (not one another process claimed) and still empty */
+    if (stat(dir, &st) != 0 || (created && run_dir_is_empty(dir))) {
+        if (created) run_dir_remove(dir);
         restored = rename(aside, dir) == 0;
     }
     snprintf(more, room, "%s%s '%s'", len ? "; " : "",
@@ -212,10 +221,11 @@ int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_ensemble_claim
         finish_dir(dir, status, claim);
         return status;
     }
-    /* both locks held until the end: nobody claims dir between its removal and the return
-     * of the earlier results */
-    const int rc =
-        earlier_path(dir, aside, sizeof aside) ? status : finish_aside(dir, aside, status, err);
+    /* the locks are held until the end (another process may still make dir between its
+     * removal and the rename back: the restore then fails, and the message says so) */
+    const int rc = earlier_path(dir, aside, sizeof aside)
+                       ? status
+                       : finish_aside(dir, aside, status, claim->created, err);
     run_dir_release(claim->lock);
     run_dir_release(claim->aside_lock);
     *claim = (hsbd_ensemble_claim){.lock = -1, .aside_lock = -1};

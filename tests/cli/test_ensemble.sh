@@ -124,6 +124,10 @@ done
     --out nothing 2>/dev/null
 rc=$?
 if [ $rc -eq 2 ] && [ ! -e nothing ]; then ok; else bad "bad input of an ensemble: exit $rc"; fi
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --set init.positions=missing.txt \
+    --out nothing2/sub 2>/dev/null
+rc=$?
+if [ $rc -eq 2 ] && [ ! -e nothing2 ]; then ok; else bad "bad input of a nested ensemble: exit $rc"; fi
 
 # refusals of hsbd merge: exit 2, a message, nothing written
 refused() { # refused WHAT PATTERN ARGS...

@@ -280,6 +280,10 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     wait $holder 2>/dev/null
     if "$HSBD" resume locked --quiet --set run.t_total=1 2>err; then ok
     else bad "resume once the directory is free: $(cat err)"; fi
+    # a run directory that lost its lock file and holds a file of the user's gets one again
+    rm locked/.hsbd.lock && echo notes >locked/notes.txt
+    "$HSBD" resume locked --quiet --set run.t_total=1.5 2>err || bad "resume beside notes: $(cat err)"
+    [ -f locked/.hsbd.lock ] && ok || bad "resume beside a user's file took no lock"
 fi
 
 echo "test_resume: $pass passed, $fail failed"
