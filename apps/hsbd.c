@@ -251,32 +251,6 @@ static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
     return HSBD_ESILENT;
 }
 
-#ifdef HSBD_HAVE_MPI
-/* path resolved (symbolic links, . and ..) into out; one that does not exist yet is its
- * parent resolved with its last part appended (so "D" and "./D" agree before D is made) */
-static void resolved_path(const char *path, char *out, size_t len) {
-    char head[PATH_MAX], base[PATH_MAX];
-    if (realpath(path, out) && strlen(out) < len) return;
-    snprintf(head, sizeof head, "%s", path);
-    size_t n = strlen(head);
-    while (n > 1 && head[n - 1] == '/')
-        head[--n] = '\0';
-    char *slash = strrchr(head, '/');
-    snprintf(base, sizeof base, "%s", slash ? slash + 1 : head);
-    if (slash == head)
-        head[1] = '\0';
-    else if (slash)
-        *slash = '\0';
-    else
-        snprintf(head, sizeof head, ".");
-    char parent[PATH_MAX];
-    if (realpath(head, parent))
-        snprintf(out, len, "%s/%s", parent, base);
-    else
-        snprintf(out, len, "%s", path);
-}
-#endif
-
 /* The lowest rank given the same directory as this one (its own rank when none below
  * is): under mpirun one process resumes or merges into a directory, while ranks given
  * directories of their own (a job step with one per task) all work. Paths are compared
@@ -284,8 +258,8 @@ static void resolved_path(const char *path, char *out, size_t len) {
 static int first_rank_for(const ranks *r, const char *dir) {
 #ifdef HSBD_HAVE_MPI
     if (!r->mpi) return r->rank;
-    char path[2 * PATH_MAX];
-    resolved_path(dir, path, sizeof path);
+    char resolved[PATH_MAX];
+    const char *path = hsbd_path_resolve(dir, resolved) == 0 ? resolved : dir;
     uint64_t key = UINT64_C(14695981039346656037);
     for (const char *c = path; *c; ++c)
         key = (key ^ (unsigned char)*c) * UINT64_C(1099511628211);

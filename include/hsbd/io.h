@@ -46,6 +46,10 @@ HSBD_API int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err);
 /* The same without any clearing: the directory (and parents) made if missing, proved
  * writable (e.g. the validation's directory of runs). */
 HSBD_API int hsbd_dir_create(const char *dir, hsbd_error *err);
+/* path resolved (symbolic links, . and ..) into out (PATH_MAX bytes); a path that does not
+ * exist yet is its nearest existing parent resolved with the rest appended. 0, or -1 when
+ * it cannot be resolved or is too long. */
+HSBD_API int hsbd_path_resolve(const char *path, char *out);
 
 /* init.positions of a finalized rods configuration: system.N positions, one per line
  * (blank lines and '#' comment lines allowed); for a mixture each line is 'x name' and

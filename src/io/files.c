@@ -141,6 +141,17 @@ static char *resolve_path(const char *path, char *out) {
     return out;
 }
 
+int hsbd_path_resolve(const char *path, char *out) {
+    return resolve_path(path, out) ? 0 : -1;
+}
+
+int run_dir_holds(const char *dir, const char *name) {
+    char path[HSBD_PATH_MAX + 300];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
 /* Is path b the directory a or inside it (1), or a inside b (-1), or neither (0)? Paths
  * resolved; a path not there yet is resolved through its nearest existing parent. */
 int run_path_nesting(const char *a, const char *b) {

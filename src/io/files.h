@@ -18,6 +18,8 @@ int run_dir_is_empty(const char *dir);
 /* Is path b the directory a or inside it (1), a inside b (-1), or neither (0)? Symbolic
  * links, . and .. resolved; a path not there yet through its nearest existing parent. */
 int run_path_nesting(const char *a, const char *b);
+/* Does dir hold a regular file of this name? */
+int run_dir_holds(const char *dir, const char *name);
 /* "replica-<digits>": the name of an ensemble's replica directory */
 int run_is_replica_name(const char *name);
 /* One writer per run directory: hsbd run, hsbd resume and hsbd merge (into OUT) hold an

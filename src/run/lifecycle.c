@@ -605,14 +605,6 @@ static void restore_streams(run *r, const char *dir) {
                 why.message);
 }
 
-static int holds_checkpoint(const char *dir) {
-    char path[HSBD_PATH_MAX + 32];
-    snprintf(path, sizeof path, "%s/checkpoint.hsbd", dir);
-    if (access(path, F_OK) == 0) return 1;
-    snprintf(path, sizeof path, "%s/checkpoint.prev.hsbd", dir);
-    return access(path, F_OK) == 0;
-}
-
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
                 hsbd_error *err) {
     hsbd_error_clear(err);
@@ -622,7 +614,9 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     resumed_source rs = {0};
     int lock = -1; /* a second resume of the same run is refused, not raced (a directory
                     * without checkpoints gets no lock file: the load refuses it) */
-    int rc = holds_checkpoint(dir) ? run_dir_claim(dir, RUN_DIR_WRITE, &lock, err) : HSBD_OK;
+    int rc = run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd")
+                 ? run_dir_claim(dir, RUN_DIR_WRITE, &lock, err)
+                 : HSBD_OK;
     if (rc == HSBD_OK) rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
     /* from here on the stream files are the stopped run's: kept whatever happens (release()
      * removes the files of a run that never started) */

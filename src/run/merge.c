@@ -125,14 +125,6 @@ static int replica_parameter(const char *key) {
            !strcmp(key, "threads");
 }
 
-/* Does dir hold a file of this name? */
-static int holds_file(const char *dir, const char *name) {
-    char path[HSBD_PATH_MAX + 300];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    struct stat st;
-    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
-}
-
 /* A summary's run.replica value ("-1" or digits, then a comma or the end) into *index. */
 static int replica_index(const char *v, long *index) {
     char *end;
@@ -147,7 +139,7 @@ static int load_source(merge_source *s, hsbd_error *err) {
     char path[HSBD_PATH_MAX + 32];
     snprintf(path, sizeof path, "%s/summary.json", s->dir);
     if (rc != HSBD_OK && access(path, F_OK) == 0) return rc; /* there, but not readable */
-    if (rc != HSBD_OK && holds_file(s->dir, "checkpoint.hsbd"))
+    if (rc != HSBD_OK && run_dir_holds(s->dir, "checkpoint.hsbd"))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: the run in '%s' did not finish (a checkpoint, no "
                               "summary.json: it was stopped); continue it first (hsbd resume %s)",
