@@ -229,9 +229,18 @@ static ranks ranks_begin(void) {
     return r;
 }
 
+/* Every rank waits for the others before MPI_Finalize, sleeping between polls: a rank that
+ * left its work to another (or waits for rank 0's merge) would otherwise spin in the
+ * library's progress loop for as long as that work takes. */
 static void ranks_end(const ranks *r) {
 #ifdef HSBD_HAVE_MPI
-    if (r->mpi) MPI_Finalize();
+    if (!r->mpi) return;
+    MPI_Request all_done;
+    int done = MPI_Ibarrier(MPI_COMM_WORLD, &all_done) != MPI_SUCCESS;
+    const struct timespec pause = {0, 20 * 1000 * 1000}; /* 20 ms */
+    while (!done && MPI_Test(&all_done, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && !done)
+        nanosleep(&pause, NULL);
+    MPI_Finalize();
 #else
     (void)r;
 #endif
@@ -280,12 +289,13 @@ static int first_rank_for(const ranks *r, const char *dir) {
 #endif
 }
 
-/* The threads each rank of an ensemble takes when neither run.threads nor OMP_NUM_THREADS
- * sets them: the CPUs it may use divided by the most ranks of its node that may use one of
- * them, so that ranks and threads do not oversubscribe the node (ranks bound to cores keep
- * theirs; unbound ones, or ranks bound to a socket, split their CPUs). A collective over
+/* The threads each working rank takes when neither run.threads nor OMP_NUM_THREADS sets
+ * them: the CPUs it may use divided by the most working ranks of its node that may use one
+ * of them, so that ranks and threads do not oversubscribe the node (ranks bound to cores
+ * keep theirs; unbound ones, or ranks bound to a socket, split their CPUs), while ranks
+ * that only wait (working 0) leave their CPUs to the others. A collective over
  * MPI_COMM_WORLD; 0 when unknown (no MPI, or no CPU masks). */
-static int rank_threads_share(const ranks *r) {
+static int rank_threads_share(const ranks *r, int working) {
 #if defined(HSBD_HAVE_MPI) && defined(__linux__) && defined(CPU_COUNT)
     if (!r->mpi) return 0;
     cpu_set_t own;
@@ -297,7 +307,7 @@ static int rank_threads_share(const ranks *r) {
         return 0;
     int mine[CPU_SETSIZE], ranks_on[CPU_SETSIZE]; /* ranks of the node that may use each CPU */
     for (int c = 0; c < CPU_SETSIZE; ++c)
-        mine[c] = CPU_ISSET(c, &own) ? 1 : 0;
+        mine[c] = working && CPU_ISSET(c, &own) ? 1 : 0;
     const int summed =
         MPI_Allreduce(mine, ranks_on, CPU_SETSIZE, MPI_INT, MPI_SUM, node) == MPI_SUCCESS;
     MPI_Comm_free(&node);
@@ -308,7 +318,7 @@ static int rank_threads_share(const ranks *r) {
     const int cpus = CPU_COUNT(&own);
     return cpus / sharing > 1 ? cpus / sharing : 1;
 #else
-    (void)r;
+    (void)r, (void)working;
     return 0;
 #endif
 }
@@ -316,8 +326,8 @@ static int rank_threads_share(const ranks *r) {
 /* Under mpirun, the default thread count (run.threads 0) becomes the rank's share of its
  * node's CPUs (rank_threads_share) unless OMP_NUM_THREADS sets it; run.threads stays 0 in
  * the parameters, as in one process. A collective. */
-static void share_rank_threads(const ranks *r) {
-    const int share = rank_threads_share(r);
+static void share_rank_threads(const ranks *r, int working) {
+    const int share = rank_threads_share(r, working);
 #ifdef _OPENMP
     if (share > 0 && !getenv("OMP_NUM_THREADS")) omp_set_num_threads(share);
 #else
@@ -335,7 +345,7 @@ static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_
     if (replicas == 1) {
         if (r.rank == 0) rc = hsbd_run(cfg, opt, err);
     } else {
-        share_rank_threads(&r); /* on every rank: a collective */
+        share_rank_threads(&r, (size_t)r.rank < replicas);          /* a collective */
         hsbd_ensemble_claim claim = {.lock = -1, .aside_lock = -1}; /* rank 0's */
         if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, &claim, err);
         rc = ranks_agree(&r, rc, err);
@@ -585,7 +595,7 @@ static int cmd_resume(int argc, char **argv) {
     if (rc == 0) { /* under mpirun, one process resumes each directory */
         ranks r = ranks_begin();
         const int first = first_rank_for(&r, dir);
-        share_rank_threads(&r);
+        share_rank_threads(&r, first == r.rank);
         hsbd_error err;
         int status = HSBD_OK;
         catch_stop_signals();

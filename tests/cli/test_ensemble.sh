@@ -15,7 +15,7 @@
 # DIR.earlier that another run set aside stays where it is. Under mpirun a directory rank 0
 # refuses ends the run with its message on every rank, hsbd resume of one directory runs
 # on one rank (ranks with directories of their own each resume theirs), and by default
-# the ranks of a node share its CPUs out. A directory another process writes is refused
+# the working ranks of a node share its CPUs out. A directory another process writes is refused
 # to an ensemble's --force and to merge (reading or writing it), as is a lock file that is
 # a link or a FIFO; a directory of other files gets no lock file. Merge refuses replicas of
 # different builds, a replica index or a cell that is no number as hsbd writes them
@@ -333,6 +333,14 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     "$HSBD" resume rods-ext2 --quiet --set run.t_total=2 || bad "resume to t_total 2"
     if [ $rc -eq 0 ] && diff -r -x summary.json -x "checkpoint*" rods-ext1 rods-ext2 >/dev/null; then ok
     else bad "mpirun -n 2 hsbd resume: exit $rc, $(cat err.txt)"; fi
+    # the rank that leaves the resume to rank 0 leaves its CPUs to it too (ranks not bound:
+    # rank 0 takes every CPU it may use, not half of them)
+    "$HSBD" run rods.ini --quiet --replica 0 --set run.t_total=1 --out rods-ext3 || bad "t_total 1"
+    env -u OMP_NUM_THREADS timeout 300 "${MPIRUN[@]}" --bind-to none "$HSBD" resume rods-ext3 \
+        --quiet --set run.t_total=2 >err.txt 2>&1 || bad "mpirun --bind-to none resume: $(cat err.txt)"
+    t=$(sed -n 's/^  "threads_used": \([0-9]*\),$/\1/p' rods-ext3/summary.json)
+    if [ "$t" = "$(nproc)" ]; then ok
+    else bad "mpirun -n 2 hsbd resume: rank 0 took '$t' threads of $(nproc) CPUs"; fi
     timeout 300 "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --out rods-ens >err.txt 2>&1
     rc=$?
     if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "already exists and is not empty" err.txt
