@@ -60,16 +60,19 @@ HSBD_API int hsbd_resume(const char *dir, const char *const *sets, size_t nsets,
 HSBD_API size_t hsbd_ensemble_size(const hsbd_config *cfg, int ranks);
 /* What hsbd_ensemble_prepare holds for the ensemble until hsbd_ensemble_finish. */
 typedef struct hsbd_ensemble_claim {
-    int lock;       /* DIR's lock (one writer per run directory, docs/runs.md), or -1 */
-    int aside_lock; /* DIR.earlier's, while earlier results are set aside, or -1 */
-    int set_aside;  /* the earlier results in DIR were set aside as DIR.earlier */
-    int created;    /* DIR was made here: the levels of its path made (0: none) */
+    int lock;                /* DIR's lock (one writer per run directory, docs/runs.md), or -1 */
+    int aside_lock;          /* DIR.earlier's, while earlier results are set aside, or -1 */
+    int set_aside;           /* the earlier results in DIR were set aside as DIR.earlier */
+    int created;             /* DIR was made here: the levels of its path made (0: none) */
+    char dir[HSBD_PATH_MAX]; /* with set_aside: the directory set aside and made anew (DIR,
+                              * or the directory a symbolic link DIR points to) */
 } hsbd_ensemble_claim;
 /* Checks and claims the ensemble's directory (one process, before any replica runs): a
  * missing one is made, an existing one is refused when it holds anything unless force, or
  * when another process writes there (or in one of its replica-K); with force, an earlier
  * ensemble's or run's files (checked to be nothing else) are set aside as DIR.earlier and
- * a new DIR is made. */
+ * a new DIR is made (when DIR is a symbolic link, the directory it points to is set aside
+ * and made anew, and the link kept). */
 HSBD_API int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_ensemble_claim *claim,
                                    hsbd_error *err);
 /* After the ensemble (the process that prepared it, whatever prepare returned), with its

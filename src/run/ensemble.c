@@ -3,6 +3,7 @@
  * results is src/run/merge.c. */
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -116,14 +117,37 @@ static int prepare_new(const char *dir, int force, hsbd_ensemble_claim *claim, h
     return rc;
 }
 
+/* The directory --force sets aside for DIR: DIR itself, or the one it points to when it is
+ * a symbolic link (a link to scratch space keeps pointing to the new results there; moving
+ * the link would set the link aside and put the new results beside it). */
+static int aside_target(const char *dir, char *target, hsbd_error *err) {
+    char bare[HSBD_PATH_MAX];
+    snprintf(bare, sizeof bare, "%s", dir);
+    size_t n = strlen(bare);
+    while (n > 1 && bare[n - 1] == '/') /* a trailing slash would follow the link */
+        bare[--n] = '\0';
+    struct stat st;
+    char resolved[PATH_MAX];
+    if (lstat(bare, &st) != 0 || !S_ISLNK(st.st_mode))
+        return snprintf(target, HSBD_PATH_MAX, "%s", dir), HSBD_OK;
+    if (hsbd_path_resolve(bare, resolved) != 0 || strlen(resolved) >= HSBD_PATH_MAX)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "output directory '%s' is a symbolic link that cannot be followed "
+                              "(or its target's path is too long); give the directory itself",
+                              dir);
+    snprintf(target, HSBD_PATH_MAX, "%s", resolved);
+    return HSBD_OK;
+}
+
 /* --force over earlier results in dir (checked to be a run's or an ensemble's, with no
  * process writing in it or in a replica-K): they are set aside as DIR.earlier, not removed
  * (the new ensemble may still fail on a replica's input), and a new DIR is claimed. */
 static int set_earlier_aside(const hsbd_config *cfg, hsbd_ensemble_claim *claim, hsbd_error *err) {
-    const char *dir = cfg->output.dir;
+    const char *dir = claim->dir;
     char aside[HSBD_PATH_MAX + 16];
     struct stat st;
-    int rc = run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->aside_lock, err); /* a writer */
+    int rc = aside_target(cfg->output.dir, claim->dir, err);
+    if (rc == HSBD_OK) rc = run_dir_claim(dir, RUN_DIR_WRITE_NEW, &claim->aside_lock, err);
     if (rc == HSBD_OK) rc = input_inside(cfg, dir, err);
     if (rc == HSBD_OK) rc = earlier_replicas(dir, 0, err); /* and their writers */
     if (rc == HSBD_OK) rc = run_dir_check_earlier(dir, 1, err);
@@ -215,12 +239,12 @@ static int finish_aside(const char *dir, const char *aside, int status, int crea
 
 int hsbd_ensemble_finish(const hsbd_config *cfg, int status, hsbd_ensemble_claim *claim,
                          hsbd_error *err) {
-    const char *dir = cfg->output.dir;
     char aside[HSBD_PATH_MAX + 16];
     if (!claim->set_aside) {
-        finish_dir(dir, status, claim);
+        finish_dir(cfg->output.dir, status, claim);
         return status;
     }
+    const char *dir = claim->dir;
     /* the locks are held until the end (another process may still make dir between its
      * removal and the rename back: the restore then fails, and the message says so) */
     const int rc = earlier_path(dir, aside, sizeof aside)

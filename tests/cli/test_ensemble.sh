@@ -12,7 +12,8 @@
 # keeps the earlier results when the input is bad (set aside as DIR.earlier when a later
 # replica is refused), refuses an input inside DIR and a replica directory that is a link
 # before it moves anything; an ensemble's own merge that fails leaves no merged file. A
-# DIR.earlier that another run set aside stays where it is. Under mpirun a directory rank 0
+# DIR.earlier that another run set aside stays where it is; --force through a symbolic link
+# replaces the directory it points to. Under mpirun a directory rank 0
 # refuses ends the run with its message on every rank, hsbd resume of one directory runs
 # on one rank (ranks with directories of their own each resume theirs), and by default
 # the working ranks of a node share its CPUs out. A directory another process writes is refused
@@ -292,6 +293,17 @@ rc=$?
 if [ -d own/replica-1 ] && [ "$(cat own.earlier/notes.txt)" = keep ] && [ $rc -eq 2 ] &&
     [ ! -e own2 ] && [ "$(cat own2.earlier/notes.txt)" = keep ] && ! grep -q earlier err.txt
 then ok; else bad "a foreign DIR.earlier touched: exit $rc, $(cat err.txt)"; fi
+# --force through a symbolic link (to scratch space): the directory it points to is set
+# aside and made anew, the link stays
+mkdir -p scratch
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --set system.seed=8 --out scratch/ens ||
+    bad "ensemble in scratch"
+ln -s scratch/ens ens-link
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --out ens-link --force 2>err.txt
+rc=$?
+if [ $rc -eq 0 ] && [ -L ens-link ] && [ ! -e ens-link.earlier ] && [ ! -e scratch/ens.earlier ] &&
+    grep -q '^  "seed": 5,$' scratch/ens/summary.json && [ -f scratch/ens/replica-1/summary.json ]
+then ok; else bad "--force through a link: exit $rc, $(cat err.txt)"; fi
 # under mpirun, an output directory rank 0 refuses stops every rank with its message (no
 # rank left waiting for the others)
 if [ ${#MPIRUN[@]} -gt 0 ]; then
