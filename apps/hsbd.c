@@ -177,14 +177,14 @@ static int is_help(const char *arg) {
 /* The value of the flag argv[*i], advancing *i; NULL after a message when nothing follows
  * or the next argument is itself a flag (a value starting with "--" is read as a flag:
  * write ./--name for such a file). */
-static const char *flag_value(const char *cmd, int argc, char **argv, int *i) {
+static const char *flag_value(const char *cmd, int argc, char **argv, int *i, FILE *msg) {
     const char *flag = argv[*i];
     if (*i + 1 >= argc) {
-        fprintf(stderr, "hsbd %s: %s needs a value (nothing follows it)\n", cmd, flag);
+        fprintf(msg, "hsbd %s: %s needs a value (nothing follows it)\n", cmd, flag);
         return NULL;
     }
     if (!strncmp(argv[*i + 1], "--", 2)) {
-        fprintf(stderr, "hsbd %s: %s needs a value, but the next argument '%.60s' is a flag\n", cmd,
+        fprintf(msg, "hsbd %s: %s needs a value, but the next argument '%.60s' is a flag\n", cmd,
                 flag, argv[*i + 1]);
         return NULL;
     }
@@ -260,6 +260,53 @@ static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
     return HSBD_ESILENT;
 }
 
+/* A 64-bit FNV-1a hash of text (0 for none). */
+static uint64_t text_key(const char *text) {
+    uint64_t key = UINT64_C(14695981039346656037);
+    for (const char *c = text; c && *c; ++c)
+        key = (key ^ (unsigned char)*c) * UINT64_C(1099511628211);
+    return text && *text ? key : 0;
+}
+
+#ifdef HSBD_HAVE_MPI
+/* Each rank's key, gathered over MPI_COMM_WORLD (a collective); NULL when out of memory,
+ * after the message (the others then wait in the gather: the job is aborted). */
+static uint64_t *gather_keys(const ranks *r, uint64_t key) {
+    uint64_t *keys = malloc((size_t)r->size * sizeof *keys);
+    if (!keys) {
+        fprintf(stderr, "hsbd: out of memory\n");
+        MPI_Abort(MPI_COMM_WORLD, 1);
+        return NULL;
+    }
+    if (MPI_Allgather(&key, 1, MPI_UINT64_T, keys, 1, MPI_UINT64_T, MPI_COMM_WORLD) != MPI_SUCCESS)
+        for (int k = 0; k < r->size; ++k)
+            keys[k] = k == r->rank ? key : 0;
+    return keys;
+}
+#endif
+
+/* The input's verdict over the ranks (every rank calls it once, with its exit code and
+ * what it would print): each distinct message is printed once, by the lowest rank that
+ * has it (ranks above 0 name themselves), and every rank gets the worst exit code. */
+static int ranks_report(const ranks *r, int code, const char *said) {
+    int print = 1, worst = code;
+#ifdef HSBD_HAVE_MPI
+    if (r->mpi) {
+        const uint64_t key = text_key(said);
+        uint64_t *keys = gather_keys(r, key);
+        for (int k = 0; keys && k < r->rank && print; ++k)
+            print = keys[k] != key;
+        free(keys);
+        MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    }
+#endif
+    if (print && said && *said) {
+        if (r->rank > 0) fprintf(stderr, "hsbd: rank %d of mpirun:\n", r->rank);
+        fputs(said, stderr);
+    }
+    return worst;
+}
+
 /* The lowest rank given the same directory as this one (its own rank when none below
  * is): under mpirun one process resumes or merges into a directory, while ranks given
  * directories of their own (a job step with one per task) all work. Paths are compared
@@ -268,19 +315,11 @@ static int first_rank_for(const ranks *r, const char *dir) {
 #ifdef HSBD_HAVE_MPI
     if (!r->mpi) return r->rank;
     char resolved[PATH_MAX];
-    const char *path = hsbd_path_resolve(dir, resolved) == 0 ? resolved : dir;
-    uint64_t key = UINT64_C(14695981039346656037);
-    for (const char *c = path; *c; ++c)
-        key = (key ^ (unsigned char)*c) * UINT64_C(1099511628211);
-    uint64_t *keys = malloc((size_t)r->size * sizeof *keys);
-    if (!keys) { /* the others wait in the gather */
-        fprintf(stderr, "hsbd: out of memory\n");
-        MPI_Abort(MPI_COMM_WORLD, 1);
-    }
+    const uint64_t key = text_key(hsbd_path_resolve(dir, resolved) == 0 ? resolved : dir);
+    uint64_t *keys = gather_keys(r, key);
     int first = r->rank;
-    if (MPI_Allgather(&key, 1, MPI_UINT64_T, keys, 1, MPI_UINT64_T, MPI_COMM_WORLD) == MPI_SUCCESS)
-        for (int k = 0; k < r->rank && first == r->rank; ++k)
-            if (keys[k] == key) first = k;
+    for (int k = 0; keys && k < r->rank && first == r->rank; ++k)
+        if (keys[k] == key) first = k;
     free(keys);
     return first;
 #else
@@ -337,8 +376,9 @@ static void share_rank_threads(const ranks *r, int working) {
 
 /* A single run, or run.replicas replicas spread over the ranks (replica k on rank k mod
  * P, each in DIR/replica-k) and merged by rank 0 in replica order. */
-static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_error *err) {
-    ranks r = ranks_begin();
+static int run_ensemble_or_single(const ranks *ranks_of_run, hsbd_config *cfg,
+                                  hsbd_run_options *opt, hsbd_error *err) {
+    const ranks r = *ranks_of_run;
     const size_t replicas = hsbd_ensemble_size(cfg, r.size);
     if (r.rank > 0) opt->progress = 0;
     int rc = HSBD_OK;
@@ -362,7 +402,6 @@ static int run_ensemble_or_single(hsbd_config *cfg, hsbd_run_options *opt, hsbd_
             if (rc != HSBD_ESILENT || done != status) rc = done;
         }
     }
-    ranks_end(&r);
     return rc;
 }
 
@@ -432,71 +471,86 @@ typedef struct run_override {
     const char *flag, *value;
 } run_override;
 
-static int cmd_run(int argc, char **argv) {
-    const char *config_path = NULL;
+/* What `hsbd run` is asked to do: the configuration with its overrides applied, the
+ * options, and the source kept for the checkpoints. */
+typedef struct run_request {
+    const char *config_path;
+    hsbd_config cfg;
+    hsbd_run_options opt;
+    hsbd_run_source source;
+    char (*sets)[HSBD_PATH_MAX + 64];
+    const char **set_list;
+} run_request;
+
+static void run_request_free(run_request *q) {
+    if (q->config_path) free((char *)q->source.text);
+    free(q->sets), free(q->set_list);
+}
+
+/* The command line and the configuration read into q; an exit status, with the message
+ * written to msg. */
+static int run_request_read(int argc, char **argv, FILE *msg, run_request *q) {
     int defaults = 0, noverrides = 0;
     run_override *overrides = calloc((size_t)argc, sizeof *overrides);
-    hsbd_run_options opt = {.progress = isatty(STDERR_FILENO), .stop = &stop_flag};
-    if (!overrides) return fail(HSBD_ENOMEM, "out of memory");
+    q->opt = (hsbd_run_options){.progress = isatty(STDERR_FILENO), .stop = &stop_flag};
+    q->sets = calloc((size_t)argc, sizeof *q->sets);
+    q->set_list = calloc((size_t)argc, sizeof *q->set_list);
+    if (!overrides || !q->sets || !q->set_list)
+        return free(overrides), fprintf(msg, "hsbd: out of memory\n"), 1;
     for (int i = 2; i < argc; ++i) {
         const char *a = argv[i];
-        if (is_help(a)) {
-            free(overrides);
-            run_help();
-            return 0;
-        }
         if (!strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed") ||
             !strcmp(a, "--replica") || !strcmp(a, "--threads")) {
-            const char *v = flag_value("run", argc, argv, &i);
+            const char *v = flag_value("run", argc, argv, &i, msg);
             if (!v) return free(overrides), EXIT_INPUT;
             overrides[noverrides++] = (run_override){a, v};
         } else if (!strcmp(a, "--defaults")) {
             defaults = 1;
         } else if (!strcmp(a, "--force")) {
-            opt.force = 1;
+            q->opt.force = 1;
         } else if (!strcmp(a, "--check")) {
-            opt.check = 1;
+            q->opt.check = 1;
         } else if (!strcmp(a, "--quiet")) {
-            opt.progress = 0;
+            q->opt.progress = 0;
         } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "hsbd run: unknown option '%.60s' (hsbd run --help)\n", a);
+            fprintf(msg, "hsbd run: unknown option '%.60s' (hsbd run --help)\n", a);
             return free(overrides), EXIT_INPUT;
-        } else if (config_path) {
-            fprintf(stderr, "hsbd run: more than one configuration file ('%.200s', '%.200s')\n",
-                    config_path, a);
+        } else if (q->config_path) {
+            fprintf(msg, "hsbd run: more than one configuration file ('%.200s', '%.200s')\n",
+                    q->config_path, a);
             return free(overrides), EXIT_INPUT;
         } else {
-            config_path = a;
+            q->config_path = a;
         }
     }
-    if (!config_path == !defaults) {
-        fprintf(stderr, "hsbd run: %s (hsbd run --help)\n",
+    if (!q->config_path == !defaults) {
+        fprintf(msg, "hsbd run: %s (hsbd run --help)\n",
                 defaults ? "--defaults runs without a configuration file, but one is given"
                          : "no configuration file given; --defaults runs the default "
                            "configuration");
         return free(overrides), EXIT_INPUT;
     }
-    hsbd_config cfg;
+    const char *config_path = q->config_path;
+    q->config_path = NULL; /* set again once its text is read */
     hsbd_error err;
-    hsbd_config_defaults(&cfg);
-    if (config_path && hsbd_config_load_file(&cfg, config_path, &err) != HSBD_OK)
-        return free(overrides), fail(err.status, err.message);
+    hsbd_config_defaults(&q->cfg);
+    if (config_path && hsbd_config_load_file(&q->cfg, config_path, &err) != HSBD_OK)
+        return free(overrides), fprintf(msg, "hsbd: %s\n", err.message), exit_code_for(err.status);
     /* the source of the configuration goes into the checkpoints (hsbd resume) */
-    hsbd_run_source source = {.name = config_path};
-    if (config_path) source.text = read_whole_file(config_path, &source.text_len);
-    char(*sets)[HSBD_PATH_MAX + 64] = calloc((size_t)argc, sizeof *sets);
-    const char **set_list = calloc((size_t)argc, sizeof *set_list);
-    if ((config_path && !source.text) || !sets || !set_list) {
-        free((char *)source.text), free(sets), free(set_list), free(overrides);
-        fprintf(stderr, "hsbd run: cannot read '%s' again\n", config_path ? config_path : "");
-        return EXIT_INPUT;
+    q->source = (hsbd_run_source){.name = config_path, .text = "", .text_len = 0};
+    if (config_path) {
+        q->source.text = read_whole_file(config_path, &q->source.text_len);
+        if (!q->source.text) {
+            fprintf(msg, "hsbd run: cannot read '%s' again\n", config_path);
+            return free(overrides), EXIT_INPUT;
+        }
+        q->config_path = config_path;
     }
-    if (!config_path) source.text = "", source.text_len = 0;
-    source.sets = set_list;
-    opt.source = &source;
-    if (!cfg.output.dir[0])
-        default_out_dir(config_path ? config_path : "defaults", cfg.output.dir,
-                        sizeof cfg.output.dir);
+    q->source.sets = q->set_list;
+    q->opt.source = &q->source;
+    if (!q->cfg.output.dir[0])
+        default_out_dir(config_path ? config_path : "defaults", q->cfg.output.dir,
+                        sizeof q->cfg.output.dir);
     for (int k = 0; k < noverrides; ++k) {
         const run_override *o = &overrides[k];
         char buf[HSBD_PATH_MAX + 64], origin[64];
@@ -511,32 +565,51 @@ static int cmd_run(int argc, char **argv) {
                      o->value);
         snprintf(origin, sizeof origin, "command line (%s)", o->flag);
         if (strlen(o->value) >= HSBD_PATH_MAX) {
-            fprintf(stderr, "hsbd run: %s: the value is longer than %d characters\n", o->flag,
+            fprintf(msg, "hsbd run: %s: the value is longer than %d characters\n", o->flag,
                     HSBD_PATH_MAX - 1);
-            if (config_path) free((char *)source.text);
-            return free(sets), free(set_list), free(overrides), EXIT_INPUT;
+            return free(overrides), EXIT_INPUT;
         }
-        snprintf(sets[source.nsets], sizeof sets[0], "%s", buf);
-        set_list[source.nsets] = sets[source.nsets];
-        source.nsets += 1;
-        if (hsbd_config_set(&cfg, buf, origin, &err) != HSBD_OK) {
-            if (config_path) free((char *)source.text);
-            return free(sets), free(set_list), free(overrides), fail(err.status, err.message);
-        }
+        snprintf(q->sets[q->source.nsets], sizeof q->sets[0], "%s", buf);
+        q->set_list[q->source.nsets] = q->sets[q->source.nsets];
+        q->source.nsets += 1;
+        if (hsbd_config_set(&q->cfg, buf, origin, &err) != HSBD_OK)
+            return free(overrides), fprintf(msg, "hsbd: %s\n", err.message),
+                   exit_code_for(err.status);
     }
     free(overrides);
-    int rc = hsbd_config_finalize(&cfg, &err);
-    if (rc == HSBD_OK) {
-        catch_stop_signals();
-        rc = run_ensemble_or_single(&cfg, &opt, &err);
-    }
-    if (config_path) free((char *)source.text);
-    free(sets), free(set_list);
-    if (rc == HSBD_ESILENT && err.message[0]) fprintf(stderr, "hsbd: %s\n", err.message);
-    if (rc == HSBD_ESILENT) return exit_code_for(err.status);
-    if (rc != HSBD_OK) return fail(rc, err.message);
-    if (opt.progress) fprintf(stderr, "hsbd: results in %s/\n", cfg.output.dir);
+    if (hsbd_config_finalize(&q->cfg, &err) != HSBD_OK)
+        return fprintf(msg, "hsbd: %s\n", err.message), exit_code_for(err.status);
     return 0;
+}
+
+static int cmd_run(int argc, char **argv) {
+    for (int i = 2; i < argc; ++i)
+        if (is_help(argv[i])) return run_help(), 0;
+    /* under mpirun every rank reads the input; a message is printed once however many ranks
+     * meet it, and a rank that meets none does not start a run the others cannot join */
+    ranks r = ranks_begin();
+    char *said = NULL;
+    size_t said_len = 0;
+    FILE *msg = r.mpi ? open_memstream(&said, &said_len) : NULL;
+    run_request q = {0};
+    int code = run_request_read(argc, argv, msg ? msg : stderr, &q);
+    if (msg) fclose(msg);
+    code = ranks_report(&r, code, said);
+    free(said);
+    if (code == 0) {
+        hsbd_error err;
+        catch_stop_signals();
+        int rc = run_ensemble_or_single(&r, &q.cfg, &q.opt, &err);
+        if (rc == HSBD_ESILENT && err.message[0]) fprintf(stderr, "hsbd: %s\n", err.message);
+        code = rc == HSBD_ESILENT ? exit_code_for(err.status)
+               : rc != HSBD_OK    ? fail(rc, err.message)
+                                  : 0;
+        if (rc == HSBD_OK && q.opt.progress)
+            fprintf(stderr, "hsbd: results in %s/\n", q.cfg.output.dir);
+    }
+    run_request_free(&q);
+    ranks_end(&r);
+    return code;
 }
 
 static void resume_help(void) {
@@ -638,7 +711,7 @@ static int cmd_bench(int argc, char **argv) {
             continue;
         }
         if (!strcmp(argv[i], "--seconds")) {
-            const char *v = flag_value("bench", argc, argv, &i);
+            const char *v = flag_value("bench", argc, argv, &i, stderr);
             if (!v) return EXIT_INPUT;
             char *end;
             seconds = strtod(v, &end);
@@ -647,7 +720,7 @@ static int cmd_bench(int argc, char **argv) {
                 return EXIT_INPUT;
             }
         } else if (!strcmp(argv[i], "--case")) {
-            if (!(only = flag_value("bench", argc, argv, &i))) return EXIT_INPUT;
+            if (!(only = flag_value("bench", argc, argv, &i, stderr))) return EXIT_INPUT;
         } else {
             fprintf(stderr, "hsbd bench: unknown option '%.60s' (hsbd bench --help)\n", argv[i]);
             return EXIT_INPUT;
@@ -715,7 +788,7 @@ static int parse_num_flags(const char *cmd, int argc, char **argv, num_flag *fla
     for (int i = 3; i < argc; ++i) {
         if (is_help(argv[i])) return -1;
         if (out_path && !strcmp(argv[i], "--out")) {
-            if (!(*out_path = flag_value(cmd, argc, argv, &i))) return EXIT_INPUT;
+            if (!(*out_path = flag_value(cmd, argc, argv, &i, stderr))) return EXIT_INPUT;
             continue;
         }
         num_flag *f = NULL;
@@ -726,7 +799,7 @@ static int parse_num_flags(const char *cmd, int argc, char **argv, num_flag *fla
                     cmd);
             return EXIT_INPUT;
         }
-        const char *text = flag_value(cmd, argc, argv, &i);
+        const char *text = flag_value(cmd, argc, argv, &i, stderr);
         if (!text) return EXIT_INPUT;
         char *end;
         const double v = strtod(text, &end);
@@ -1064,7 +1137,7 @@ static int cmd_validate(int argc, char **argv) {
         const char *a = argv[i], *v = NULL;
         const int takes_value = !strcmp(a, "--out") || !strcmp(a, "--case") ||
                                 !strcmp(a, "--jobs") || !strcmp(a, "--seed-offset");
-        if (takes_value && !(v = flag_value("validate", argc, argv, &i))) return EXIT_INPUT;
+        if (takes_value && !(v = flag_value("validate", argc, argv, &i, stderr))) return EXIT_INPUT;
         long w = 0;
         if (is_help(a)) {
             validate_help();

@@ -13,7 +13,8 @@
 # replica is refused), refuses an input inside DIR and a replica directory that is a link
 # before it moves anything; an ensemble's own merge that fails leaves no merged file. A
 # DIR.earlier that another run set aside stays where it is; --force through a symbolic link
-# replaces the directory it points to. Under mpirun a directory rank 0
+# replaces the directory it points to. Under mpirun a bad input is reported once (and one
+# rank's bad input stops every rank before anything is written), a directory rank 0
 # refuses ends the run with its message on every rank, hsbd resume of one directory runs
 # on one rank (ranks with directories of their own each resume theirs), and by default
 # the working ranks of a node share its CPUs out. A directory another process writes is refused
@@ -312,6 +313,20 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     rc=$?
     if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "exists and is not a directory" err.txt
     then ok; else bad "mpirun, output refused on rank 0: exit $rc (124: hung), $(cat err.txt)"; fi
+    # a bad input is reported once, not once per rank; one rank's bad input (a file that
+    # differs on its node) stops every rank before anything is written, with its message
+    (cat rods.ini; printf '[run]\nbogus = 3\n') >bogus.ini
+    timeout 300 "${MPIRUN[@]}" "$HSBD" run bogus.ini --quiet --out bogus-out >err.txt 2>&1
+    rc=$?
+    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && [ "$(grep -c "unknown key 'bogus'" err.txt)" = 1 ] &&
+        [ ! -e bogus-out ]
+    then ok; else bad "mpirun, a bad input on every rank: exit $rc, $(cat err.txt)"; fi
+    timeout 300 "${MPIRUN[@]}" sh -c 'c=rods.ini; [ "${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" = 1 ] &&
+        c=bogus.ini; exec "$0" run $c --quiet --out bogus-out' "$HSBD" >err.txt 2>&1
+    rc=$?
+    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && [ "$(grep -c "unknown key 'bogus'" err.txt)" = 1 ] &&
+        grep -q "rank 1 of mpirun" err.txt && [ ! -e bogus-out ]
+    then ok; else bad "mpirun, a bad input on rank 1 only: exit $rc, $(cat err.txt)"; fi
     # the ranks share the node's CPUs out by default (no oversubscription: each replica
     # of 2 ranks takes at most half the CPUs); run.threads set is kept
     env -u OMP_NUM_THREADS "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --out rods-share \
