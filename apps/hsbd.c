@@ -260,6 +260,7 @@ static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
     return HSBD_ESILENT;
 }
 
+#ifdef HSBD_HAVE_MPI
 /* A 64-bit FNV-1a hash of text (0 for none). */
 static uint64_t text_key(const char *text) {
     uint64_t key = UINT64_C(14695981039346656037);
@@ -268,7 +269,6 @@ static uint64_t text_key(const char *text) {
     return text && *text ? key : 0;
 }
 
-#ifdef HSBD_HAVE_MPI
 /* Each rank's key, gathered over MPI_COMM_WORLD (a collective); NULL when out of memory,
  * after the message (the others then wait in the gather: the job is aborted). */
 static uint64_t *gather_keys(const ranks *r, uint64_t key) {
