@@ -307,6 +307,28 @@ static int ranks_report(const ranks *r, int code, const char *said) {
     return worst;
 }
 
+/* The messages of a command's input checks: under mpirun kept and printed once over the
+ * ranks (ranks_report), else written to stderr at once. */
+typedef struct input_messages {
+    FILE *f;
+    char *text;
+    size_t len;
+} input_messages;
+
+static FILE *input_messages_open(const ranks *r, input_messages *m) {
+    *m = (input_messages){0};
+    if (r->mpi) m->f = open_memstream(&m->text, &m->len);
+    return m->f ? m->f : stderr;
+}
+
+/* The worst exit code over the ranks, the messages printed (a collective). */
+static int input_messages_report(const ranks *r, input_messages *m, int code) {
+    if (m->f) fclose(m->f);
+    code = ranks_report(r, code, m->text);
+    free(m->text);
+    return code;
+}
+
 /* The lowest rank given the same directory as this one (its own rank when none below
  * is): under mpirun one process resumes or merges into a directory, while ranks given
  * directories of their own (a job step with one per task) all work. Paths are compared
@@ -423,47 +445,57 @@ static void merge_help(void) {
            "  --force  write into an existing, non-empty OUT (an earlier result's files)\n");
 }
 
+/* The command line of hsbd merge: OUT and the directories; an exit status, with the
+ * message written to msg. */
+static int merge_args(int argc, char **argv, FILE *msg, const char **out, const char **dirs,
+                      size_t *ndirs, int *force) {
+    for (int i = 2; i < argc; ++i) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--force")) {
+            *force = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(msg, "hsbd merge: unknown option '%.60s' (hsbd merge --help)\n", a);
+            return EXIT_INPUT;
+        } else if (!*out) {
+            *out = a;
+        } else {
+            dirs[(*ndirs)++] = a;
+        }
+    }
+    if (!*out) {
+        fprintf(msg, "hsbd merge: no output directory given (hsbd merge OUT DIR...)\n");
+        return EXIT_INPUT;
+    }
+    return 0;
+}
+
 static int cmd_merge(int argc, char **argv) {
+    for (int i = 2; i < argc; ++i)
+        if (is_help(argv[i])) return merge_help(), 0;
     const char *out = NULL;
     const char **dirs = calloc((size_t)argc, sizeof *dirs);
     size_t ndirs = 0;
     int force = 0;
     if (!dirs) return fail(HSBD_ENOMEM, "out of memory");
-    for (int i = 2; i < argc; ++i) {
-        const char *a = argv[i];
-        if (is_help(a)) {
-            free(dirs);
-            merge_help();
-            return 0;
-        }
-        if (!strcmp(a, "--force")) {
-            force = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "hsbd merge: unknown option '%.60s' (hsbd merge --help)\n", a);
-            return free(dirs), EXIT_INPUT;
-        } else if (!out) {
-            out = a;
-        } else {
-            dirs[ndirs++] = a;
-        }
-    }
-    if (!out) {
-        fprintf(stderr, "hsbd merge: no output directory given (hsbd merge OUT DIR...)\n");
-        return free(dirs), EXIT_INPUT;
-    }
-    /* under mpirun, one process merges into each OUT */
     ranks r = ranks_begin();
-    const int first = first_rank_for(&r, out);
-    hsbd_error err;
-    int rc = HSBD_OK;
-    if (first == r.rank)
-        rc = hsbd_merge(out, dirs, ndirs, force, &err);
-    else
-        fprintf(stderr, "hsbd merge: rank %d of mpirun: rank %d merges into '%s'\n", r.rank, first,
-                out);
+    input_messages said;
+    FILE *msg = input_messages_open(&r, &said);
+    int code =
+        input_messages_report(&r, &said, merge_args(argc, argv, msg, &out, dirs, &ndirs, &force));
+    if (code == 0) { /* under mpirun, one process merges into each OUT */
+        const int first = first_rank_for(&r, out);
+        hsbd_error err;
+        int rc = HSBD_OK;
+        if (first == r.rank)
+            rc = hsbd_merge(out, dirs, ndirs, force, &err);
+        else
+            fprintf(stderr, "hsbd merge: rank %d of mpirun: rank %d merges into '%s'\n", r.rank,
+                    first, out);
+        code = rc == HSBD_OK ? 0 : fail(rc, err.message);
+    }
     ranks_end(&r);
     free(dirs);
-    return rc == HSBD_OK ? 0 : fail(rc, err.message);
+    return code;
 }
 
 /* One override from the command line, applied in order after the file. */
@@ -588,14 +620,10 @@ static int cmd_run(int argc, char **argv) {
     /* under mpirun every rank reads the input; a message is printed once however many ranks
      * meet it, and a rank that meets none does not start a run the others cannot join */
     ranks r = ranks_begin();
-    char *said = NULL;
-    size_t said_len = 0;
-    FILE *msg = r.mpi ? open_memstream(&said, &said_len) : NULL;
+    input_messages said;
+    FILE *msg = input_messages_open(&r, &said);
     run_request q = {0};
-    int code = run_request_read(argc, argv, msg ? msg : stderr, &q);
-    if (msg) fclose(msg);
-    code = ranks_report(&r, code, said);
-    free(said);
+    int code = input_messages_report(&r, &said, run_request_read(argc, argv, msg, &q));
     if (code == 0) {
         hsbd_error err;
         catch_stop_signals();
@@ -630,43 +658,50 @@ static void resume_help(void) {
            "errors.\n");
 }
 
+/* The command line of hsbd resume: DIR and the overrides; an exit status, with the message
+ * written to msg. */
+static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const char **sets,
+                       size_t *nsets, hsbd_run_options *opt) {
+    for (int i = 2; i < argc; ++i) {
+        if (!strcmp(argv[i], "--quiet")) {
+            opt->progress = 0;
+        } else if (!strcmp(argv[i], "--set")) {
+            if (i + 1 >= argc || argv[i + 1][0] == '-') {
+                fprintf(msg, "hsbd resume: --set needs a value (--set run.t_total=T)\n");
+                return EXIT_INPUT;
+            }
+            sets[(*nsets)++] = argv[++i];
+        } else if (argv[i][0] == '-') {
+            fprintf(msg, "hsbd resume: unknown option '%s' (hsbd resume --help)\n", argv[i]);
+            return EXIT_INPUT;
+        } else if (*dir) {
+            fprintf(msg, "hsbd resume: more than one run directory ('%s', '%s')\n", *dir, argv[i]);
+            return EXIT_INPUT;
+        } else {
+            *dir = argv[i];
+        }
+    }
+    if (!*dir) {
+        fprintf(msg, "hsbd resume: no run directory given (hsbd resume --help)\n");
+        return EXIT_INPUT;
+    }
+    return 0;
+}
+
 static int cmd_resume(int argc, char **argv) {
+    for (int i = 2; i < argc; ++i)
+        if (is_help(argv[i])) return resume_help(), 0;
     const char *dir = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     size_t nsets = 0;
     hsbd_run_options opt = {.progress = isatty(STDERR_FILENO), .stop = &stop_flag};
-    int rc = sets ? 0 : 1;
-    for (int i = 2; i < argc && rc == 0; ++i) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            resume_help();
-            free(sets);
-            return 0;
-        } else if (!strcmp(argv[i], "--quiet")) {
-            opt.progress = 0;
-        } else if (!strcmp(argv[i], "--set")) {
-            if (i + 1 >= argc || argv[i + 1][0] == '-') {
-                fprintf(stderr, "hsbd resume: --set needs a value (--set run.t_total=T)\n");
-                rc = EXIT_INPUT;
-            } else {
-                sets[nsets++] = argv[++i];
-            }
-        } else if (argv[i][0] == '-') {
-            fprintf(stderr, "hsbd resume: unknown option '%s' (hsbd resume --help)\n", argv[i]);
-            rc = EXIT_INPUT;
-        } else if (dir) {
-            fprintf(stderr, "hsbd resume: more than one run directory ('%s', '%s')\n", dir,
-                    argv[i]);
-            rc = EXIT_INPUT;
-        } else {
-            dir = argv[i];
-        }
-    }
-    if (rc == 0 && !dir) {
-        fprintf(stderr, "hsbd resume: no run directory given (hsbd resume --help)\n");
-        rc = EXIT_INPUT;
-    }
-    if (rc == 0) { /* under mpirun, one process resumes each directory */
-        ranks r = ranks_begin();
+    if (!sets) return fail(HSBD_ENOMEM, "out of memory");
+    ranks r = ranks_begin();
+    input_messages said;
+    FILE *msg = input_messages_open(&r, &said);
+    int code =
+        input_messages_report(&r, &said, resume_args(argc, argv, msg, &dir, sets, &nsets, &opt));
+    if (code == 0) { /* under mpirun, one process resumes each directory */
         const int first = first_rank_for(&r, dir);
         share_rank_threads(&r, first == r.rank);
         hsbd_error err;
@@ -677,13 +712,13 @@ static int cmd_resume(int argc, char **argv) {
         else
             fprintf(stderr, "hsbd resume: rank %d of mpirun: rank %d resumes '%s'\n", r.rank, first,
                     dir);
-        ranks_end(&r);
-        rc = status == HSBD_OK ? 0 : fail(status, err.message);
+        code = status == HSBD_OK ? 0 : fail(status, err.message);
         if (status == HSBD_OK && first == r.rank && opt.progress)
             fprintf(stderr, "hsbd: results in %s/\n", dir);
     }
+    ranks_end(&r);
     free(sets);
-    return rc;
+    return code;
 }
 
 static int cmd_bench(int argc, char **argv) {

@@ -327,6 +327,14 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     if [ $rc -ne 0 ] && [ $rc -ne 124 ] && [ "$(grep -c "unknown key 'bogus'" err.txt)" = 1 ] &&
         grep -q "rank 1 of mpirun" err.txt && [ ! -e bogus-out ]
     then ok; else bad "mpirun, a bad input on rank 1 only: exit $rc, $(cat err.txt)"; fi
+    timeout 300 "${MPIRUN[@]}" "$HSBD" merge >err.txt 2>&1
+    rc=$?
+    timeout 300 "${MPIRUN[@]}" "$HSBD" resume >>err.txt 2>&1
+    rc2=$?
+    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && [ $rc2 -ne 0 ] && [ $rc2 -ne 124 ] &&
+        [ "$(grep -c "no output directory given" err.txt)" = 1 ] &&
+        [ "$(grep -c "no run directory given" err.txt)" = 1 ]
+    then ok; else bad "mpirun, merge and resume without a directory: exit $rc, $rc2, $(cat err.txt)"; fi
     # the ranks share the node's CPUs out by default (no oversubscription: each replica
     # of 2 ranks takes at most half the CPUs); run.threads set is kept
     env -u OMP_NUM_THREADS "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --out rods-share \
