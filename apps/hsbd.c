@@ -331,23 +331,35 @@ static int input_messages_report(const ranks *r, input_messages *m, int code) {
 
 /* The lowest rank given the same directory as this one (its own rank when none below
  * is): under mpirun one process resumes or merges into a directory, while ranks given
- * directories of their own (a job step with one per task) all work. Paths are compared
- * resolved (symbolic links, . and ..), as a 64-bit FNV-1a hash. A collective. */
-static int first_rank_for(const ranks *r, const char *dir) {
+ * directories of their own (a job step with one per task) all work. *others: how many
+ * ranks above leave their directory to this one. Paths are compared resolved (symbolic
+ * links, . and ..), as a 64-bit FNV-1a hash. A collective. */
+static int first_rank_for(const ranks *r, const char *dir, int *others) {
+    *others = 0;
 #ifdef HSBD_HAVE_MPI
     if (!r->mpi) return r->rank;
     char resolved[PATH_MAX];
     const uint64_t key = text_key(hsbd_path_resolve(dir, resolved) == 0 ? resolved : dir);
     uint64_t *keys = gather_keys(r, key);
     int first = r->rank;
-    for (int k = 0; keys && k < r->rank && first == r->rank; ++k)
-        if (keys[k] == key) first = k;
+    for (int k = 0; keys && k < r->size; ++k) {
+        if (keys[k] == key && k < first) first = k;
+        *others += keys[k] == key && k > r->rank;
+    }
     free(keys);
+    if (first != r->rank) *others = 0;
     return first;
 #else
     (void)dir;
     return r->rank;
 #endif
+}
+
+/* One line from the rank that works in dir, when other ranks were given it too. */
+static void say_others_wait(const char *cmd, const ranks *r, int others, const char *dir) {
+    if (others > 0)
+        fprintf(stderr, "hsbd %s: %d other rank%s of mpirun given '%s' leave%s it to rank %d\n",
+                cmd, others, others > 1 ? "s" : "", dir, others > 1 ? "" : "s", r->rank);
 }
 
 /* The threads each working rank takes when neither run.threads nor OMP_NUM_THREADS sets
@@ -483,14 +495,11 @@ static int cmd_merge(int argc, char **argv) {
     int code =
         input_messages_report(&r, &said, merge_args(argc, argv, msg, &out, dirs, &ndirs, &force));
     if (code == 0) { /* under mpirun, one process merges into each OUT */
-        const int first = first_rank_for(&r, out);
+        int others;
+        const int first = first_rank_for(&r, out, &others);
+        say_others_wait("merge", &r, others, out);
         hsbd_error err;
-        int rc = HSBD_OK;
-        if (first == r.rank)
-            rc = hsbd_merge(out, dirs, ndirs, force, &err);
-        else
-            fprintf(stderr, "hsbd merge: rank %d of mpirun: rank %d merges into '%s'\n", r.rank,
-                    first, out);
+        const int rc = first == r.rank ? hsbd_merge(out, dirs, ndirs, force, &err) : HSBD_OK;
         code = rc == HSBD_OK ? 0 : fail(rc, err.message);
     }
     ranks_end(&r);
@@ -702,16 +711,13 @@ static int cmd_resume(int argc, char **argv) {
     int code =
         input_messages_report(&r, &said, resume_args(argc, argv, msg, &dir, sets, &nsets, &opt));
     if (code == 0) { /* under mpirun, one process resumes each directory */
-        const int first = first_rank_for(&r, dir);
+        int others;
+        const int first = first_rank_for(&r, dir, &others);
         share_rank_threads(&r, first == r.rank);
+        say_others_wait("resume", &r, others, dir);
         hsbd_error err;
-        int status = HSBD_OK;
         catch_stop_signals();
-        if (first == r.rank)
-            status = hsbd_resume(dir, sets, nsets, &opt, &err);
-        else
-            fprintf(stderr, "hsbd resume: rank %d of mpirun: rank %d resumes '%s'\n", r.rank, first,
-                    dir);
+        const int status = first == r.rank ? hsbd_resume(dir, sets, nsets, &opt, &err) : HSBD_OK;
         code = status == HSBD_OK ? 0 : fail(status, err.message);
         if (status == HSBD_OK && first == r.rank && opt.progress)
             fprintf(stderr, "hsbd: results in %s/\n", dir);
