@@ -229,17 +229,25 @@ static ranks ranks_begin(void) {
     return r;
 }
 
-/* Every rank waits for the others before MPI_Finalize, sleeping between polls: a rank that
- * left its work to another (or waits for rank 0's merge) would otherwise spin in the
- * library's progress loop for as long as that work takes. */
+#ifdef HSBD_HAVE_MPI
+/* Waits for a non-blocking collective, sleeping 20 ms between polls: a rank that waits for
+ * the others (its replicas done, or its work left to another rank) would otherwise spin in
+ * the library's progress loop for as long as their work takes. `started` is the status of
+ * the call that started it. */
+static void wait_asleep(int started, MPI_Request *req) {
+    int done = started != MPI_SUCCESS;
+    const struct timespec pause = {0, 20 * 1000 * 1000};
+    while (!done && MPI_Test(req, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && !done)
+        nanosleep(&pause, NULL);
+}
+#endif
+
+/* Every rank waits for the others (asleep) before MPI_Finalize. */
 static void ranks_end(const ranks *r) {
 #ifdef HSBD_HAVE_MPI
     if (!r->mpi) return;
     MPI_Request all_done;
-    int done = MPI_Ibarrier(MPI_COMM_WORLD, &all_done) != MPI_SUCCESS;
-    const struct timespec pause = {0, 20 * 1000 * 1000}; /* 20 ms */
-    while (!done && MPI_Test(&all_done, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && !done)
-        nanosleep(&pause, NULL);
+    wait_asleep(MPI_Ibarrier(MPI_COMM_WORLD, &all_done), &all_done);
     MPI_Finalize();
 #else
     (void)r;
@@ -251,7 +259,10 @@ static void ranks_end(const ranks *r) {
 static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
     int worst = rc;
 #ifdef HSBD_HAVE_MPI
-    if (r->mpi) MPI_Allreduce(&rc, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Request agreed;
+    if (r->mpi)
+        wait_asleep(MPI_Iallreduce(&rc, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD, &agreed),
+                    &agreed);
 #else
     (void)r;
 #endif
@@ -710,6 +721,7 @@ static int cmd_resume(int argc, char **argv) {
     FILE *msg = input_messages_open(&r, &said);
     int code =
         input_messages_report(&r, &said, resume_args(argc, argv, msg, &dir, sets, &nsets, &opt));
+    int waiting = 0; /* a rank that leaves dir to another */
     if (code == 0) { /* under mpirun, one process resumes each directory */
         int others;
         const int first = first_rank_for(&r, dir, &others);
@@ -721,8 +733,11 @@ static int cmd_resume(int argc, char **argv) {
         code = status == HSBD_OK ? 0 : fail(status, err.message);
         if (status == HSBD_OK && first == r.rank && opt.progress)
             fprintf(stderr, "hsbd: results in %s/\n", dir);
+        waiting = first != r.rank;
     }
     ranks_end(&r);
+    if (waiting && code == 0 && stop_flag) /* signalled while it waited: it says so too */
+        code = exit_code_for(HSBD_EINTERRUPT);
     free(sets);
     return code;
 }

@@ -259,6 +259,13 @@ int hsbd_dir_create(const char *dir, hsbd_error *err) {
     if (mkdir_parents(buf) != 0)
         return hsbd_error_set(err, HSBD_EINPUT, "cannot create output directory '%s': %s", dir,
                               strerror(errno));
+    char target[HSBD_PATH_MAX];
+    const ssize_t len = readlink(dir, target, sizeof target - 1);
+    if (len >= 0 && stat(dir, &st) != 0) /* mkdir does not follow a link */
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "output directory '%s' is a symbolic link to '%.*s', which does "
+                              "not exist; create that directory or choose another --out",
+                              dir, (int)len, target);
     return probe_writable(dir, err);
 }
 

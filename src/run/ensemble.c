@@ -81,7 +81,8 @@ static int earlier_path(const char *dir, char *out, size_t len) {
     return snprintf(out, len, "%.*s.earlier", (int)n, dir) < (int)len ? 0 : -1;
 }
 
-/* An input file of the configuration inside dir would go with dir's earlier files. */
+/* An input file of the configuration inside dir would go with dir's earlier files, and a
+ * working directory inside dir with them (the replicas record it for their resumes). */
 static int input_inside(const hsbd_config *cfg, const char *dir, hsbd_error *err) {
     const char *key[3], *path[3];
     const size_t n = run_input_files(cfg, key, path);
@@ -91,6 +92,13 @@ static int input_inside(const hsbd_config *cfg, const char *dir, hsbd_error *err
                                   "%s '%s' lies inside the output directory '%s', whose earlier "
                                   "files --force replaces; copy it elsewhere first",
                                   key[k], path[k], dir);
+    char here[PATH_MAX];
+    if (getcwd(here, sizeof here) && run_path_nesting(dir, here) > 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "the working directory '%s' lies inside the output directory '%s', "
+                              "whose earlier files --force sets aside and removes; start the "
+                              "ensemble from another directory",
+                              here, dir);
     return HSBD_OK;
 }
 
@@ -117,26 +125,38 @@ static int prepare_new(const char *dir, int force, hsbd_ensemble_claim *claim, h
     return rc;
 }
 
-/* The directory --force sets aside for DIR: DIR itself, or the one it points to when it is
- * a symbolic link (a link to scratch space keeps pointing to the new results there; moving
- * the link would set the link aside and put the new results beside it). */
+/* The directory --force sets aside for DIR: DIR itself, or the one it names when it is a
+ * symbolic link (a link to scratch space keeps pointing to the new results there; moving
+ * the link would set the link aside and put the new results beside it) or ends in . or ..
+ * (DIR/. cannot be renamed). */
 static int aside_target(const char *dir, char *target, hsbd_error *err) {
     char bare[HSBD_PATH_MAX];
     snprintf(bare, sizeof bare, "%s", dir);
     size_t n = strlen(bare);
     while (n > 1 && bare[n - 1] == '/') /* a trailing slash would follow the link */
         bare[--n] = '\0';
+    const char *last = strrchr(bare, '/') ? strrchr(bare, '/') + 1 : bare;
     struct stat st;
     char resolved[PATH_MAX];
-    if (lstat(bare, &st) != 0 || !S_ISLNK(st.st_mode))
+    if (strcmp(last, ".") && strcmp(last, "..") && (lstat(bare, &st) != 0 || !S_ISLNK(st.st_mode)))
         return snprintf(target, HSBD_PATH_MAX, "%s", dir), HSBD_OK;
     if (hsbd_path_resolve(bare, resolved) != 0 || strlen(resolved) >= HSBD_PATH_MAX)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "output directory '%s' is a symbolic link that cannot be followed "
-                              "(or its target's path is too long); give the directory itself",
-                              dir);
+                              "output directory '%s' cannot be resolved to a directory within "
+                              "%d characters (a link that cannot be followed, or a long target)",
+                              dir, HSBD_PATH_MAX - 1);
     snprintf(target, HSBD_PATH_MAX, "%s", resolved);
     return HSBD_OK;
+}
+
+/* The new DIR keeps the mode and group of the one set aside (a group's scratch space with
+ * its setgid bit stays shared), the owner's access kept; best effort: without the group (not
+ * a member) no setgid bit. */
+static void keep_mode_and_group(const char *dir, const char *aside) {
+    struct stat st;
+    if (stat(aside, &st) != 0) return;
+    const int grouped = chown(dir, (uid_t)-1, st.st_gid) == 0;
+    chmod(dir, (st.st_mode & (grouped ? 07777u : 05777u)) | S_IRWXU);
 }
 
 /* --force over earlier results in dir (checked to be a run's or an ensemble's, with no
@@ -170,6 +190,7 @@ static int set_earlier_aside(const hsbd_config *cfg, hsbd_ensemble_claim *claim,
     }
     claim->set_aside = 1;
     rc = make_and_claim(dir, claim, err);
+    if (rc == HSBD_OK && claim->created) keep_mode_and_group(dir, aside);
     return rc == HSBD_OK ? rc : hsbd_ensemble_finish(cfg, rc, claim, err);
 }
 

@@ -13,7 +13,8 @@
 # replica is refused), refuses an input inside DIR and a replica directory that is a link
 # before it moves anything; an ensemble's own merge that fails leaves no merged file. A
 # DIR.earlier that another run set aside stays where it is; --force through a symbolic link
-# replaces the directory it points to. Under mpirun a bad input is reported once (and one
+# replaces the directory it points to (a bad input puts the earlier results back there), as
+# does DIR/.; a working directory inside DIR is refused. Under mpirun a bad input is reported once (and one
 # rank's bad input stops every rank before anything is written), a directory rank 0
 # refuses ends the run with its message on every rank, hsbd resume of one directory runs
 # on one rank (ranks with directories of their own each resume theirs), and by default
@@ -305,6 +306,33 @@ rc=$?
 if [ $rc -eq 0 ] && [ -L ens-link ] && [ ! -e ens-link.earlier ] && [ ! -e scratch/ens.earlier ] &&
     grep -q '^  "seed": 5,$' scratch/ens/summary.json && [ -f scratch/ens/replica-1/summary.json ]
 then ok; else bad "--force through a link: exit $rc, $(cat err.txt)"; fi
+# ... a bad input puts the earlier results back where the link points
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --set init.positions=missing.txt --out ens-link \
+    --force 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && [ -L ens-link ] && grep -q '^  "seed": 5,$' scratch/ens/summary.json &&
+    [ ! -e scratch/ens.earlier ] && [ ! -e ens-link.earlier ] && grep -q "are back in" err.txt
+then ok; else bad "--force through a link, bad input: exit $rc, $(cat err.txt)"; fi
+# a link to nowhere as DIR is named as such, and nothing is made
+ln -s nowhere/x dangling
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --out dangling 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "symbolic link to 'nowhere/x', which does not exist" err.txt &&
+    [ ! -e nowhere ]
+then ok; else bad "a dangling link as --out: exit $rc, $(cat err.txt)"; fi
+# the directory DIR/. names is set aside and made anew (DIR/. itself cannot be renamed); a
+# working directory inside DIR is refused (it would go with the earlier results)
+"$HSBD" run rods.ini --quiet --set run.replicas=2 --set system.seed=9 --out scratch/ens/. --force \
+    2>err.txt
+rc=$?
+if [ $rc -eq 0 ] && grep -q '^  "seed": 9,$' scratch/ens/summary.json && [ ! -e scratch/ens.earlier ]
+then ok; else bad "--force of DIR/.: exit $rc, $(cat err.txt)"; fi
+(cd scratch/ens/replica-0 && "$HSBD" run ../../../rods.ini --quiet --set run.replicas=2 \
+    --out ../../ens --force 2>"$T/err.txt")
+rc=$?
+if [ $rc -eq 2 ] && grep -q "working directory" err.txt && [ -f scratch/ens/replica-0/summary.json ] &&
+    [ ! -e scratch/ens.earlier ]
+then ok; else bad "--force from inside DIR: exit $rc, $(cat err.txt)"; fi
 # under mpirun, an output directory rank 0 refuses stops every rank with its message (no
 # rank left waiting for the others)
 if [ ${#MPIRUN[@]} -gt 0 ]; then
