@@ -174,6 +174,13 @@ static int is_help(const char *arg) {
     return !strcmp(arg, "--help") || !strcmp(arg, "-h");
 }
 
+/* --help or -h anywhere after the subcommand (it wins over any other argument). */
+static int asks_help(int argc, char **argv) {
+    for (int i = 2; i < argc; ++i)
+        if (is_help(argv[i])) return 1;
+    return 0;
+}
+
 /* The value of the flag argv[*i], advancing *i; NULL after a message when nothing follows
  * or the next argument is itself a flag (a value starting with "--" is read as a flag:
  * write ./--name for such a file). */
@@ -493,8 +500,7 @@ static int merge_args(int argc, char **argv, FILE *msg, const char **out, const 
 }
 
 static int cmd_merge(int argc, char **argv) {
-    for (int i = 2; i < argc; ++i)
-        if (is_help(argv[i])) return merge_help(), 0;
+    if (asks_help(argc, argv)) return merge_help(), 0;
     const char *out = NULL;
     const char **dirs = calloc((size_t)argc, sizeof *dirs);
     size_t ndirs = 0;
@@ -635,8 +641,7 @@ static int run_request_read(int argc, char **argv, FILE *msg, run_request *q) {
 }
 
 static int cmd_run(int argc, char **argv) {
-    for (int i = 2; i < argc; ++i)
-        if (is_help(argv[i])) return run_help(), 0;
+    if (asks_help(argc, argv)) return run_help(), 0;
     /* under mpirun every rank reads the input; a message is printed once however many ranks
      * meet it, and a rank that meets none does not start a run the others cannot join */
     ranks r = ranks_begin();
@@ -709,8 +714,7 @@ static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const
 }
 
 static int cmd_resume(int argc, char **argv) {
-    for (int i = 2; i < argc; ++i)
-        if (is_help(argv[i])) return resume_help(), 0;
+    if (asks_help(argc, argv)) return resume_help(), 0;
     const char *dir = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     size_t nsets = 0;
