@@ -618,9 +618,19 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
                  ? run_dir_claim(dir, RUN_DIR_WRITE, &lock, err)
                  : HSBD_OK;
     if (rc == HSBD_OK) rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
-    /* a run's first checkpoint may have landed between the test above and the load: that
-     * run still holds the directory, so the claim refuses this resume */
-    if (rc == HSBD_OK && lock < 0) rc = run_dir_claim(dir, RUN_DIR_WRITE, &lock, err);
+    /* a run's first checkpoint may have landed between the test above and the load: a run
+     * still going holds the directory, so the claim refuses this resume; one that ended in
+     * between may have written newer checkpoints, so the newest is read again */
+    if (rc == HSBD_OK && lock < 0) {
+        rc = run_dir_claim(dir, RUN_DIR_WRITE, &lock, err);
+        unload(&r, cfg, &rs);
+        r = (run){.opt = opt};
+        rs = (resumed_source){0};
+        cfg = malloc(sizeof *cfg);
+        if (rc == HSBD_OK)
+            rc = cfg ? load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err)
+                     : hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    }
     /* from here on the stream files are the stopped run's: kept whatever happens (release()
      * removes the files of a run that never started) */
     r.started = 1;

@@ -13,7 +13,9 @@
 # refused unless extended; an extension stopped before its first checkpoint or before its
 # results, and a resume refused for a damaged stream, lose nothing; a run started with
 # --force past the sticky step check resumes; --force replaces every output of a run; a
-# directory another process writes is refused to a resume and to run --force.
+# directory another process writes is refused to a resume and to run --force; a resume
+# racing a starting run (its window opened by strace, which CI installs) takes the newest
+# checkpoint or none.
 set -u
 HSBD=${1:?usage: test_resume.sh path/to/hsbd [model]}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -284,6 +286,46 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     rm locked/.hsbd.lock && echo notes >locked/notes.txt
     "$HSBD" resume locked --quiet --set run.t_total=1.5 2>err || bad "resume beside notes: $(cat err)"
     [ -f locked/.hsbd.lock ] && ok || bad "resume beside a user's file took no lock"
+fi
+
+# a resume that finds no checkpoint at first and the run's first one by the time it loads
+# (strace(1) delays its test and its claim, while a run starts and ends in the directory):
+# it claims the directory after the load and reads the newest checkpoint again, so it
+# finds the run complete instead of resuming an older checkpoint of it
+if { [ -z "$ONLY" ] || [ "$ONLY" = rods ]; } && command -v strace >/dev/null &&
+    strace -o /dev/null true 2>/dev/null; then
+    race_run() { # $1 directory, $2 t_total: checkpoints from its start on
+        "$HSBD" run rods.ini --quiet --set run.t_total="$2" \
+            --set output.checkpoint_every="$(awk -v t="$2" 'BEGIN { print t / 30 }')" \
+            --out "$1" || bad "run into $1"
+    }
+    seconds_of() { # $1 t_total: the wall seconds of such a run in this build
+        start=$(date +%s.%N)
+        race_run race-probe-"$1" "$1"
+        awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { print e - s }'
+    }
+    # a run of about 1.8 s in this build (its start-up and its rate measured): going when
+    # the resume loads (1 s after the resume's start, 0.7 s after the run's), over when it
+    # claims (1.5 s after the run's end)
+    short=$(seconds_of 2)
+    long=$(seconds_of 8)
+    t_total=$(awk -v a="$short" -v b="$long" 'BEGIN {
+        r = (b - a) / 6; s = a - 2 * r; t = r > 0 ? (1.8 - s) / r : 8; print t < 8 ? 8 : t }')
+    claim_delay=$(awk -v a="$short" -v b="$long" -v t="$t_total" 'BEGIN {
+        r = (b - a) / 6; print int(1e6 * (a + (t - 2) * r + 1.5)) }')
+    mkdir race
+    strace -o /dev/null -f -P race/checkpoint.prev.hsbd -P race/.hsbd.lock \
+        -e inject=newfstatat:delay_exit=1000000 -e inject=openat:delay_exit="$claim_delay" \
+        "$HSBD" resume race --quiet 2>err &
+    resume=$!
+    sleep 0.3 # the resume has found no checkpoint and waits in its second test
+    race_run race "$t_total"
+    wait $resume
+    rc=$?
+    if [ $rc -eq 2 ] && grep -q "is complete" err && grep -q '^  "resumes": 0,$' race/summary.json
+    then ok; else bad "a resume racing a run's first checkpoint: exit $rc, $(cat err)"; fi
+else
+    echo "test_resume: strace missing or not allowed here: the race of a resume with a starting run is not tested"
 fi
 
 echo "test_resume: $pass passed, $fail failed"
