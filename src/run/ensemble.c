@@ -3,6 +3,7 @@
  * results is src/run/merge.c. */
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
@@ -150,13 +151,21 @@ static int aside_target(const char *dir, char *target, hsbd_error *err) {
 }
 
 /* The new DIR keeps the mode and group of the one set aside (a group's scratch space with
- * its setgid bit stays shared), the owner's access kept; best effort: without the group (not
- * a member) no setgid bit. */
-static void keep_mode_and_group(const char *dir, const char *aside) {
-    struct stat st;
-    if (stat(aside, &st) != 0) return;
-    const int grouped = chown(dir, (uid_t)-1, st.st_gid) == 0;
-    chmod(dir, (st.st_mode & (grouped ? 07777u : 05777u)) | S_IRWXU);
+ * its setgid bit stays shared), the owner's access kept. Best effort, and only on the
+ * directory just made: opened without following a link and checked to hold this run's
+ * lock file (another user of a shared parent could have put something else in its place);
+ * without the group (not a member) the mode stays as made (a chmod by a non-member would
+ * drop a setgid bit inherited from the parent). */
+static void keep_mode_and_group(const char *dir, const char *aside, int lock) {
+    struct stat old, held, found;
+    if (lock < 0 || stat(aside, &old) != 0 || fstat(lock, &held) != 0) return;
+    const int d = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (d < 0) return;
+    if (fstatat(d, RUN_LOCK_FILE, &found, AT_SYMLINK_NOFOLLOW) == 0 &&
+        found.st_dev == held.st_dev && found.st_ino == held.st_ino &&
+        fchown(d, (uid_t)-1, old.st_gid) == 0)
+        fchmod(d, (old.st_mode & 07777u) | S_IRWXU);
+    close(d);
 }
 
 /* --force over earlier results in dir (checked to be a run's or an ensemble's, with no
@@ -190,7 +199,7 @@ static int set_earlier_aside(const hsbd_config *cfg, hsbd_ensemble_claim *claim,
     }
     claim->set_aside = 1;
     rc = make_and_claim(dir, claim, err);
-    if (rc == HSBD_OK && claim->created) keep_mode_and_group(dir, aside);
+    if (rc == HSBD_OK && claim->created) keep_mode_and_group(dir, aside, claim->lock);
     return rc == HSBD_OK ? rc : hsbd_ensemble_finish(cfg, rc, claim, err);
 }
 

@@ -301,11 +301,13 @@ mkdir -p scratch
 "$HSBD" run rods.ini --quiet --set run.replicas=2 --set system.seed=8 --out scratch/ens ||
     bad "ensemble in scratch"
 ln -s scratch/ens ens-link
+chmod 751 scratch/ens # the new directory keeps the mode of the one it replaces
 "$HSBD" run rods.ini --quiet --set run.replicas=2 --out ens-link --force 2>err.txt
 rc=$?
 if [ $rc -eq 0 ] && [ -L ens-link ] && [ ! -e ens-link.earlier ] && [ ! -e scratch/ens.earlier ] &&
-    grep -q '^  "seed": 5,$' scratch/ens/summary.json && [ -f scratch/ens/replica-1/summary.json ]
-then ok; else bad "--force through a link: exit $rc, $(cat err.txt)"; fi
+    grep -q '^  "seed": 5,$' scratch/ens/summary.json && [ -f scratch/ens/replica-1/summary.json ] &&
+    [ "$(stat -c %a scratch/ens)" = 751 ]
+then ok; else bad "--force through a link: exit $rc, mode $(stat -c %a scratch/ens), $(cat err.txt)"; fi
 # ... a bad input puts the earlier results back where the link points
 "$HSBD" run rods.ini --quiet --set run.replicas=2 --set init.positions=missing.txt --out ens-link \
     --force 2>err.txt
