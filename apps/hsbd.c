@@ -174,10 +174,17 @@ static int is_help(const char *arg) {
     return !strcmp(arg, "--help") || !strcmp(arg, "-h");
 }
 
-/* --help or -h anywhere after the subcommand (it wins over any other argument). */
-static int asks_help(int argc, char **argv) {
-    for (int i = 2; i < argc; ++i)
+/* --help or -h anywhere after the subcommand but as the value of one of the flags listed
+ * in value_flags (NULL-terminated): it wins over any other argument. */
+static int asks_help(int argc, char **argv, const char *const *value_flags) {
+    for (int i = 2; i < argc; ++i) {
         if (is_help(argv[i])) return 1;
+        for (const char *const *f = value_flags; *f; ++f)
+            if (!strcmp(argv[i], *f)) {
+                ++i; /* its value, whatever it is */
+                break;
+            }
+    }
     return 0;
 }
 
@@ -287,8 +294,8 @@ static uint64_t text_key(const char *text) {
     return text && *text ? key : 0;
 }
 
-/* Each rank's key, gathered over MPI_COMM_WORLD (a collective); NULL when out of memory,
- * after the message (the others then wait in the gather: the job is aborted). */
+/* Each rank's key, gathered over MPI_COMM_WORLD (a collective, waited for asleep); NULL
+ * when out of memory, after the message (the job is aborted). */
 static uint64_t *gather_keys(const ranks *r, uint64_t key) {
     uint64_t *keys = malloc((size_t)r->size * sizeof *keys);
     if (!keys) {
@@ -296,16 +303,19 @@ static uint64_t *gather_keys(const ranks *r, uint64_t key) {
         MPI_Abort(MPI_COMM_WORLD, 1);
         return NULL;
     }
-    if (MPI_Allgather(&key, 1, MPI_UINT64_T, keys, 1, MPI_UINT64_T, MPI_COMM_WORLD) != MPI_SUCCESS)
-        for (int k = 0; k < r->size; ++k)
-            keys[k] = k == r->rank ? key : 0;
+    for (int k = 0; k < r->size; ++k) /* what a failed gather leaves */
+        keys[k] = k == r->rank ? key : 0;
+    MPI_Request gathered;
+    wait_asleep(
+        MPI_Iallgather(&key, 1, MPI_UINT64_T, keys, 1, MPI_UINT64_T, MPI_COMM_WORLD, &gathered),
+        &gathered);
     return keys;
 }
 #endif
 
-/* The input's verdict over the ranks (every rank calls it once, with its exit code and
- * what it would print): each distinct message is printed once, by the lowest rank that
- * has it (ranks above 0 name themselves), and every rank gets the worst exit code. */
+/* A verdict over the ranks (every rank calls it at the same point, with its exit code
+ * and what it would print): each distinct message is printed once, by the lowest rank
+ * that has it (ranks above 0 name themselves), and every rank gets the worst exit code. */
 static int ranks_report(const ranks *r, int code, const char *said) {
     int print = 1, worst = code;
 #ifdef HSBD_HAVE_MPI
@@ -315,13 +325,15 @@ static int ranks_report(const ranks *r, int code, const char *said) {
         for (int k = 0; keys && k < r->rank && print; ++k)
             print = keys[k] != key;
         free(keys);
-        MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+        MPI_Request reduced;
+        wait_asleep(MPI_Iallreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD, &reduced),
+                    &reduced);
     }
 #endif
-    if (print && said && *said) {
-        if (r->rank > 0) fprintf(stderr, "hsbd: rank %d of mpirun:\n", r->rank);
+    if (print && said && *said && r->rank > 0) /* one write: no other rank's line inside */
+        fprintf(stderr, "hsbd: rank %d of mpirun:\n%s", r->rank, said);
+    else if (print && said && *said)
         fputs(said, stderr);
-    }
     return worst;
 }
 
@@ -345,6 +357,36 @@ static int input_messages_report(const ranks *r, input_messages *m, int code) {
     code = ranks_report(r, code, m->text);
     free(m->text);
     return code;
+}
+
+/* The lowest rank whose flag is set, or -1 (a collective). */
+static int ranks_lowest(const ranks *r, int flag) {
+    int mine = flag ? r->rank : INT_MAX, lowest = mine;
+#ifdef HSBD_HAVE_MPI
+    MPI_Request reduced;
+    if (r->mpi)
+        wait_asleep(MPI_Iallreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD, &reduced),
+                    &reduced);
+#endif
+    return lowest == INT_MAX ? -1 : lowest;
+}
+
+/* Under mpirun, --help asked on any rank: printed by the lowest that asked, and every rank
+ * stops (1); else 0. A collective. */
+static int ranks_help(const ranks *r, int asked, void (*help)(void)) {
+    const int first = ranks_lowest(r, asked);
+    if (first == r->rank) help();
+    return first >= 0;
+}
+
+/* The end of a command on every rank: its status (HSBD_ESILENT: another rank's failure,
+ * in err->status) and message, as an exit code; the messages printed once over the ranks
+ * and every rank given the worst code. A collective. */
+static int ranks_outcome(const ranks *r, int rc, const hsbd_error *err) {
+    input_messages said;
+    FILE *msg = input_messages_open(r, &said);
+    if (rc != HSBD_OK && err->message[0]) fprintf(msg, "hsbd: %s\n", err->message);
+    return input_messages_report(r, &said, exit_code_for(rc == HSBD_ESILENT ? err->status : rc));
 }
 
 /* The lowest rank given the same directory as this one (its own rank when none below
@@ -426,17 +468,21 @@ static void share_rank_threads(const ranks *r, int working) {
 #endif
 }
 
-/* A single run, or run.replicas replicas spread over the ranks (replica k on rank k mod
- * P, each in DIR/replica-k) and merged by rank 0 in replica order. */
+/* A single run (under mpirun, one per directory the ranks were given), or run.replicas
+ * replicas spread over the ranks (replica k on rank k mod P, each in DIR/replica-k; every
+ * rank given the same configuration) and merged by rank 0 in replica order. */
 static int run_ensemble_or_single(const ranks *ranks_of_run, hsbd_config *cfg,
                                   hsbd_run_options *opt, hsbd_error *err) {
     const ranks r = *ranks_of_run;
     const size_t replicas = hsbd_ensemble_size(cfg, r.size);
-    if (r.rank > 0) opt->progress = 0;
     int rc = HSBD_OK;
-    if (replicas == 1) {
-        if (r.rank == 0) rc = hsbd_run(cfg, opt, err);
+    if (replicas == 1) { /* ranks given the same directory leave it to the lowest */
+        int others;
+        const int first = first_rank_for(&r, cfg->output.dir, &others);
+        share_rank_threads(&r, first == r.rank);
+        if (first == r.rank) rc = hsbd_run(cfg, opt, err);
     } else {
+        if (r.rank > 0) opt->progress = 0;
         share_rank_threads(&r, (size_t)r.rank < replicas);          /* a collective */
         hsbd_ensemble_claim claim = {.lock = -1, .aside_lock = -1}; /* rank 0's */
         if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, &claim, err);
@@ -500,24 +546,25 @@ static int merge_args(int argc, char **argv, FILE *msg, const char **out, const 
 }
 
 static int cmd_merge(int argc, char **argv) {
-    if (asks_help(argc, argv)) return merge_help(), 0;
+    static const char *const value_flags[] = {NULL};
+    ranks r = ranks_begin();
+    if (ranks_help(&r, asks_help(argc, argv, value_flags), merge_help)) return ranks_end(&r), 0;
     const char *out = NULL;
     const char **dirs = calloc((size_t)argc, sizeof *dirs);
     size_t ndirs = 0;
     int force = 0;
-    if (!dirs) return fail(HSBD_ENOMEM, "out of memory");
-    ranks r = ranks_begin();
     input_messages said;
     FILE *msg = input_messages_open(&r, &said);
-    int code =
-        input_messages_report(&r, &said, merge_args(argc, argv, msg, &out, dirs, &ndirs, &force));
+    int code = dirs ? merge_args(argc, argv, msg, &out, dirs, &ndirs, &force)
+                    : (fprintf(msg, "hsbd: out of memory\n"), 1);
+    code = input_messages_report(&r, &said, code);
     if (code == 0) { /* under mpirun, one process merges into each OUT */
         int others;
         const int first = first_rank_for(&r, out, &others);
         say_others_wait("merge", &r, others, out);
         hsbd_error err;
         const int rc = first == r.rank ? hsbd_merge(out, dirs, ndirs, force, &err) : HSBD_OK;
-        code = rc == HSBD_OK ? 0 : fail(rc, err.message);
+        code = ranks_outcome(&r, rc, &err);
     }
     ranks_end(&r);
     free(dirs);
@@ -640,25 +687,62 @@ static int run_request_read(int argc, char **argv, FILE *msg, run_request *q) {
     return 0;
 }
 
+/* Under mpirun, the ranks of an ensemble given different configurations (beyond
+ * run.threads, which changes no result): EXIT_INPUT after rank 0's message, else 0. */
+static int ranks_same_config(const ranks *r, const hsbd_config *cfg) {
+#ifdef HSBD_HAVE_MPI
+    if (!r->mpi) return 0;
+    hsbd_config *same = malloc(sizeof *same);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = same ? open_memstream(&text, &len) : NULL;
+    if (f) {
+        *same = *cfg;
+        same->run.threads = 0;
+        hsbd_config_write_json(same, f, 0);
+        fclose(f);
+    }
+    const uint64_t key = text_key(text);
+    free(text), free(same);
+    uint64_t *keys = gather_keys(r, key);
+    int differs = 0;
+    for (int k = 1; keys && k < r->size && !differs; ++k)
+        if (keys[k] != keys[0] || !keys[k]) differs = k;
+    free(keys);
+    if (differs && r->rank == 0)
+        fprintf(stderr,
+                "hsbd run: the ranks of mpirun were given different configurations (rank %d's "
+                "is not rank 0's); an ensemble needs the same configuration and options on every "
+                "rank (only run.threads may differ)\n",
+                differs);
+    return differs ? EXIT_INPUT : 0;
+#else
+    (void)r, (void)cfg;
+    return 0;
+#endif
+}
+
 static int cmd_run(int argc, char **argv) {
-    if (asks_help(argc, argv)) return run_help(), 0;
+    static const char *const value_flags[] = {"--set",     "--out",     "--seed",
+                                              "--replica", "--threads", NULL};
     /* under mpirun every rank reads the input; a message is printed once however many ranks
      * meet it, and a rank that meets none does not start a run the others cannot join */
     ranks r = ranks_begin();
+    if (ranks_help(&r, asks_help(argc, argv, value_flags), run_help)) return ranks_end(&r), 0;
     input_messages said;
     FILE *msg = input_messages_open(&r, &said);
     run_request q = {0};
     int code = input_messages_report(&r, &said, run_request_read(argc, argv, msg, &q));
+    /* an ensemble on any rank: the same configuration on all */
+    if (code == 0 && ranks_lowest(&r, hsbd_ensemble_size(&q.cfg, r.size) > 1) >= 0)
+        code = ranks_same_config(&r, &q.cfg);
     if (code == 0) {
         hsbd_error err;
         catch_stop_signals();
-        int rc = run_ensemble_or_single(&r, &q.cfg, &q.opt, &err);
-        if (rc == HSBD_ESILENT && err.message[0]) fprintf(stderr, "hsbd: %s\n", err.message);
-        code = rc == HSBD_ESILENT ? exit_code_for(err.status)
-               : rc != HSBD_OK    ? fail(rc, err.message)
-                                  : 0;
+        const int rc = run_ensemble_or_single(&r, &q.cfg, &q.opt, &err);
         if (rc == HSBD_OK && q.opt.progress)
             fprintf(stderr, "hsbd: results in %s/\n", q.cfg.output.dir);
+        code = ranks_outcome(&r, rc, &err);
     }
     run_request_free(&q);
     ranks_end(&r);
@@ -686,10 +770,10 @@ static void resume_help(void) {
 /* The command line of hsbd resume: DIR and the overrides; an exit status, with the message
  * written to msg. */
 static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const char **sets,
-                       size_t *nsets, hsbd_run_options *opt) {
+                       size_t *nsets, int *quiet) {
     for (int i = 2; i < argc; ++i) {
         if (!strcmp(argv[i], "--quiet")) {
-            opt->progress = 0;
+            *quiet = 1;
         } else if (!strcmp(argv[i], "--set")) {
             if (i + 1 >= argc || argv[i + 1][0] == '-') {
                 fprintf(msg, "hsbd resume: --set needs a value (--set run.t_total=T)\n");
@@ -714,34 +798,33 @@ static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const
 }
 
 static int cmd_resume(int argc, char **argv) {
-    if (asks_help(argc, argv)) return resume_help(), 0;
+    static const char *const value_flags[] = {"--set", NULL};
+    ranks r = ranks_begin();
+    if (ranks_help(&r, asks_help(argc, argv, value_flags), resume_help)) return ranks_end(&r), 0;
     const char *dir = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     size_t nsets = 0;
     hsbd_run_options opt = {.progress = isatty(STDERR_FILENO), .stop = &stop_flag};
-    if (!sets) return fail(HSBD_ENOMEM, "out of memory");
-    ranks r = ranks_begin();
+    int quiet = 0;
     input_messages said;
     FILE *msg = input_messages_open(&r, &said);
-    int code =
-        input_messages_report(&r, &said, resume_args(argc, argv, msg, &dir, sets, &nsets, &opt));
-    int waiting = 0; /* a rank that leaves dir to another */
+    int code = sets ? resume_args(argc, argv, msg, &dir, sets, &nsets, &quiet)
+                    : (fprintf(msg, "hsbd: out of memory\n"), 1);
+    code = input_messages_report(&r, &said, code);
+    if (quiet) opt.progress = 0;
     if (code == 0) { /* under mpirun, one process resumes each directory */
         int others;
         const int first = first_rank_for(&r, dir, &others);
         share_rank_threads(&r, first == r.rank);
-        say_others_wait("resume", &r, others, dir);
+        if (!quiet) say_others_wait("resume", &r, others, dir);
         hsbd_error err;
         catch_stop_signals();
-        const int status = first == r.rank ? hsbd_resume(dir, sets, nsets, &opt, &err) : HSBD_OK;
-        code = status == HSBD_OK ? 0 : fail(status, err.message);
-        if (status == HSBD_OK && first == r.rank && opt.progress)
+        const int rc = first == r.rank ? hsbd_resume(dir, sets, nsets, &opt, &err) : HSBD_OK;
+        if (rc == HSBD_OK && first == r.rank && opt.progress)
             fprintf(stderr, "hsbd: results in %s/\n", dir);
-        waiting = first != r.rank;
+        code = ranks_outcome(&r, rc, &err);
     }
     ranks_end(&r);
-    if (waiting && code == 0 && stop_flag) /* signalled while it waited: it says so too */
-        code = exit_code_for(HSBD_EINTERRUPT);
     free(sets);
     return code;
 }

@@ -15,7 +15,9 @@
 # DIR.earlier that another run set aside stays where it is; --force through a symbolic link
 # replaces the directory it points to (a bad input puts the earlier results back there), as
 # does DIR/.; a working directory inside DIR is refused. Under mpirun a bad input is reported once (and one
-# rank's bad input stops every rank before anything is written), a directory rank 0
+# rank's bad input stops every rank before anything is written; --help on one rank stops
+# all; ranks given different configurations for an ensemble are refused; single runs
+# given a directory per rank each run), a directory rank 0
 # refuses ends the run with its message on every rank, hsbd resume of one directory runs
 # on one rank (ranks with directories of their own each resume theirs), and by default
 # the working ranks of a node share its CPUs out. A directory another process writes is refused
@@ -315,6 +317,11 @@ rc=$?
 if [ $rc -eq 2 ] && [ -L ens-link ] && grep -q '^  "seed": 5,$' scratch/ens/summary.json &&
     [ ! -e scratch/ens.earlier ] && [ ! -e ens-link.earlier ] && grep -q "are back in" err.txt
 then ok; else bad "--force through a link, bad input: exit $rc, $(cat err.txt)"; fi
+# -h as the value of a flag is that value, not a request for help
+"$HSBD" run rods.ini --quiet --set run.t_total=0.5 --out -h >out.txt 2>&1
+rc=$?
+if [ $rc -eq 0 ] && [ -f ./-h/summary.json ] && ! grep -q usage out.txt; then ok
+else bad "--out -h: exit $rc, $(cat out.txt)"; fi
 # a link to nowhere as DIR is named as such, and nothing is made
 ln -s nowhere/x dangling
 "$HSBD" run rods.ini --quiet --set run.replicas=2 --out dangling 2>err.txt
@@ -357,6 +364,31 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     if [ $rc -ne 0 ] && [ $rc -ne 124 ] && [ "$(grep -c "unknown key 'bogus'" err.txt)" = 1 ] &&
         grep -q "rank 1 of mpirun" err.txt && [ ! -e bogus-out ]
     then ok; else bad "mpirun, a bad input on rank 1 only: exit $rc, $(cat err.txt)"; fi
+    # --help on one rank only stops every rank (printed once); ranks given different
+    # configurations for an ensemble are refused; a bad input file of the replicas is
+    # reported once; single runs given a directory per rank each run
+    timeout 300 "${MPIRUN[@]}" sh -c 'x=; [ "${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" = 1 ] && x=--help
+        exec "$0" run rods.ini --quiet --out help-out $x' "$HSBD" >err.txt 2>&1
+    rc=$?
+    if [ $rc -eq 0 ] && [ "$(grep -c '^usage: hsbd run' err.txt)" = 1 ] && [ ! -e help-out ]
+    then ok; else bad "mpirun, --help on rank 1 only: exit $rc (124: hung), $(cat err.txt)"; fi
+    timeout 300 "${MPIRUN[@]}" sh -c 'x=; [ "${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" = 1 ] &&
+        x="--set run.replicas=3"; exec "$0" run rods.ini --quiet --out differ-out $x' "$HSBD" \
+        >err.txt 2>&1
+    rc=$?
+    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "different configurations (rank 1's" err.txt &&
+        [ ! -e differ-out ]
+    then ok; else bad "mpirun, ranks given different configurations: exit $rc, $(cat err.txt)"; fi
+    timeout 300 "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --set init.positions=missing.txt \
+        --out missing-out >err.txt 2>&1
+    rc=$?
+    if [ $rc -eq 2 ] && [ "$(grep -c "cannot read init.positions" err.txt)" = 1 ] && [ ! -e missing-out ]
+    then ok; else bad "mpirun, a missing input of every replica: exit $rc, $(cat err.txt)"; fi
+    timeout 300 "${MPIRUN[@]}" sh -c 'k=${OMPI_COMM_WORLD_RANK:-$PMI_RANK}
+        exec "$0" run rods.ini --quiet --replica $k --out single-$k' "$HSBD" >err.txt 2>&1 ||
+        bad "mpirun, a single run per rank: $(cat err.txt)"
+    if [ -f single-0/summary.json ] && [ -f single-1/summary.json ]; then ok
+    else bad "mpirun, a single run per rank: not both written"; fi
     timeout 300 "${MPIRUN[@]}" "$HSBD" merge >err.txt 2>&1
     rc=$?
     timeout 300 "${MPIRUN[@]}" "$HSBD" resume >>err.txt 2>&1
