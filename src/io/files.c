@@ -259,12 +259,15 @@ int hsbd_dir_create(const char *dir, hsbd_error *err) {
     if (mkdir_parents(buf) != 0)
         return hsbd_error_set(err, HSBD_EINPUT, "cannot create output directory '%s': %s", dir,
                               strerror(errno));
-    char target[HSBD_PATH_MAX];
-    const ssize_t len = readlink(dir, target, sizeof target - 1);
+    char bare[HSBD_PATH_MAX], target[HSBD_PATH_MAX];
+    snprintf(bare, sizeof bare, "%s", dir);
+    for (size_t n = strlen(bare); n > 1 && bare[n - 1] == '/'; --n) /* readlink takes none */
+        bare[n - 1] = '\0';
+    const ssize_t len = readlink(bare, target, sizeof target - 1);
     if (len >= 0 && stat(dir, &st) != 0) /* mkdir does not follow a link */
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "output directory '%s' is a symbolic link to '%.*s', which does "
-                              "not exist; create that directory or choose another --out",
+                              "output directory '%s' is a symbolic link to '%.*s', which leads "
+                              "to no directory; create it or choose another --out",
                               dir, (int)len, target);
     return probe_writable(dir, err);
 }

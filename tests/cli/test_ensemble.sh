@@ -326,9 +326,12 @@ else bad "--out -h: exit $rc, $(cat out.txt)"; fi
 ln -s nowhere/x dangling
 "$HSBD" run rods.ini --quiet --set run.replicas=2 --out dangling 2>err.txt
 rc=$?
-if [ $rc -eq 2 ] && grep -q "symbolic link to 'nowhere/x', which does not exist" err.txt &&
+"$HSBD" run rods.ini --quiet --out dangling/ 2>>err.txt # a trailing slash too
+rc2=$?
+if [ $rc -eq 2 ] && [ $rc2 -eq 2 ] &&
+    [ "$(grep -c "symbolic link to 'nowhere/x', which leads to no directory" err.txt)" = 2 ] &&
     [ ! -e nowhere ]
-then ok; else bad "a dangling link as --out: exit $rc, $(cat err.txt)"; fi
+then ok; else bad "a dangling link as --out: exit $rc and $rc2, $(cat err.txt)"; fi
 # the directory DIR/. names is set aside and made anew (DIR/. itself cannot be renamed); a
 # working directory inside DIR is refused (it would go with the earlier results)
 "$HSBD" run rods.ini --quiet --set run.replicas=2 --set system.seed=9 --out scratch/ens/. --force \
