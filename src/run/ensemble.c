@@ -146,7 +146,7 @@ static int aside_target(const char *dir, char *target, hsbd_error *err) {
                               "output directory '%s' cannot be resolved to a directory within "
                               "%d characters (a link that cannot be followed, or a long target)",
                               dir, HSBD_PATH_MAX - 1);
-    snprintf(target, HSBD_PATH_MAX, "%s", resolved);
+    memcpy(target, resolved, strlen(resolved) + 1); /* fits: checked above */
     return HSBD_OK;
 }
 
