@@ -314,7 +314,9 @@ if { [ -z "$ONLY" ] || [ "$ONLY" = rods ]; } && command -v strace >/dev/null &&
     claim_delay=$(awk -v a="$short" -v b="$long" -v t="$t_total" 'BEGIN {
         r = (b - a) / 6; print int(1e6 * (a + (t - 2) * r + 1.5)) }')
     mkdir race
-    strace -o /dev/null -f -P race/checkpoint.prev.hsbd -P race/.hsbd.lock \
+    # LeakSanitizer cannot work under ptrace: off for the traced resume (make asan)
+    env "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" \
+        strace -o /dev/null -f -P race/checkpoint.prev.hsbd -P race/.hsbd.lock \
         -e inject=newfstatat:delay_exit=1000000 -e inject=openat:delay_exit="$claim_delay" \
         "$HSBD" resume race --quiet 2>err &
     resume=$!
