@@ -268,18 +268,26 @@ static void ranks_end(const ranks *r) {
 #endif
 }
 
+/* The largest (or, with largest 0, the smallest) of the ranks' values: a collective,
+ * waited for asleep; the value itself without MPI. */
+static int ranks_reduce(const ranks *r, int value, int largest) {
+    int reduced = value;
+#ifdef HSBD_HAVE_MPI
+    MPI_Request done;
+    if (r->mpi)
+        wait_asleep(MPI_Iallreduce(&value, &reduced, 1, MPI_INT, largest ? MPI_MAX : MPI_MIN,
+                                   MPI_COMM_WORLD, &done),
+                    &done);
+#else
+    (void)r, (void)largest;
+#endif
+    return reduced;
+}
+
 /* The worst status over the ranks (every rank calls it at the same point); a rank that
  * itself succeeded gets HSBD_ESILENT with the status in err. */
 static int ranks_agree(const ranks *r, int rc, hsbd_error *err) {
-    int worst = rc;
-#ifdef HSBD_HAVE_MPI
-    MPI_Request agreed;
-    if (r->mpi)
-        wait_asleep(MPI_Iallreduce(&rc, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD, &agreed),
-                    &agreed);
-#else
-    (void)r;
-#endif
+    const int worst = ranks_reduce(r, rc, 1);
     if (worst == HSBD_OK || rc != HSBD_OK) return rc;
     err->status = worst;
     return HSBD_ESILENT;
@@ -325,9 +333,7 @@ static int ranks_report(const ranks *r, int code, const char *said) {
         for (int k = 0; keys && k < r->rank && print; ++k)
             print = keys[k] != key;
         free(keys);
-        MPI_Request reduced;
-        wait_asleep(MPI_Iallreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD, &reduced),
-                    &reduced);
+        worst = ranks_reduce(r, code, 1);
     }
 #endif
     if (print && said && *said && r->rank > 0) /* one write: no other rank's line inside */
@@ -361,13 +367,7 @@ static int input_messages_report(const ranks *r, input_messages *m, int code) {
 
 /* The lowest rank whose flag is set, or -1 (a collective). */
 static int ranks_lowest(const ranks *r, int flag) {
-    int mine = flag ? r->rank : INT_MAX, lowest = mine;
-#ifdef HSBD_HAVE_MPI
-    MPI_Request reduced;
-    if (r->mpi)
-        wait_asleep(MPI_Iallreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD, &reduced),
-                    &reduced);
-#endif
+    const int lowest = ranks_reduce(r, flag ? r->rank : INT_MAX, 0);
     return lowest == INT_MAX ? -1 : lowest;
 }
 
