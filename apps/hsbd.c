@@ -244,15 +244,17 @@ static ranks ranks_begin(void) {
 }
 
 #ifdef HSBD_HAVE_MPI
-/* Waits for a non-blocking collective, sleeping 20 ms between polls: a rank that waits for
- * the others (its replicas done, or its work left to another rank) would otherwise spin in
- * the library's progress loop for as long as their work takes. `started` is the status of
+/* Waits for a non-blocking collective, sleeping between polls (50 us, doubled up to 20 ms): a rank
+ * that waits for the others (its replicas done, or its work left to another rank) would otherwise
+ * spin in the library's progress loop for as long as their work takes. `started` is the status of
  * the call that started it. */
 static void wait_asleep(int started, MPI_Request *req) {
     int done = started != MPI_SUCCESS;
-    const struct timespec pause = {0, 20 * 1000 * 1000};
-    while (!done && MPI_Test(req, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && !done)
-        nanosleep(&pause, NULL);
+    struct timespec pause = {0, 50 * 1000}; /* doubled up to 20 ms: a quick agreement */
+    while (!done && MPI_Test(req, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && !done) {
+        nanosleep(&pause, NULL); /* waits little, a long one costs no CPU */
+        if (pause.tv_nsec < 20 * 1000 * 1000) pause.tv_nsec *= 2;
+    }
 }
 #endif
 
@@ -472,7 +474,7 @@ static void share_rank_threads(const ranks *r, int working) {
  * replicas spread over the ranks (replica k on rank k mod P, each in DIR/replica-k; every
  * rank given the same configuration) and merged by rank 0 in replica order. */
 static int run_ensemble_or_single(const ranks *ranks_of_run, hsbd_config *cfg,
-                                  hsbd_run_options *opt, hsbd_error *err) {
+                                  hsbd_run_options *opt, int quiet, hsbd_error *err) {
     const ranks r = *ranks_of_run;
     const size_t replicas = hsbd_ensemble_size(cfg, r.size);
     int rc = HSBD_OK;
@@ -480,7 +482,9 @@ static int run_ensemble_or_single(const ranks *ranks_of_run, hsbd_config *cfg,
         int others;
         const int first = first_rank_for(&r, cfg->output.dir, &others);
         share_rank_threads(&r, first == r.rank);
+        if (!quiet) say_others_wait("run", &r, others, cfg->output.dir);
         if (first == r.rank) rc = hsbd_run(cfg, opt, err);
+        if (first != r.rank) opt->progress = 0; /* no "results in" from it */
     } else {
         if (r.rank > 0) opt->progress = 0;
         share_rank_threads(&r, (size_t)r.rank < replicas);          /* a collective */
@@ -562,7 +566,7 @@ static int cmd_merge(int argc, char **argv) {
         int others;
         const int first = first_rank_for(&r, out, &others);
         say_others_wait("merge", &r, others, out);
-        hsbd_error err;
+        hsbd_error err = {0}; /* a rank that did no work has no message */
         const int rc = first == r.rank ? hsbd_merge(out, dirs, ndirs, force, &err) : HSBD_OK;
         code = ranks_outcome(&r, rc, &err);
     }
@@ -580,6 +584,7 @@ typedef struct run_override {
  * options, and the source kept for the checkpoints. */
 typedef struct run_request {
     const char *config_path;
+    int quiet; /* --quiet */
     hsbd_config cfg;
     hsbd_run_options opt;
     hsbd_run_source source;
@@ -616,7 +621,7 @@ static int run_request_read(int argc, char **argv, FILE *msg, run_request *q) {
         } else if (!strcmp(a, "--check")) {
             q->opt.check = 1;
         } else if (!strcmp(a, "--quiet")) {
-            q->opt.progress = 0;
+            q->quiet = 1;
         } else if (a[0] == '-' && a[1] != '\0') {
             fprintf(msg, "hsbd run: unknown option '%.60s' (hsbd run --help)\n", a);
             return free(overrides), EXIT_INPUT;
@@ -684,14 +689,15 @@ static int run_request_read(int argc, char **argv, FILE *msg, run_request *q) {
     free(overrides);
     if (hsbd_config_finalize(&q->cfg, &err) != HSBD_OK)
         return fprintf(msg, "hsbd: %s\n", err.message), exit_code_for(err.status);
+    if (q->quiet) q->opt.progress = 0;
     return 0;
 }
 
-/* Under mpirun, the ranks of an ensemble given different configurations (beyond
- * run.threads, which changes no result): EXIT_INPUT after rank 0's message, else 0. */
-static int ranks_same_config(const ranks *r, const hsbd_config *cfg) {
 #ifdef HSBD_HAVE_MPI
-    if (!r->mpi) return 0;
+/* A key of the configuration that is the same on ranks given the same one: its parameters
+ * (JSON) with output.dir resolved and without run.threads, which changes no result; 0 when
+ * out of memory. */
+static uint64_t config_key(const hsbd_config *cfg) {
     hsbd_config *same = malloc(sizeof *same);
     char *text = NULL;
     size_t len = 0;
@@ -699,25 +705,45 @@ static int ranks_same_config(const ranks *r, const hsbd_config *cfg) {
     if (f) {
         *same = *cfg;
         same->run.threads = 0;
+        char resolved[PATH_MAX];
+        if (hsbd_path_resolve(cfg->output.dir, resolved) == 0 &&
+            strlen(resolved) < sizeof same->output.dir)
+            memcpy(same->output.dir, resolved, strlen(resolved) + 1);
         hsbd_config_write_json(same, f, 0);
         fclose(f);
     }
     const uint64_t key = text_key(text);
     free(text), free(same);
-    uint64_t *keys = gather_keys(r, key);
-    int differs = 0;
-    for (int k = 1; keys && k < r->size && !differs; ++k)
-        if (keys[k] != keys[0] || !keys[k]) differs = k;
-    free(keys);
-    if (differs && r->rank == 0)
-        fprintf(stderr,
-                "hsbd run: the ranks of mpirun were given different configurations (rank %d's "
-                "is not rank 0's); an ensemble needs the same configuration and options on every "
-                "rank (only run.threads may differ)\n",
-                differs);
-    return differs ? EXIT_INPUT : 0;
+    return key;
+}
+#endif
+
+/* Under mpirun, ranks that must be given the same configuration and are not: the ranks of
+ * an ensemble (all of them), or ranks given the same output directory for a single run
+ * (the lowest runs it for all). EXIT_INPUT after rank 0's message, else 0. A collective. */
+static int ranks_same_config(const ranks *r, const hsbd_config *cfg, int ensemble) {
+#ifdef HSBD_HAVE_MPI
+    if (!r->mpi) return 0;
+    char resolved[PATH_MAX];
+    const char *dir =
+        hsbd_path_resolve(cfg->output.dir, resolved) == 0 ? resolved : cfg->output.dir;
+    uint64_t *dirs = gather_keys(r, ensemble ? 1 : text_key(dir));
+    uint64_t *keys = gather_keys(r, config_key(cfg));
+    int a = 0, b = 0; /* the first pair of ranks that should agree and do not */
+    for (int k = 1; dirs && keys && k < r->size && !b; ++k)
+        for (int j = 0; j < k && !b; ++j)
+            if (dirs[j] == dirs[k] && (keys[j] != keys[k] || !keys[k])) a = j, b = k;
+    free(dirs), free(keys);
+    if (b && r->rank == 0)
+        fprintf(stderr, "hsbd run: ranks %d and %d of mpirun were given %s\n", a, b,
+                ensemble ? "different configurations for one ensemble (only run.threads may "
+                           "differ: the same configuration file and --set, --out, --seed, "
+                           "--replica on every rank)"
+                         : "the same output directory for different single runs (one rank "
+                           "runs each directory: give each run its own --out)");
+    return b ? EXIT_INPUT : 0;
 #else
-    (void)r, (void)cfg;
+    (void)r, (void)cfg, (void)ensemble;
     return 0;
 #endif
 }
@@ -733,13 +759,15 @@ static int cmd_run(int argc, char **argv) {
     FILE *msg = input_messages_open(&r, &said);
     run_request q = {0};
     int code = input_messages_report(&r, &said, run_request_read(argc, argv, msg, &q));
-    /* an ensemble on any rank: the same configuration on all */
-    if (code == 0 && ranks_lowest(&r, hsbd_ensemble_size(&q.cfg, r.size) > 1) >= 0)
-        code = ranks_same_config(&r, &q.cfg);
+    /* an ensemble on any rank: the same configuration on all; single runs: on the ranks
+     * given one directory */
+    if (code == 0)
+        code = ranks_same_config(&r, &q.cfg,
+                                 ranks_lowest(&r, hsbd_ensemble_size(&q.cfg, r.size) > 1) >= 0);
     if (code == 0) {
-        hsbd_error err;
+        hsbd_error err = {0}; /* a rank that did no work has no message */
         catch_stop_signals();
-        const int rc = run_ensemble_or_single(&r, &q.cfg, &q.opt, &err);
+        const int rc = run_ensemble_or_single(&r, &q.cfg, &q.opt, q.quiet, &err);
         if (rc == HSBD_OK && q.opt.progress)
             fprintf(stderr, "hsbd: results in %s/\n", q.cfg.output.dir);
         code = ranks_outcome(&r, rc, &err);
@@ -817,7 +845,7 @@ static int cmd_resume(int argc, char **argv) {
         const int first = first_rank_for(&r, dir, &others);
         share_rank_threads(&r, first == r.rank);
         if (!quiet) say_others_wait("resume", &r, others, dir);
-        hsbd_error err;
+        hsbd_error err = {0}; /* a rank that did no work has no message */
         catch_stop_signals();
         const int rc = first == r.rank ? hsbd_resume(dir, sets, nsets, &opt, &err) : HSBD_OK;
         if (rc == HSBD_OK && first == r.rank && opt.progress)

@@ -134,6 +134,13 @@ static char *resolve_path(const char *path, char *out) {
     char resolved[PATH_MAX];
     if (!resolve_path(parent, resolved)) return NULL;
     const char *rest = slash ? slash + 1 : head;
+    if (!strcmp(rest, ".")) /* not there yet, so no link: its parent, or that one's */
+        return strcpy(out, resolved);
+    if (!strcmp(rest, "..")) {
+        char *up = strrchr(resolved, '/');
+        if (up) up[up == resolved ? 1 : 0] = '\0';
+        return strcpy(out, resolved);
+    }
     const size_t rl = strlen(resolved);
     if (snprintf(out, PATH_MAX, "%s%s%s", resolved, resolved[rl - 1] == '/' ? "" : "/", rest) >=
         PATH_MAX)

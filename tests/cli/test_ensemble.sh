@@ -351,7 +351,8 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     echo junk >a-file
     timeout 300 "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --out a-file >err.txt 2>&1
     rc=$?
-    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "exists and is not a directory" err.txt
+    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "exists and is not a directory" err.txt &&
+        ! grep -q "rank 1 of mpirun" err.txt # the other rank has nothing to say
     then ok; else bad "mpirun, output refused on rank 0: exit $rc (124: hung), $(cat err.txt)"; fi
     # a bad input is reported once, not once per rank; one rank's bad input (a file that
     # differs on its node) stops every rank before anything is written, with its message
@@ -379,9 +380,26 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
         x="--set run.replicas=3"; exec "$0" run rods.ini --quiet --out differ-out $x' "$HSBD" \
         >err.txt 2>&1
     rc=$?
-    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "different configurations (rank 1's" err.txt &&
+    if [ $rc -eq 2 ] && grep -q "ranks 0 and 1 of mpirun were given different configurations" err.txt &&
         [ ! -e differ-out ]
     then ok; else bad "mpirun, ranks given different configurations: exit $rc, $(cat err.txt)"; fi
+    # ... also a single run on one rank and an ensemble on the other (no rank left waiting),
+    # and two single runs given one directory (only one would run); ranks given one
+    # directory spelled differently (./d, d/.) are given the same
+    timeout 300 "${MPIRUN[@]}" sh -c 'x=; [ "${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" = 1 ] &&
+        x="--replica 0"; exec "$0" run rods.ini --quiet --out differ-out $x' "$HSBD" >err.txt 2>&1
+    rc=$?
+    timeout 300 "${MPIRUN[@]}" sh -c 'exec "$0" run rods.ini --quiet \
+        --replica "${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" --out differ-out' "$HSBD" >>err.txt 2>&1
+    rc2=$?
+    if [ $rc -eq 2 ] && [ $rc2 -eq 2 ] && grep -q "different configurations for one ensemble" err.txt &&
+        grep -q "the same output directory for different single runs" err.txt && [ ! -e differ-out ]
+    then ok; else bad "mpirun, a single run beside an ensemble / in one directory: exit $rc and $rc2, $(cat err.txt)"; fi
+    timeout 300 "${MPIRUN[@]}" sh -c 'd=spelled; [ "${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" = 1 ] &&
+        d=./spelled/.; exec "$0" run rods.ini --replica 0 --out "$d"' "$HSBD" >err.txt 2>&1
+    rc=$?
+    if [ $rc -eq 0 ] && [ -f spelled/summary.json ] && grep -q "1 other rank of mpirun given 'spelled'" err.txt
+    then ok; else bad "mpirun, one directory spelled two ways: exit $rc, $(cat err.txt)"; fi
     timeout 300 "${MPIRUN[@]}" "$HSBD" run rods.ini --quiet --set init.positions=missing.txt \
         --out missing-out >err.txt 2>&1
     rc=$?
