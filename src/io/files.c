@@ -114,14 +114,19 @@ static int is_run_output(const char *name) {
     return 0;
 }
 
+size_t run_path_bare(const char *path, char *out, size_t len) {
+    size_t n = strlen(path);
+    while (n > 1 && path[n - 1] == '/')
+        --n;
+    snprintf(out, len, "%.*s", (int)n, path);
+    return n;
+}
+
 /* path resolved (symbolic links, . and ..) into out (PATH_MAX); a path that does not exist
  * yet is its nearest existing parent resolved, with the rest appended. NULL if none. */
 static char *resolve_path(const char *path, char *out) {
     char head[PATH_MAX];
-    if (snprintf(head, sizeof head, "%s", path) >= (int)sizeof head) return NULL;
-    size_t len = strlen(head);
-    while (len > 1 && head[len - 1] == '/')
-        head[--len] = '\0';
+    if (run_path_bare(path, head, sizeof head) >= sizeof head) return NULL;
     if (realpath(head, out)) return out;
     char *slash = strrchr(head, '/');
     char parent[PATH_MAX];
@@ -267,9 +272,7 @@ int hsbd_dir_create(const char *dir, hsbd_error *err) {
         return hsbd_error_set(err, HSBD_EINPUT, "cannot create output directory '%s': %s", dir,
                               strerror(errno));
     char bare[HSBD_PATH_MAX], target[HSBD_PATH_MAX];
-    snprintf(bare, sizeof bare, "%s", dir);
-    for (size_t n = strlen(bare); n > 1 && bare[n - 1] == '/'; --n) /* readlink takes none */
-        bare[n - 1] = '\0';
+    run_path_bare(dir, bare, sizeof bare); /* readlink takes no trailing slash */
     const ssize_t len = readlink(bare, target, sizeof target - 1);
     if (len >= 0 && stat(dir, &st) != 0) /* mkdir does not follow a link */
         return hsbd_error_set(err, HSBD_EINPUT,

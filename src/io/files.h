@@ -18,6 +18,9 @@ int run_dir_is_empty(const char *dir);
 /* Is path b the directory a or inside it (1), a inside b (-1), or neither (0)? Symbolic
  * links, . and .. resolved; a path not there yet through its nearest existing parent. */
 int run_path_nesting(const char *a, const char *b);
+/* path copied into out (len bytes) without its trailing slashes ("/" stays "/"), which
+ * would make a system call follow a final link; returns the length, >= len when cut. */
+size_t run_path_bare(const char *path, char *out, size_t len);
 /* Does dir hold a regular file of this name? */
 int run_dir_holds(const char *dir, const char *name);
 /* "replica-<digits>": the name of an ensemble's replica directory */

@@ -76,10 +76,8 @@ static int earlier_replicas(const char *dir, int remove, hsbd_error *err) {
 
 /* DIR.earlier: where --force sets an earlier ensemble aside until the new one is done */
 static int earlier_path(const char *dir, char *out, size_t len) {
-    size_t n = strlen(dir);
-    while (n > 1 && dir[n - 1] == '/')
-        --n;
-    return snprintf(out, len, "%.*s.earlier", (int)n, dir) < (int)len ? 0 : -1;
+    const size_t n = run_path_bare(dir, out, len);
+    return n + sizeof ".earlier" <= len ? (strcat(out, ".earlier"), 0) : -1;
 }
 
 /* An input file of the configuration inside dir would go with dir's earlier files, and a
@@ -132,10 +130,7 @@ static int prepare_new(const char *dir, int force, hsbd_ensemble_claim *claim, h
  * (DIR/. cannot be renamed). */
 static int aside_target(const char *dir, char *target, hsbd_error *err) {
     char bare[HSBD_PATH_MAX];
-    snprintf(bare, sizeof bare, "%s", dir);
-    size_t n = strlen(bare);
-    while (n > 1 && bare[n - 1] == '/') /* a trailing slash would follow the link */
-        bare[--n] = '\0';
+    run_path_bare(dir, bare, sizeof bare); /* a trailing slash would follow the link */
     const char *last = strrchr(bare, '/') ? strrchr(bare, '/') + 1 : bare;
     struct stat st;
     char resolved[PATH_MAX];
