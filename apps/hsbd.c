@@ -304,6 +304,13 @@ static uint64_t text_key(const char *text) {
     return text && *text ? key : 0;
 }
 
+/* The key of a directory, the same however it is spelled: its path resolved (symbolic
+ * links, . and ..; a part not there yet through its nearest existing parent). */
+static uint64_t dir_key(const char *dir) {
+    char resolved[PATH_MAX];
+    return text_key(hsbd_path_resolve(dir, resolved) == 0 ? resolved : dir);
+}
+
 /* Each rank's key, gathered over MPI_COMM_WORLD (a collective, waited for asleep); NULL
  * when out of memory, after the message (the job is aborted). */
 static uint64_t *gather_keys(const ranks *r, uint64_t key) {
@@ -400,8 +407,7 @@ static int first_rank_for(const ranks *r, const char *dir, int *others) {
     *others = 0;
 #ifdef HSBD_HAVE_MPI
     if (!r->mpi) return r->rank;
-    char resolved[PATH_MAX];
-    const uint64_t key = text_key(hsbd_path_resolve(dir, resolved) == 0 ? resolved : dir);
+    const uint64_t key = dir_key(dir);
     uint64_t *keys = gather_keys(r, key);
     int first = r->rank;
     for (int k = 0; keys && k < r->size; ++k) {
@@ -724,10 +730,7 @@ static uint64_t config_key(const hsbd_config *cfg) {
 static int ranks_same_config(const ranks *r, const hsbd_config *cfg, int ensemble) {
 #ifdef HSBD_HAVE_MPI
     if (!r->mpi) return 0;
-    char resolved[PATH_MAX];
-    const char *dir =
-        hsbd_path_resolve(cfg->output.dir, resolved) == 0 ? resolved : cfg->output.dir;
-    uint64_t *dirs = gather_keys(r, ensemble ? 1 : text_key(dir));
+    uint64_t *dirs = gather_keys(r, ensemble ? 1 : dir_key(cfg->output.dir));
     uint64_t *keys = gather_keys(r, config_key(cfg));
     int a = 0, b = 0; /* the first pair of ranks that should agree and do not */
     for (int k = 1; dirs && keys && k < r->size && !b; ++k)
