@@ -27,6 +27,9 @@ typedef struct hsbd_run_options {
     const volatile sig_atomic_t *stop;
     /* the configuration's source (NULL: checkpoints are written but cannot be resumed) */
     const hsbd_run_source *source;
+    /* the scheme's warnings (time step too large, Eq. 33 of the sticky rule) go to
+     * summary.json only, not to stderr: an ensemble's replicas after the first */
+    int quiet_warnings;
 } hsbd_run_options;
 
 /* Runs a finalized configuration (rods or spheres, system.model) into cfg->output.dir.

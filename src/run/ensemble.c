@@ -321,6 +321,7 @@ int hsbd_ensemble_run(const hsbd_config *cfg, const hsbd_run_options *opt, size_
         }
         hsbd_run_options o = *opt;
         o.source = &rs.source;
+        o.quiet_warnings |= k > 0; /* the same warnings replica by replica: printed once */
         rc = hsbd_run(one, &o, err);
         free(rs.sets);
     }

@@ -663,6 +663,49 @@ static int is_number(const char *v) {
     return end != v && (*end == ',' || *end == '\0');
 }
 
+/* The next string of a one-line JSON array of strings at *p (after '[' or a string): its
+ * text with the quotes, escapes as written, in [*start, *start + *len); 0 at the array's
+ * end, and on anything that is not such an array (a summary written by hand). */
+static int next_json_string(const char **p, const char **start, size_t *len) {
+    const char *q = *p;
+    while (*q == ' ' || *q == ',')
+        ++q;
+    if (*q != '"') return 0;
+    *start = q++;
+    for (; *q && *q != '"'; ++q)
+        if ((unsigned char)*q < 0x20 || (*q == '\\' && !*++q)) return 0;
+    if (*q != '"') return 0;
+    *len = (size_t)(++q - *start);
+    *p = q;
+    return 1;
+}
+
+/* "warnings": each distinct warning of the replicas once, in the order of the replicas
+ * (their time-step warnings are the same; a measured rate may differ in its digits), at
+ * most the first 64. */
+static void write_warnings(FILE *f, const merge_source *src, size_t n) {
+    struct {
+        const char *text;
+        size_t len;
+    } seen[64];
+    size_t nseen = 0;
+    fprintf(f, "  \"warnings\": [");
+    for (size_t r = 0; r < n && nseen < 64; ++r) {
+        const char *p = summary_value(&src[r], "warnings"), *w;
+        size_t len;
+        if (!p || *p++ != '[') continue;
+        while (nseen < 64 && next_json_string(&p, &w, &len)) {
+            size_t e = 0;
+            while (e < nseen && !(seen[e].len == len && !memcmp(seen[e].text, w, len)))
+                ++e;
+            if (e < nseen) continue;
+            fprintf(f, "%s%.*s", nseen ? ", " : "", (int)len, w);
+            seen[nseen].text = w, seen[nseen++].len = len;
+        }
+    }
+    fprintf(f, "],\n");
+}
+
 static int write_summary(FILE *f, const merge_source *src, size_t n, const char *out,
                          hsbd_error *err) {
     double *v = malloc(n * sizeof *v);
@@ -676,6 +719,8 @@ static int write_summary(FILE *f, const merge_source *src, size_t n, const char 
         if (*val == '{' || *val == '[') {        /* nested: only the input files' checksums, */
             if (!strcmp(key, "input_checksums")) /* the same in all (same_inputs) */
                 fprintf(f, "  \"%s\": %.*s,\n", key, value_len(val), val);
+            else if (!strcmp(key, "warnings"))
+                write_warnings(f, src, n);
             continue;
         }
         const size_t len = strlen(key);

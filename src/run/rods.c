@@ -139,12 +139,12 @@ static int check_sticky_step(const run *r, rods_model *m, const hsbd_rods_params
                               "order = %g, or --force",
                               hsbd_config_origin(cfg, "run", "dt"), dt, m->sticky_ratio, dt_limit,
                               cfg->contact.gamma, cfg->contact.epsilon, cfg->contact.order);
-    if (m->sticky_ratio > 0.1)
+    if (m->sticky_ratio > 0.1 && !r->opt->quiet_warnings)
         fprintf(stderr,
                 "hsbd: warning: sticky step ratio mu max|f| dt / epsilon = %.3g > 0.1 "
                 "(Antonov Eq. 33); dt < %.3g keeps it below 0.1\n",
                 m->sticky_ratio, 0.1 * dt_limit);
-    else if (r->opt->progress)
+    else if (r->opt->progress && m->sticky_ratio <= 0.1)
         fprintf(stderr, "hsbd: sticky step ratio mu max|f| dt / epsilon = %.3g (Eq. 33)\n",
                 m->sticky_ratio);
     return HSBD_OK;

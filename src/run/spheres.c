@@ -225,8 +225,10 @@ static int build_observers(const hsbd_config *cfg, spheres_model *m, hsbd_error 
 }
 
 /* The scheme's assumptions (Scala Eqs. 3 and 6, collisions per particle-step) from the
- * particles' own sizes and D; warnings on stderr (collisions: once measured). */
-static void warn_scheme(const spheres_model *m, double collisions_per_particle_step) {
+ * particles' own sizes and D; warnings on stderr (collisions: once measured), unless the
+ * run keeps them to its summary.json. */
+static void warn_scheme(const run *r, const spheres_model *m, double collisions_per_particle_step) {
+    if (r->opt->quiet_warnings) return;
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
     hsbd_scheme_check c;
     hsbd_scheme_check_compute(&v, collisions_per_particle_step, &c);
@@ -309,8 +311,9 @@ static int spheres_check(run *r, int strict, hsbd_error *err) {
 static void spheres_start_production(run *r) {
     spheres_model *m = model_of(r);
     if (r->equil_done > 0)
-        warn_scheme(m, (double)hsbd_spheres_get_stats(m->sys).collisions /
-                           ((double)r->cfg->system.n * (double)r->equil_done));
+        warn_scheme(r, m,
+                    (double)hsbd_spheres_get_stats(m->sys).collisions /
+                        ((double)r->cfg->system.n * (double)r->equil_done));
     hsbd_spheres_reset_stats(m->sys);
     m->virial_last = 0;
     walls_observers_restart(&m->walls);
@@ -633,6 +636,6 @@ int run_spheres_build(run *r, hsbd_error *err) {
     int rc = build_system(r, m, err);
     if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);
     if (rc == HSBD_OK) rc = register_ops(r, m, err);
-    if (rc == HSBD_OK && !r->resuming) warn_scheme(m, NAN);
+    if (rc == HSBD_OK && !r->resuming) warn_scheme(r, m, NAN);
     return rc;
 }

@@ -24,7 +24,9 @@
 # to an ensemble's --force and to merge (reading or writing it), as is a lock file that is
 # a link or a FIFO; a directory of other files gets no lock file. Merge refuses replicas of
 # different builds, a replica index or a cell that is no number as hsbd writes them
-# (nan merges), and a file that is no regular file. A merge that meets a full disk leaves nothing. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
+# (nan merges), and a file that is no regular file. A merge that meets a full disk leaves nothing.
+# The time step's warnings are printed once per ensemble (one process or two ranks) and
+# listed, each once, in the merged summary. The mpirun cases are skipped with a message when hsbd has no MPI or mpirun
 # is missing; CI installs both (scripts/install-deps).
 set -u
 HSBD=${1:?usage: test_ensemble.sh path/to/hsbd}
@@ -123,6 +125,36 @@ for model in rods spheres; do
     fi
 done
 [ ${#MPIRUN[@]} -gt 0 ] || echo "test_ensemble: no MPI in this hsbd or no mpirun: the 2-rank cases are skipped" >&2
+
+# a time step the scheme warns about: each warning printed once for the whole ensemble
+# (in one process and on 2 ranks), and the merged summary.json lists the replicas'
+# warnings, each distinct text once, as hsbd merge of the same replicas does
+coarse=(--quiet --set run.dt=0.02 --set run.t_equil=0.1 --set run.t_total=1 --set run.replicas=3)
+warned_once() { # warned_once WHAT LOG DIR
+    local what=$1 log=$2 dir=$3 n
+    n=$(grep -c "warning: the mean step is .* of a particle's diameter" "$log")
+    if [ "$n" -eq 1 ] && [ "$(grep -c 'warning:' "$log")" -eq 3 ] &&
+        python3 -c "import json, sys
+w = json.load(open('$dir/summary.json'))['warnings']
+r = [x for k in range(3) for x in json.load(open('$dir/replica-%d/summary.json' % k))['warnings']]
+sys.exit(not (w == list(dict.fromkeys(r)) and len(w) >= 3))"
+    then ok; else bad "$what: warnings $n times, $(cat "$log")"; fi
+}
+"$HSBD" run spheres.ini "${coarse[@]}" --out warned 2>warn.log || bad "coarse ensemble"
+warned_once "one process" warn.log warned
+if [ ${#MPIRUN[@]} -gt 0 ]; then
+    "${MPIRUN[@]}" "$HSBD" run spheres.ini "${coarse[@]}" --out warned-mpi >/dev/null 2>warn.log ||
+        bad "coarse ensemble, mpirun"
+    warned_once "mpirun -n 2" warn.log warned-mpi
+fi
+# a replica's summary.json whose warnings line is cut inside a string (edited by hand):
+# merged with its whole strings, and the merged summary.json is still JSON
+cp -r warned/replica-1 warned-hand
+sed -i 's/^  "warnings": .*/  "warnings": ["kept", "cut \\/' warned-hand/summary.json
+"$HSBD" merge warned-merged warned/replica-0 warned-hand warned/replica-2 2>err.txt
+if [ $? -eq 0 ] && python3 -c "import json, sys
+sys.exit('kept' not in json.load(open('warned-merged/summary.json'))['warnings'])"; then ok
+else bad "merge of a hand-written warnings line: $(cat err.txt)"; fi
 
 # an ensemble directory with a bad input leaves nothing behind
 "$HSBD" run rods.ini --quiet --set run.replicas=2 --set init.positions=missing.txt \
