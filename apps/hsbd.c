@@ -555,28 +555,26 @@ static int merge_args(int argc, char **argv, FILE *msg, const char **out, const 
     return 0;
 }
 
-static int cmd_merge(int argc, char **argv) {
+static int cmd_merge(const ranks *r, int argc, char **argv) {
     static const char *const value_flags[] = {NULL};
-    ranks r = ranks_begin();
-    if (ranks_help(&r, asks_help(argc, argv, value_flags), merge_help)) return ranks_end(&r), 0;
+    if (ranks_help(r, asks_help(argc, argv, value_flags), merge_help)) return 0;
     const char *out = NULL;
     const char **dirs = calloc((size_t)argc, sizeof *dirs);
     size_t ndirs = 0;
     int force = 0;
     input_messages said;
-    FILE *msg = input_messages_open(&r, &said);
+    FILE *msg = input_messages_open(r, &said);
     int code = dirs ? merge_args(argc, argv, msg, &out, dirs, &ndirs, &force)
                     : (fprintf(msg, "hsbd: out of memory\n"), 1);
-    code = input_messages_report(&r, &said, code);
+    code = input_messages_report(r, &said, code);
     if (code == 0) { /* under mpirun, one process merges into each OUT */
         int others;
-        const int first = first_rank_for(&r, out, &others);
-        say_others_wait("merge", &r, others, out);
+        const int first = first_rank_for(r, out, &others);
+        say_others_wait("merge", r, others, out);
         hsbd_error err = {0}; /* a rank that did no work has no message */
-        const int rc = first == r.rank ? hsbd_merge(out, dirs, ndirs, force, &err) : HSBD_OK;
-        code = ranks_outcome(&r, rc, &err);
+        const int rc = first == r->rank ? hsbd_merge(out, dirs, ndirs, force, &err) : HSBD_OK;
+        code = ranks_outcome(r, rc, &err);
     }
-    ranks_end(&r);
     free(dirs);
     return code;
 }
@@ -751,32 +749,30 @@ static int ranks_same_config(const ranks *r, const hsbd_config *cfg, int ensembl
 #endif
 }
 
-static int cmd_run(int argc, char **argv) {
+static int cmd_run(const ranks *r, int argc, char **argv) {
     static const char *const value_flags[] = {"--set",     "--out",     "--seed",
                                               "--replica", "--threads", NULL};
     /* under mpirun every rank reads the input; a message is printed once however many ranks
      * meet it, and a rank that meets none does not start a run the others cannot join */
-    ranks r = ranks_begin();
-    if (ranks_help(&r, asks_help(argc, argv, value_flags), run_help)) return ranks_end(&r), 0;
+    if (ranks_help(r, asks_help(argc, argv, value_flags), run_help)) return 0;
     input_messages said;
-    FILE *msg = input_messages_open(&r, &said);
+    FILE *msg = input_messages_open(r, &said);
     run_request q = {0};
-    int code = input_messages_report(&r, &said, run_request_read(argc, argv, msg, &q));
+    int code = input_messages_report(r, &said, run_request_read(argc, argv, msg, &q));
     /* an ensemble on any rank: the same configuration on all; single runs: on the ranks
      * given one directory */
     if (code == 0)
-        code = ranks_same_config(&r, &q.cfg,
-                                 ranks_lowest(&r, hsbd_ensemble_size(&q.cfg, r.size) > 1) >= 0);
+        code = ranks_same_config(r, &q.cfg,
+                                 ranks_lowest(r, hsbd_ensemble_size(&q.cfg, r->size) > 1) >= 0);
     if (code == 0) {
         hsbd_error err = {0}; /* a rank that did no work has no message */
         catch_stop_signals();
-        const int rc = run_ensemble_or_single(&r, &q.cfg, &q.opt, q.quiet, &err);
+        const int rc = run_ensemble_or_single(r, &q.cfg, &q.opt, q.quiet, &err);
         if (rc == HSBD_OK && q.opt.progress)
             fprintf(stderr, "hsbd: results in %s/\n", q.cfg.output.dir);
-        code = ranks_outcome(&r, rc, &err);
+        code = ranks_outcome(r, rc, &err);
     }
     run_request_free(&q);
-    ranks_end(&r);
     return code;
 }
 
@@ -828,34 +824,32 @@ static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const
     return 0;
 }
 
-static int cmd_resume(int argc, char **argv) {
+static int cmd_resume(const ranks *r, int argc, char **argv) {
     static const char *const value_flags[] = {"--set", NULL};
-    ranks r = ranks_begin();
-    if (ranks_help(&r, asks_help(argc, argv, value_flags), resume_help)) return ranks_end(&r), 0;
+    if (ranks_help(r, asks_help(argc, argv, value_flags), resume_help)) return 0;
     const char *dir = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     size_t nsets = 0;
     hsbd_run_options opt = {.progress = isatty(STDERR_FILENO), .stop = &stop_flag};
     int quiet = 0;
     input_messages said;
-    FILE *msg = input_messages_open(&r, &said);
+    FILE *msg = input_messages_open(r, &said);
     int code = sets ? resume_args(argc, argv, msg, &dir, sets, &nsets, &quiet)
                     : (fprintf(msg, "hsbd: out of memory\n"), 1);
-    code = input_messages_report(&r, &said, code);
+    code = input_messages_report(r, &said, code);
     if (quiet) opt.progress = 0;
     if (code == 0) { /* under mpirun, one process resumes each directory */
         int others;
-        const int first = first_rank_for(&r, dir, &others);
-        share_rank_threads(&r, first == r.rank);
-        if (!quiet) say_others_wait("resume", &r, others, dir);
+        const int first = first_rank_for(r, dir, &others);
+        share_rank_threads(r, first == r->rank);
+        if (!quiet) say_others_wait("resume", r, others, dir);
         hsbd_error err = {0}; /* a rank that did no work has no message */
         catch_stop_signals();
-        const int rc = first == r.rank ? hsbd_resume(dir, sets, nsets, &opt, &err) : HSBD_OK;
-        if (rc == HSBD_OK && first == r.rank && opt.progress)
+        const int rc = first == r->rank ? hsbd_resume(dir, sets, nsets, &opt, &err) : HSBD_OK;
+        if (rc == HSBD_OK && first == r->rank && opt.progress)
             fprintf(stderr, "hsbd: results in %s/\n", dir);
-        code = ranks_outcome(&r, rc, &err);
+        code = ranks_outcome(r, rc, &err);
     }
-    ranks_end(&r);
     free(sets);
     return code;
 }
@@ -1365,53 +1359,106 @@ static int cmd_theory(int argc, char **argv) {
     return EXIT_INPUT;
 }
 
-int main(int argc, char **argv) {
-    if (argc < 2) {
-        usage(stderr);
-        return EXIT_INPUT;
-    }
-    for (int i = 1; i < argc; ++i) /* messages quote arguments: keep them one line each */
+/* The command line's first checks: a command, and no argument with a control character
+ * (messages quote arguments: one line each). 0, or EXIT_INPUT after the message to msg
+ * (none when NULL). */
+static int command_line_check(int argc, char **argv, FILE *msg) {
+    const char *cmd = argc > 1 ? argv[1] : NULL;
+    for (int i = 1; i < argc; ++i)
         for (const char *p = argv[i]; *p; ++p)
             if (((unsigned char)*p < 0x20 && *p != '\t') || *p == 0x7f) {
                 const int after_flag = i > 1 && !strncmp(argv[i - 1], "--", 2);
-                fprintf(stderr,
-                        "hsbd: argument %d%s%s%s has a control character (0x%02x at position "
-                        "%d); allowed: text\n",
-                        i, after_flag ? " (the value of " : "", after_flag ? argv[i - 1] : "",
-                        after_flag ? ")" : "", (unsigned)(unsigned char)*p, (int)(p - argv[i]) + 1);
+                if (msg)
+                    fprintf(msg,
+                            "hsbd: argument %d%s%s%s has a control character (0x%02x at "
+                            "position %d); allowed: text\n",
+                            i, after_flag ? " (the value of " : "", after_flag ? argv[i - 1] : "",
+                            after_flag ? ")" : "", (unsigned)(unsigned char)*p,
+                            (int)(p - argv[i]) + 1);
                 return EXIT_INPUT;
             }
+    static const char *const known[] = {"run",      "resume",     "merge",   "bench",     "theory",
+                                        "validate", "config-doc", "version", "--version", "help",
+                                        "--help",   "-h",         NULL};
+    for (const char *const *k = known; cmd && *k; ++k)
+        if (!strcmp(cmd, *k)) return 0;
+    if (msg && cmd) fprintf(msg, "hsbd: unknown command '%s'\n", cmd);
+    if (msg) usage(msg);
+    return EXIT_INPUT;
+}
+
+/* The commands that run on the ranks of mpirun together; the others (bench, theory,
+ * validate, ...) run in each process on its own, without MPI. */
+static int mpi_command(const char *cmd) {
+    return !strcmp(cmd, "run") || !strcmp(cmd, "resume") || !strcmp(cmd, "merge");
+}
+
+/* Under mpirun, ranks given different commands: EXIT_INPUT after rank 0's message, else 0.
+ * A collective. */
+static int ranks_same_command(const ranks *r, const char *cmd) {
+#ifdef HSBD_HAVE_MPI
+    if (!r->mpi) return 0;
+    uint64_t *keys = gather_keys(r, text_key(cmd));
+    int b = 0; /* the first rank given another command than rank 0 */
+    for (int k = 1; keys && k < r->size && !b; ++k)
+        if (keys[k] != keys[0]) b = k;
+    free(keys);
+    if (b && r->rank == 0)
+        fprintf(stderr,
+                "hsbd: ranks 0 and %d of mpirun were given different commands (every rank runs "
+                "the same hsbd run, resume or merge)\n",
+                b);
+    return b ? EXIT_INPUT : 0;
+#else
+    (void)r, (void)cmd;
+    return 0;
+#endif
+}
+
+static int cmd_config_doc(int argc, char **argv) {
+    if (argc > 2 && is_help(argv[2])) {
+        printf("usage: hsbd config-doc\nPrints the configuration reference (Markdown, the "
+               "text of docs/config.md).\n");
+        return 0;
+    }
+    if (argc > 2) {
+        fprintf(stderr, "hsbd config-doc: unexpected argument '%.60s'\n", argv[2]);
+        return EXIT_INPUT;
+    }
+    hsbd_config_write_reference(stdout, 1);
+    return 0;
+}
+
+/* A checked command line's command (the ranks given to those that run on all of them). */
+static int run_command(const ranks *r, int argc, char **argv) {
     const char *cmd = argv[1];
-    if (!strcmp(cmd, "run")) return cmd_run(argc, argv);
-    if (!strcmp(cmd, "resume")) return cmd_resume(argc, argv);
-    if (!strcmp(cmd, "merge")) return cmd_merge(argc, argv);
+    if (!strcmp(cmd, "run")) return cmd_run(r, argc, argv);
+    if (!strcmp(cmd, "resume")) return cmd_resume(r, argc, argv);
+    if (!strcmp(cmd, "merge")) return cmd_merge(r, argc, argv);
     if (!strcmp(cmd, "bench")) return cmd_bench(argc, argv);
     if (!strcmp(cmd, "theory")) return cmd_theory(argc, argv);
     if (!strcmp(cmd, "validate")) return cmd_validate(argc, argv);
-    if (!strcmp(cmd, "config-doc")) {
-        if (argc > 2 && is_help(argv[2])) {
-            printf("usage: hsbd config-doc\nPrints the configuration reference (Markdown, the "
-                   "text of docs/config.md).\n");
-            return 0;
-        }
-        if (argc > 2) {
-            fprintf(stderr, "hsbd config-doc: unexpected argument '%.60s'\n", argv[2]);
-            return EXIT_INPUT;
-        }
-        hsbd_config_write_reference(stdout, 1);
-        return 0;
-    }
+    if (!strcmp(cmd, "config-doc")) return cmd_config_doc(argc, argv);
     if (!strcmp(cmd, "version") || !strcmp(cmd, "--version")) {
         printf("hsbd %s (git %s)\n", HSBD_VERSION_STRING, HSBD_GIT_COMMIT);
         printf("built with:%s%s\n", HSBD_WITH_MPI ? " mpi (replicas over mpirun ranks)" : " no mpi",
                HSBD_WITH_OPENMP ? ", openmp (threads)" : ", no openmp");
         return 0;
     }
-    if (!strcmp(cmd, "help") || !strcmp(cmd, "--help") || !strcmp(cmd, "-h")) {
-        usage(stdout);
-        return 0;
-    }
-    fprintf(stderr, "hsbd: unknown command '%s'\n", cmd);
-    usage(stderr);
-    return EXIT_INPUT;
+    usage(stdout); /* help, --help, -h */
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    /* under mpirun, a command line refused (or a command that differs) on any rank stops
+     * every rank of run, resume and merge, its message printed once */
+    const int together = argc < 2 || mpi_command(argv[1]) || command_line_check(argc, argv, NULL);
+    const ranks r = together ? ranks_begin() : (ranks){0, 1, 0};
+    input_messages said;
+    FILE *msg = input_messages_open(&r, &said);
+    int code = input_messages_report(&r, &said, command_line_check(argc, argv, msg));
+    if (code == 0) code = ranks_same_command(&r, argv[1]);
+    if (code == 0) code = run_command(&r, argc, argv);
+    ranks_end(&r);
+    return code;
 }

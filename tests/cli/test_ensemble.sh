@@ -16,7 +16,8 @@
 # replaces the directory it points to (a bad input puts the earlier results back there), as
 # does DIR/.; a working directory inside DIR is refused. Under mpirun a bad input is reported once (and one
 # rank's bad input stops every rank before anything is written; --help on one rank stops
-# all; ranks given different configurations for an ensemble are refused; single runs
+# all; ranks given different configurations for an ensemble are refused; an unknown
+# command, a control character or another command on one rank stops all; single runs
 # given a directory per rank each run), a directory rank 0
 # refuses ends the run with its message on every rank, hsbd resume of one directory runs
 # on one rank (ranks with directories of their own each resume theirs), and by default
@@ -400,6 +401,29 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     if [ $rc -ne 0 ] && [ $rc -ne 124 ] && [ "$(grep -c "unknown key 'bogus'" err.txt)" = 1 ] &&
         grep -q "rank 1 of mpirun" err.txt && [ ! -e bogus-out ]
     then ok; else bad "mpirun, a bad input on rank 1 only: exit $rc, $(cat err.txt)"; fi
+    # the command line itself: an unknown command on every rank is reported once; an
+    # unknown command, a control character or another command on rank 1 only stops both
+    # ranks with one message (none hangs, nothing is written)
+    timeout 300 "${MPIRUN[@]}" "$HSBD" rnu rods.ini >err.txt 2>&1
+    rc=$?
+    if [ $rc -eq 2 ] && [ "$(grep -c "unknown command 'rnu'" err.txt)" = 1 ] &&
+        [ "$(grep -c '^usage:' err.txt)" = 1 ]
+    then ok; else bad "mpirun, an unknown command: exit $rc, $(cat err.txt)"; fi
+    rank1_says() { # rank1_says WHAT PATTERN ARGS...: rank 1 runs hsbd ARGS, rank 0 a run
+        local what=$1 pattern=$2
+        shift 2
+        timeout 300 "${MPIRUN[@]}" sh -c '[ "${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" = 1 ] &&
+            exec "$0" "$@"; exec "$0" run rods.ini --quiet --out cmdline-out' "$HSBD" "$@" \
+            >err.txt 2>&1
+        local rc=$?
+        if [ $rc -ne 0 ] && [ $rc -ne 124 ] && [ "$(grep -c -- "$pattern" err.txt)" = 1 ] &&
+            [ ! -e cmdline-out ]
+        then ok; else bad "mpirun, $what on rank 1 only: exit $rc, $(cat err.txt)"; fi
+    }
+    rank1_says "an unknown command" "unknown command 'rnu'" rnu rods.ini
+    rank1_says "a control character" "argument 2 has a control character" run $'rods\x01.ini'
+    rank1_says "another command" "ranks 0 and 1 of mpirun were given different commands" \
+        merge out-cmd rods-r0 rods-r1
     # --help on one rank only stops every rank (printed once); ranks given different
     # configurations for an ensemble are refused; a bad input file of the replicas is
     # reported once; single runs given a directory per rank each run
