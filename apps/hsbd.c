@@ -601,9 +601,15 @@ static void run_request_free(run_request *q) {
     free(q->sets), free(q->set_list);
 }
 
-/* The command line and the configuration read into q; an exit status, with the message
- * written to msg. */
-static int run_request_read(int argc, char **argv, FILE *msg, run_request *q) {
+/* A path that names the standard input (/dev/stdin, /dev/fd/0, /proc/self/fd/0). */
+static int names_standard_input(const char *path) {
+    return !strcmp(path, "/dev/stdin") || !strcmp(path, "/dev/fd/0") ||
+           !strcmp(path, "/proc/self/fd/0");
+}
+
+/* The command line and the configuration read into q (nranks: of mpirun, 1 without); an
+ * exit status, with the message written to msg. */
+static int run_request_read(int argc, char **argv, int nranks, FILE *msg, run_request *q) {
     int defaults = 0, noverrides = 0;
     run_override *overrides = calloc((size_t)argc, sizeof *overrides);
     q->opt = (hsbd_run_options){.progress = isatty(STDERR_FILENO), .stop = &stop_flag};
@@ -646,6 +652,13 @@ static int run_request_read(int argc, char **argv, FILE *msg, run_request *q) {
     }
     const char *config_path = q->config_path;
     q->config_path = NULL; /* set again once its text is read */
+    if (config_path && nranks > 1 && names_standard_input(config_path)) {
+        fprintf(msg,
+                "hsbd run: the configuration file '%s' is the standard input, which mpirun "
+                "gives to rank 0 only; give every rank a file it can read\n",
+                config_path);
+        return free(overrides), EXIT_INPUT;
+    }
     hsbd_error err;
     hsbd_config_defaults(&q->cfg);
     if (config_path && hsbd_config_load_file(&q->cfg, config_path, &err) != HSBD_OK)
@@ -758,7 +771,7 @@ static int cmd_run(const ranks *r, int argc, char **argv) {
     input_messages said;
     FILE *msg = input_messages_open(r, &said);
     run_request q = {0};
-    int code = input_messages_report(r, &said, run_request_read(argc, argv, msg, &q));
+    int code = input_messages_report(r, &said, run_request_read(argc, argv, r->size, msg, &q));
     /* an ensemble on any rank: the same configuration on all; single runs: on the ranks
      * given one directory */
     if (code == 0)

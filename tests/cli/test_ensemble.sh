@@ -420,6 +420,13 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
             [ ! -e cmdline-out ]
         then ok; else bad "mpirun, $what on rank 1 only: exit $rc, $(cat err.txt)"; fi
     }
+    # a configuration read from the standard input, which reaches rank 0 only: refused once
+    timeout 300 "${MPIRUN[@]}" "$HSBD" run /dev/stdin --quiet --out stdin-out <rods.ini \
+        >err.txt 2>&1
+    rc=$?
+    if [ $rc -eq 2 ] && [ "$(grep -c "is the standard input, which mpirun gives to rank 0" err.txt)" = 1 ] &&
+        [ ! -e stdin-out ]
+    then ok; else bad "mpirun, configuration from /dev/stdin: exit $rc, $(cat err.txt)"; fi
     rank1_says "an unknown command" "unknown command 'rnu'" rnu rods.ini
     rank1_says "a control character" "argument 2 has a control character" run $'rods\x01.ini'
     rank1_says "another command" "ranks 0 and 1 of mpirun were given different commands" \
