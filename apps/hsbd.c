@@ -514,7 +514,9 @@ static int run_ensemble_or_single(const ranks *ranks_of_run, hsbd_config *cfg,
 }
 
 static void merge_help(void) {
-    printf("usage: hsbd merge OUT DIR... [--force]\n\n"
+    printf("usage: hsbd merge OUT DIR... [--force]\n"
+           "       hsbd merge DIR   the replicas of the ensemble in DIR (DIR/replica-K) into DIR\n"
+           "                        (an ensemble stopped, its replicas continued one by one)\n\n"
            "Merges the run directories of replicas of one configuration (hsbd run CONFIG\n"
            "--replica K, e.g. the tasks of a job array) into OUT: the means over the replicas\n"
            "and errors from their scatter, summed in replica order, so the result equals\n"

@@ -92,7 +92,9 @@ HSBD_API int hsbd_ensemble_run(const hsbd_config *cfg, const hsbd_run_options *o
 HSBD_API int hsbd_ensemble_merge(const hsbd_config *cfg, size_t replicas, hsbd_error *err);
 /* Merges the completed run directories of replicas of one configuration (any order of the
  * arguments; distinct replica indices, at least two) into out. HSBD_EINPUT naming the
- * directory and the parameter when they are not replicas of the same configuration. */
+ * directory and the parameter when they are not replicas of the same configuration. With
+ * ndirs = 0, out is an ensemble's directory: its replica-K directories (all of them when
+ * they give run.replicas) are merged into it, as the ensemble does at its end. */
 HSBD_API int hsbd_merge(const char *out, const char *const *dirs, size_t ndirs, int force,
                         hsbd_error *err);
 

@@ -193,6 +193,19 @@ int run_is_replica_name(const char *name) {
     return 1;
 }
 
+int run_dir_holds_replicas(const char *dir) {
+    DIR *d = opendir(dir);
+    int found = 0;
+    for (struct dirent *e; d && !found && (e = readdir(d));) {
+        char path[HSBD_PATH_MAX + 300];
+        struct stat st;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        found = run_is_replica_name(e->d_name) && lstat(path, &st) == 0 && S_ISDIR(st.st_mode);
+    }
+    if (d) closedir(d);
+    return found;
+}
+
 DIR *run_dir_open(const char *dir, hsbd_error *err) {
     DIR *d = opendir(dir);
     if (!d)
@@ -211,14 +224,21 @@ int run_dir_check_earlier(const char *dir, int replica_dirs, hsbd_error *err) {
         char path[HSBD_PATH_MAX + 300];
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
         struct stat st;
-        if (replica_dirs && run_is_replica_name(e->d_name) && lstat(path, &st) == 0 &&
-            S_ISDIR(st.st_mode))
-            continue;
-        rc = hsbd_error_set(err, HSBD_EINPUT,
-                            "output directory '%s' holds '%s', which is not a file of an "
-                            "hsbd run; --force replaces only an earlier run's files: choose "
-                            "another --out",
-                            dir, e->d_name);
+        const int replica =
+            run_is_replica_name(e->d_name) && lstat(path, &st) == 0 && S_ISDIR(st.st_mode);
+        if (replica && replica_dirs) continue;
+        if (replica)
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "output directory '%s' holds '%s', a replica of an ensemble: "
+                                "a single run does not replace an ensemble's results; choose "
+                                "another --out (an ensemble's --force replaces them)",
+                                dir, e->d_name);
+        else
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "output directory '%s' holds '%s', which is not a file of an "
+                                "hsbd run; --force replaces only an earlier run's files: choose "
+                                "another --out",
+                                dir, e->d_name);
     }
     closedir(d);
     return rc;
@@ -383,12 +403,21 @@ int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err) {
     struct stat st;
     if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) {
         const int empty = run_dir_is_empty(dir);
-        if (!empty && !force)
+        const int resumable =
+            run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd");
+        if (!empty && !force && run_dir_holds_replicas(dir))
             return hsbd_error_set(err, HSBD_EINPUT,
-                                  "output directory '%s' already exists and is not empty; choose "
-                                  "another --out, continue it with 'hsbd resume %s', or pass "
-                                  "--force to replace the earlier run's files",
-                                  dir, dir);
+                                  "output directory '%s' already exists and holds an ensemble's "
+                                  "replicas; choose another --out, or pass --force to an "
+                                  "ensemble to replace them",
+                                  dir);
+        if (!empty && !force)
+            return hsbd_error_set(
+                err, HSBD_EINPUT,
+                "output directory '%s' already exists and is not empty; choose another --out, "
+                "%s%s%sor pass --force to replace the earlier run's files",
+                dir, resumable ? "continue it with 'hsbd resume " : "", resumable ? dir : "",
+                resumable ? "', " : "");
         if (!empty && clear_earlier_run(dir, err) != HSBD_OK) return err->status;
     }
     return hsbd_dir_create(dir, err);

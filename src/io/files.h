@@ -25,6 +25,8 @@ size_t run_path_bare(const char *path, char *out, size_t len);
 int run_dir_holds(const char *dir, const char *name);
 /* "replica-<digits>": the name of an ensemble's replica directory */
 int run_is_replica_name(const char *name);
+/* Does dir hold a replica directory (an ensemble's run directory)? */
+int run_dir_holds_replicas(const char *dir);
 /* One writer per run directory: hsbd run, hsbd resume and hsbd merge (into OUT) hold an
  * exclusive advisory lock (flock) on the file RUN_LOCK_FILE in it while they write there
  * (a file, not the directory: NFS locks only files opened for writing); merge holds shared

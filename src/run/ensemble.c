@@ -213,8 +213,8 @@ int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_ensemble_claim
                               "output directory '%s' already exists and is not empty; choose "
                               "another --out, pass --force to replace the earlier files, or "
                               "continue an interrupted ensemble replica by replica (hsbd "
-                              "resume %s/replica-K, then hsbd merge)",
-                              dir, dir);
+                              "resume %s/replica-K, then hsbd merge %s)",
+                              dir, dir, dir);
     return set_earlier_aside(cfg, claim, err);
 }
 

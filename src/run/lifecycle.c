@@ -485,8 +485,10 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     /* an extension keeps the lag grid of the MSD and the trajectory's interval, which by
      * default follow run.t_total: their values of the run as it was go first */
     char kept[2][HSBD_PATH_MAX + 64];
-    const char *ext[RUN_MAX_RESUME_SETS + 2];
+    const char *ext[RUN_MAX_RESUME_SETS + 2] = {0};
     size_t next = 0;
+    double planned_t = 0; /* with --set: the run's own run.t_total, and its steps */
+    uint64_t planned_steps = 0;
     if (rc == HSBD_OK && nsets > RUN_MAX_RESUME_SETS)
         rc = hsbd_error_set(err, HSBD_EINPUT, "resume: too many --set");
     for (size_t k = 0; k < nsets && rc == HSBD_OK; ++k) /* the two kept keys are not the user's */
@@ -504,6 +506,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
             snprintf(kept[1], sizeof kept[1], "output.trajectory_every=%.17g",
                      old->output.trajectory_every);
             ext[next++] = kept[0], ext[next++] = kept[1];
+            planned_t = old->run.t_total, planned_steps = hsbd_config_steps(old);
             if (old->sample.blocking == HSBD_BLOCKS_REPLICAS)
                 rc = hsbd_error_set(err, HSBD_EINPUT,
                                     "resume: a run with sample.blocking = replicas cannot be "
@@ -515,6 +518,12 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     for (size_t k = 0; k < nsets; ++k)
         ext[next++] = sets[k];
     if (rc == HSBD_OK) rc = config_from_source(&src, ext, next, absdir, cfg, err);
+    if (rc == HSBD_OK && nsets > 0 && hsbd_config_steps(cfg) < planned_steps)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "resume: --set run.t_total=%g is shorter than the run's own %g; "
+                            "allowed: run.t_total >= %g (a run is continued or extended, never "
+                            "cut)",
+                            cfg->run.t_total, planned_t, planned_t);
     if (rc == HSBD_OK &&
         strcmp(src.model, cfg->system.model == HSBD_MODEL_SPHERES ? "spheres" : "rods"))
         rc = hsbd_error_set(err, HSBD_EINPUT, "%s: a checkpoint of model %s", ck.path, src.model);
@@ -605,6 +614,26 @@ static void restore_streams(run *r, const char *dir) {
                 why.message);
 }
 
+/* A directory without a checkpoint: in use by a run that has not reached its first
+ * checkpoint, or an ensemble's, whose replicas hold them; said in err instead of "no
+ * usable checkpoint" (which stays otherwise). */
+static void why_no_checkpoint(const char *dir, hsbd_error *err) {
+    int probe;
+    hsbd_error busy;
+    hsbd_error_clear(&busy);
+    if (run_dir_claim(dir, RUN_DIR_CHECK, &probe, &busy) != HSBD_OK) {
+        hsbd_error_set(err, busy.status, "resume: %s (it has no checkpoint yet)", busy.message);
+        return;
+    }
+    run_dir_release(probe);
+    if (run_dir_holds_replicas(dir))
+        hsbd_error_set(err, HSBD_EINPUT,
+                       "resume: '%s' is an ensemble's directory, whose replicas hold the "
+                       "checkpoints: continue each that stopped (hsbd resume %s/replica-K), "
+                       "then merge them into it (hsbd merge %s)",
+                       dir, dir, dir);
+}
+
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,
                 hsbd_error *err) {
     hsbd_error_clear(err);
@@ -617,7 +646,11 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     int rc = run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd")
                  ? run_dir_claim(dir, RUN_DIR_WRITE, &lock, err)
                  : HSBD_OK;
+    const int had_checkpoint = lock >= 0;
     if (rc == HSBD_OK) rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
+    if (rc == HSBD_EINPUT && !had_checkpoint && !run_dir_holds(dir, "checkpoint.hsbd") &&
+        !run_dir_holds(dir, "checkpoint.prev.hsbd"))
+        why_no_checkpoint(dir, err);
     /* a run's first checkpoint may have landed between the test above and the load: a run
      * still going holds the directory, so the claim refuses this resume; one that ended in
      * between may have written newer checkpoints, so the newest is read again */
@@ -639,9 +672,10 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
         restore_streams(&r, dir);
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: the run in '%s' is complete (%llu of %llu steps); to "
-                            "extend it: --set run.t_total=T with T > %g",
+                            "extend it: --set run.t_total=T with T >= %g (a step more at least)",
                             dir, (unsigned long long)r.steps_done,
-                            (unsigned long long)hsbd_config_steps(cfg), cfg->run.t_total);
+                            (unsigned long long)hsbd_config_steps(cfg),
+                            (double)(r.steps_done + 1) * cfg->run.dt);
     }
     if (rc == HSBD_OK && r.stage == RUN_DONE) /* extended, or its results unwritten */
         r.stage = RUN_PRODUCING;

@@ -103,6 +103,7 @@ typedef struct merge_source {
     const char *dir;
     int lock;       /* its shared lock (run_dir_claim), or -1 */
     long index;     /* run.replica */
+    long planned;   /* run.replicas (0: as many as mpirun had ranks) */
     text_lines sum; /* summary.json */
     size_t params;  /* its line `  "parameters": {` */
 } merge_source;
@@ -164,6 +165,9 @@ static int load_source(merge_source *s, hsbd_error *err) {
         if (s->params && k > s->params && (v = json_entry(s->sum.line[k], 6, key, sizeof key)) &&
             !strcmp(key, "replica"))
             found = replica_index(v, &s->index) ? 1 : -1;
+        if (s->params && k > s->params && (v = json_entry(s->sum.line[k], 6, key, sizeof key)) &&
+            !strcmp(key, "replicas"))
+            s->planned = strtol(v, NULL, 10);
     }
     if (found < 0)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -890,11 +894,17 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
                               out, HSBD_PATH_MAX - (int)sizeof "/summary.json.part");
     for (size_t k = 0; k < ndirs; ++k) {
         const int where = run_path_nesting(out, dirs[k]);
+        const char *base = strrchr(dirs[k], '/');
+        const int replica_of_out = where > 0 && base && run_is_replica_name(base + 1);
         if (where)
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "merge: OUT '%s' %s '%s', one of the runs merged; choose "
-                                  "another OUT",
-                                  out, where > 0 ? "is or holds" : "lies inside", dirs[k]);
+                                  "another OUT%s%s%s",
+                                  out, where > 0 ? "is or holds" : "lies inside", dirs[k],
+                                  replica_of_out ? " (or merge the ensemble there into it: hsbd "
+                                                   "merge "
+                                                 : "",
+                                  replica_of_out ? out : "", replica_of_out ? ")" : "");
     }
     if (!force && !run_dir_is_empty(out))
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -902,6 +912,26 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
                               "OUT, or pass --force to replace an earlier result's files",
                               out);
     return HSBD_OK;
+}
+
+/* The replicas of the ensemble in out (sorted by index): all of 0 .. R-1 when they give
+ * run.replicas = R (with R = 0, the ranks of mpirun, as many as are there). */
+static int whole_ensemble(const char *out, const merge_source *src, size_t n, hsbd_error *err) {
+    const long planned = src[0].planned;
+    long missing = -1;
+    for (size_t k = 0; planned > 0 && k < (size_t)planned && missing < 0; ++k)
+        if (k >= n || src[k].index != (long)k) missing = (long)k;
+    if (missing < 0 && (planned <= 0 || (long)n == planned)) return HSBD_OK;
+    if (missing < 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s' holds replica %ld, beyond the ensemble's run.replicas "
+                              "= %ld",
+                              out, src[n - 1].index, planned);
+    return hsbd_error_set(err, HSBD_EINPUT,
+                          "merge: the ensemble in '%s' lacks replica %ld of its %ld (it never "
+                          "began); run it alone first: hsbd run CONFIG --replica %ld --set "
+                          "run.replicas=%ld --out %s/replica-%ld",
+                          out, missing, planned, missing, planned, out, missing);
 }
 
 /* The merged files into out (made first when prepare), each committed on its own
@@ -961,6 +991,7 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
         if (rc == HSBD_OK) rc = same_inputs(&src[0], &src[k], err);
     }
     if (rc == HSBD_OK && prepare) rc = check_out(out, dirs, ndirs, force, err);
+    if (rc == HSBD_OK && !prepare) rc = whole_ensemble(out, src, ndirs, err);
     char **names = NULL;
     size_t nnames = 0;
     if (rc == HSBD_OK) rc = common_tables(src, ndirs, &names, &nnames, err);
@@ -987,7 +1018,60 @@ int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int p
     return rc;
 }
 
+/* The replica-K directories in dir (not links), as "dir/replica-K". */
+static int list_replica_dirs(const char *dir, char ***paths, size_t *n, hsbd_error *err) {
+    *paths = NULL, *n = 0;
+    DIR *d = opendir(dir);
+    if (!d)
+        return hsbd_error_set(err, HSBD_EINPUT, "merge: cannot read '%s': %s", dir,
+                              strerror(errno));
+    size_t cap = 0;
+    int rc = HSBD_OK;
+    for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
+        char path[HSBD_PATH_MAX + 300];
+        struct stat st;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        if (!run_is_replica_name(e->d_name) || lstat(path, &st) != 0 || !S_ISDIR(st.st_mode))
+            continue;
+        if (*n == cap) {
+            char **more = realloc(*paths, (cap = 2 * cap + 8) * sizeof *more);
+            if (!more) {
+                rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+                break;
+            }
+            *paths = more;
+        }
+        if (!((*paths)[*n] = strdup(path)))
+            rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        else
+            ++*n;
+    }
+    closedir(d);
+    return rc;
+}
+
+/* hsbd merge DIR: the replicas of the ensemble in DIR merged into DIR, as the ensemble
+ * does at its end (an ensemble that was stopped, its replicas continued one by one). */
+static int merge_ensemble_in_place(const char *dir, hsbd_error *err) {
+    char **paths;
+    size_t n;
+    int rc = list_replica_dirs(dir, &paths, &n, err);
+    if (rc == HSBD_OK && n == 0)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "merge: only OUT given, and '%s' holds no replica-K directories of "
+                            "an ensemble; allowed: hsbd merge OUT DIR DIR... (at least two "
+                            "replicas), or hsbd merge DIR for the ensemble in DIR",
+                            dir);
+    int lock = -1; /* no ensemble or other merge writes in dir meanwhile */
+    if (rc == HSBD_OK) rc = run_dir_claim(dir, RUN_DIR_WRITE, &lock, err);
+    if (rc == HSBD_OK) rc = run_merge_into(dir, (const char *const *)paths, n, 0, 0, err);
+    run_dir_release(lock);
+    free_names(paths, n);
+    return rc;
+}
+
 int hsbd_merge(const char *out, const char *const *dirs, size_t ndirs, int force, hsbd_error *err) {
     hsbd_error_clear(err);
-    return run_merge_into(out, dirs, ndirs, 1, force, err);
+    return ndirs == 0 ? merge_ensemble_in_place(out, err)
+                      : run_merge_into(out, dirs, ndirs, 1, force, err);
 }

@@ -206,6 +206,31 @@ refused "two others" 'system.N = 60 in the first, 61 in the second; also: system
     rods-othertwo
 refused "another model" 'not replicas of one configuration' rods-r0 spheres-r1
 refused "the same replica twice" 'both replica 1' rods-r1 rods-r0 rods-one3/replica-1
+
+# an ensemble completed in its own directory (hsbd merge DIR): one whose replica 2 never
+# began and whose merge never ran is refused until that replica is run alone, then merges
+# into the same bytes as the ensemble run whole; merging DIR's replicas into DIR by name is
+# refused with the hint, and hsbd resume DIR names the replicas
+mkdir rods-stopped3 && cp -r rods-one3/replica-0 rods-one3/replica-1 rods-stopped3/
+"$HSBD" merge rods-stopped3 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "lacks replica 2 of its 3 (it never began); run it alone first: hsbd run CONFIG --replica 2 --set run.replicas=3 --out rods-stopped3/replica-2" err.txt &&
+    [ ! -e rods-stopped3/summary.json ]
+then ok; else bad "merge DIR, replica 2 missing: exit $rc, $(cat err.txt)"; fi
+"$HSBD" resume rods-stopped3 2>err.txt
+if [ $? -eq 2 ] && grep -q "is an ensemble's directory, whose replicas hold the checkpoints" err.txt
+then ok; else bad "resume of an ensemble's directory: $(cat err.txt)"; fi
+"$HSBD" run rods.ini --quiet --replica 2 --set run.replicas=3 --out rods-stopped3/replica-2 ||
+    bad "the missing replica run alone"
+"$HSBD" merge rods-stopped3 rods-stopped3/replica-0 rods-stopped3/replica-1 2>err.txt
+if [ $? -eq 2 ] && grep -q "or merge the ensemble there into it: hsbd merge rods-stopped3)" err.txt
+then ok; else bad "merge DIR DIR/replica-K: $(cat err.txt)"; fi
+if "$HSBD" merge rods-stopped3; then
+    same_merged "an ensemble completed with hsbd merge DIR" rods-stopped3 rods-one3
+else bad "merge DIR of a whole ensemble"; fi
+mkdir no-replicas && "$HSBD" merge no-replicas 2>err.txt
+if [ $? -eq 2 ] && grep -q "holds no replica-K directories" err.txt; then ok
+else bad "merge DIR without replicas: $(cat err.txt)"; fi
 refused "no replica" 'no replica of an ensemble' rods-r0 rods-plain
 refused "one directory" 'at least two' rods-r0
 refused "no run directory" 'no readable summary.json' rods-r0 .

@@ -13,7 +13,9 @@
 # refused unless extended; an extension stopped before its first checkpoint or before its
 # results, and a resume refused for a damaged stream, lose nothing; a run started with
 # --force past the sticky step check resumes; --force replaces every output of a run; a
-# directory another process writes is refused to a resume and to run --force; a resume
+# directory another process writes is refused to a resume (also before the run's first
+# checkpoint, named as in use) and to run --force; a shorter run.t_total and one that
+# adds no step are refused, naming the least extension; a resume
 # racing a starting run (its window opened by strace, which CI installs) takes the newest
 # checkpoint or none.
 set -u
@@ -143,6 +145,18 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     # a completed run: refused, unless extended
     "$HSBD" resume rods-ref --quiet 2>err
     if [ $? = 2 ] && grep -q "is complete" err; then ok; else bad "completed run: $(cat err)"; fi
+    # a run.t_total that rounds to the same number of steps is no extension: the message
+    # names the least T that is one, and that T extends the run by one step
+    "$HSBD" resume rods-ref --set run.t_total=6.00004 --quiet 2>err
+    if [ $? = 2 ] && grep -q "is complete (60000 of 60000 steps); to extend it: --set run.t_total=T with T >= 6.0001" err
+    then ok; else bad "an extension by less than a step: $(cat err)"; fi
+    cp -r rods-ref plus1
+    if "$HSBD" resume plus1 --set run.t_total=6.0001 --quiet 2>err && grep -q '"steps": 60001' plus1/summary.json
+    then ok; else bad "an extension by one step: $(cat err)"; fi
+    # a shorter run.t_total cuts nothing: refused, naming the run's own
+    "$HSBD" resume rods-ref --set run.t_total=3 --quiet 2>err
+    if [ $? = 2 ] && grep -q "run.t_total=3 is shorter than the run's own 6; allowed: run.t_total >= 6" err
+    then ok; else bad "a shorter run.t_total: $(cat err)"; fi
     # a run stopped after its final checkpoint but before its results were all written
     # (kill -9 in that window): resuming writes them, the same bytes
     cp -r rods-ref late
@@ -278,6 +292,16 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     if [ $rc -eq 2 ] && [ $rc2 -eq 2 ] && grep -q "is in use" err && grep -q "is in use" err2 &&
         [ "$(ls -A locked; cat locked/* | sha256sum)" = "$before" ]; then ok
     else bad "a directory in use: exit $rc and $rc2, $(cat err err2)"; fi
+    # a run that has not reached its first checkpoint: "in use", not "no checkpoint"
+    mkdir starting && : >starting/.hsbd.lock
+    flock -o starting/.hsbd.lock sleep 60 &
+    starter=$!
+    while flock -n starting/.hsbd.lock true; do sleep 0.05; done
+    "$HSBD" resume starting --quiet 2>err
+    if [ $? -eq 2 ] && grep -q "is in use.*(it has no checkpoint yet)" err; then ok
+    else bad "resume of a run before its first checkpoint: $(cat err)"; fi
+    pkill -P $starter sleep
+    wait $starter 2>/dev/null
     pkill -P $holder sleep
     wait $holder 2>/dev/null
     if "$HSBD" resume locked --quiet --set run.t_total=1 2>err; then ok
