@@ -104,7 +104,7 @@ static const char *const synopsis_run =
     "hsbd run CONFIG.ini [options]   simulate (see 'hsbd run --help')\n"
     "       hsbd run --defaults [options]   simulate the default configuration\n";
 static const char *const synopsis_resume =
-    "hsbd resume DIR [--set run.t_total=T] [--quiet]\n"
+    "hsbd resume DIR [--set run.t_total=T] [--threads N] [--quiet]\n"
     "                                       continue a stopped run from its checkpoint\n";
 static const char *const synopsis_merge =
     "hsbd merge OUT DIR... [--force]        merge replicas of one configuration\n";
@@ -792,7 +792,7 @@ static int cmd_run(const ranks *r, int argc, char **argv) {
 }
 
 static void resume_help(void) {
-    printf("usage: hsbd resume DIR [--set run.t_total=T] [--quiet]\n\n"
+    printf("usage: hsbd resume DIR [--set run.t_total=T] [--threads N] [--quiet]\n\n"
            "Continues the run in DIR from its newest checkpoint (checkpoint.hsbd, or\n"
            "checkpoint.prev.hsbd when the newest is damaged). The configuration is the run's\n"
            "own, read again from the checkpoint; stream files (trajectory.xyz, current.tsv) are\n"
@@ -802,6 +802,8 @@ static void resume_help(void) {
            "DIR leave it to the lowest of them; ranks given their own DIR each resume it.\n\n"
            "  --set run.t_total=T  a longer production time: extends the run (also a\n"
            "                       completed one)\n"
+           "  --threads N          threads of the run from here on (same as --set\n"
+           "                       run.threads=N; the same results for every N)\n"
            "  --quiet              no progress line\n\n"
            "Exit status: 0 done, 2 bad input (no or a damaged checkpoint, a completed run\n"
            "without a longer run.t_total, a directory in use), 129/130/143 stopped by\n"
@@ -812,10 +814,17 @@ static void resume_help(void) {
 /* The command line of hsbd resume: DIR and the overrides; an exit status, with the message
  * written to msg. */
 static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const char **sets,
-                       size_t *nsets, int *quiet) {
+                       size_t *nsets, int *quiet, char *threads_set, size_t threads_len) {
     for (int i = 2; i < argc; ++i) {
         if (!strcmp(argv[i], "--quiet")) {
             *quiet = 1;
+        } else if (!strcmp(argv[i], "--threads")) {
+            if (i + 1 >= argc || argv[i + 1][0] == '-') {
+                fprintf(msg, "hsbd resume: --threads needs a value (--threads N)\n");
+                return EXIT_INPUT;
+            }
+            snprintf(threads_set, threads_len, "run.threads=%.40s", argv[++i]);
+            sets[(*nsets)++] = threads_set;
         } else if (!strcmp(argv[i], "--set")) {
             if (i + 1 >= argc || argv[i + 1][0] == '-') {
                 fprintf(msg, "hsbd resume: --set needs a value (--set run.t_total=T)\n");
@@ -840,8 +849,9 @@ static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const
 }
 
 static int cmd_resume(const ranks *r, int argc, char **argv) {
-    static const char *const value_flags[] = {"--set", NULL};
+    static const char *const value_flags[] = {"--set", "--threads", NULL};
     if (ranks_help(r, asks_help(argc, argv, value_flags), resume_help)) return 0;
+    char threads_set[64];
     const char *dir = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     size_t nsets = 0;
@@ -849,7 +859,8 @@ static int cmd_resume(const ranks *r, int argc, char **argv) {
     int quiet = 0;
     input_messages said;
     FILE *msg = input_messages_open(r, &said);
-    int code = sets ? resume_args(argc, argv, msg, &dir, sets, &nsets, &quiet)
+    int code = sets ? resume_args(argc, argv, msg, &dir, sets, &nsets, &quiet, threads_set,
+                                  sizeof threads_set)
                     : (fprintf(msg, "hsbd: out of memory\n"), 1);
     code = input_messages_report(r, &said, code);
     if (quiet) opt.progress = 0;

@@ -444,8 +444,10 @@ static int keep_source(resumed_source *rs, const char *const *sets, size_t nsets
     return 0;
 }
 
-/* Whether a --set names run.t_total (spaces around the key allowed, as for hsbd run). */
-static int sets_total_time(const char *set) {
+/* Whether a --set names run.t_total or run.threads, the keys a resume may set (spaces
+ * around the key allowed, as for hsbd run): a longer run, and threads, which change no
+ * result. */
+static int resume_may_set(const char *set) {
     const char *eq = strchr(set, '=');
     if (!eq) return 0;
     while (*set == ' ' || *set == '\t')
@@ -453,7 +455,8 @@ static int sets_total_time(const char *set) {
     size_t len = (size_t)(eq - set);
     while (len > 0 && (set[len - 1] == ' ' || set[len - 1] == '\t'))
         --len;
-    return len == strlen("run.t_total") && !strncmp(set, "run.t_total", len);
+    return (len == strlen("run.t_total") && !strncmp(set, "run.t_total", len)) ||
+           (len == strlen("run.threads") && !strncmp(set, "run.threads", len));
 }
 
 /* Build the run of a checkpoint: configuration, model (without an initial state), then
@@ -492,10 +495,11 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     if (rc == HSBD_OK && nsets > RUN_MAX_RESUME_SETS)
         rc = hsbd_error_set(err, HSBD_EINPUT, "resume: too many --set");
     for (size_t k = 0; k < nsets && rc == HSBD_OK; ++k) /* the two kept keys are not the user's */
-        if (!sets_total_time(sets[k]))
+        if (!resume_may_set(sets[k]))
             rc = hsbd_error_set(err, HSBD_EINPUT,
                                 "resume: --set %s: a resumed run keeps its configuration; "
-                                "allowed: --set run.t_total=T (a longer run)",
+                                "allowed: --set run.t_total=T (a longer run), --set "
+                                "run.threads=N (--threads N)",
                                 sets[k]);
     if (rc == HSBD_OK && nsets > 0) {
         hsbd_config *old = malloc(sizeof *old);

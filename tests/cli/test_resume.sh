@@ -14,7 +14,7 @@
 # results, and a resume refused for a damaged stream, lose nothing; a run started with
 # --force past the sticky step check resumes; --force replaces every output of a run; a
 # directory another process writes is refused to a resume (also before the run's first
-# checkpoint, named as in use) and to run --force; a shorter run.t_total and one that
+# checkpoint, named as in use) and to run --force; --threads may change on a resume; a shorter run.t_total and one that
 # adds no step are refused, naming the least extension; a resume
 # racing a starting run (its window opened by strace, which CI installs) takes the newest
 # checkpoint or none.
@@ -310,6 +310,13 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     rm locked/.hsbd.lock && echo notes >locked/notes.txt
     "$HSBD" resume locked --quiet --set run.t_total=1.5 2>err || bad "resume beside notes: $(cat err)"
     [ -f locked/.hsbd.lock ] && ok || bad "resume beside a user's file took no lock"
+    # threads may change on a resume (they change no result); a bad count is refused
+    if "$HSBD" resume locked --quiet --threads 1 --set run.t_total=2 2>err &&
+        grep -q '"threads_used": 1,' locked/summary.json; then ok
+    else bad "resume --threads 1: $(cat err)"; fi
+    "$HSBD" resume locked --quiet --threads 2000 --set run.t_total=2.5 2>err
+    if [ $? -eq 2 ] && grep -q "allowed: 0 <= threads <= 1024" err; then ok
+    else bad "resume --threads 2000: $(cat err)"; fi
 fi
 
 # a resume that finds no checkpoint at first and the run's first one by the time it loads
