@@ -251,6 +251,16 @@ void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
 /* Final tables, streams and summary.json. Every file is committed on its own: one that
  * fails to write (a full disk) leaves the others and is named in the message. */
 static int finish(run *r, int run_rc, hsbd_error *err) {
+    if (r->extends_finished && !r->completed) /* the finished run's results stay */
+        return run_rc != HSBD_OK
+                   ? run_rc
+                   : hsbd_error_set(err, HSBD_EINTERRUPT,
+                                    "stopped after %llu of %llu steps of the extension; the "
+                                    "finished run's results in '%s' stay as they were "
+                                    "(hsbd resume %s goes on with the extension)",
+                                    (unsigned long long)r->steps_done,
+                                    (unsigned long long)hsbd_config_steps(r->cfg),
+                                    r->cfg->output.dir, r->cfg->output.dir);
     const char *reason = run_rc == HSBD_OK ? (r->completed ? "completed" : "interrupted") : "error";
     hsbd_error werr;
     hsbd_error_clear(&werr);
@@ -582,21 +592,33 @@ int run_checkpoint_try_load(const char *dir, hsbd_error *err) {
     return rc;
 }
 
-/* summary.json, written last, says the run's results are all committed (a run stopped
- * after its final checkpoint but before its results, e.g. by kill -9, has none or an old
- * one: resuming it writes them). */
-static int results_written(const char *dir, uint64_t steps) {
+/* What dir's summary.json says: a completed run, and one of `steps` steps (summary.json,
+ * written last, says the run's results are all committed; a run stopped after its final
+ * checkpoint but before its results, e.g. by kill -9, has none or an old one: resuming it
+ * writes them). */
+static void summary_says(const char *dir, uint64_t steps, int *completed, int *of_steps) {
     char path[HSBD_PATH_MAX + 16], line[256], want[64];
     snprintf(path, sizeof path, "%s/summary.json", dir);
     snprintf(want, sizeof want, "  \"steps\": %llu,", (unsigned long long)steps);
     FILE *f = fopen(path, "r");
-    int done = 0, same = 0; /* an extension's results: the summary of its own steps */
+    *completed = *of_steps = 0; /* an extension's results: the summary of its own steps */
     while (f && fgets(line, sizeof line, f)) {
-        done |= strstr(line, "\"completed\": true") != NULL;
-        same |= strncmp(line, want, strlen(want)) == 0;
+        *completed |= strstr(line, "\"completed\": true") != NULL;
+        *of_steps |= strncmp(line, want, strlen(want)) == 0;
     }
     if (f) fclose(f);
-    return done && same;
+}
+
+static int results_written(const char *dir, uint64_t steps) {
+    int completed, of_steps;
+    summary_says(dir, steps, &completed, &of_steps);
+    return completed && of_steps;
+}
+
+static int summary_says_completed(const char *dir) {
+    int completed, of_steps;
+    summary_says(dir, 0, &completed, &of_steps);
+    return completed;
 }
 
 /* A finished run whose extension stopped before its first checkpoint: its streams are
@@ -683,6 +705,7 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     }
     if (rc == HSBD_OK && r.stage == RUN_DONE) /* extended, or its results unwritten */
         r.stage = RUN_PRODUCING;
+    r.extends_finished = rc == HSBD_OK && summary_says_completed(dir);
     if (rc == HSBD_OK) rc = reopen_streams(&r, err);
     if (rc == HSBD_OK) {
         r.resumes += 1;

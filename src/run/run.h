@@ -106,6 +106,9 @@ struct run {
     int newest_unusable; /* resumed from checkpoint.prev.hsbd: the newest is not to be kept */
     int completed;
     int started; /* the dynamics began: stream files are kept for a resume */
+    /* an extension of a finished run (its summary says so): stopped or failed before its
+     * end, it leaves that run's results as they are, its checkpoint goes on from there */
+    int extends_finished;
 };
 
 /* Registration, for the models' build functions. */

@@ -11,7 +11,8 @@
 # Also: a damaged newest checkpoint falls back to the previous one (and is never rotated
 # over it), damaged or foreign checkpoints are refused with exit 2, a completed run is
 # refused unless extended; an extension stopped before its first checkpoint or before its
-# results, and a resume refused for a damaged stream, lose nothing; a run started with
+# results, or by a signal on the way (the finished run's results stay), and a resume
+# refused for a damaged stream, lose nothing; a run started with
 # --force past the sticky step check resumes; --force replaces every output of a run; a
 # directory another process writes is refused to a resume (also before the run's first
 # checkpoint, named as in use) and to run --force; --threads may change on a resume; a shorter run.t_total and one that
@@ -237,6 +238,31 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     if "$HSBD" resume late-ext --quiet 2>err && cmp -s late-ext/trajectory.xyz ext/trajectory.xyz &&
         cmp -s late-ext/density.tsv ext/density.tsv && grep -q '"steps": 20000' late-ext/summary.json
     then ok; else bad "extension's results after its final checkpoint: $(cat err)"; fi
+    # an extension stopped by a signal on the way leaves the finished run's results as they
+    # were (its streams under their temporary names); resumed, it ends with the bytes of the
+    # extension never stopped
+    cp -r ext-1 ext-whole && cp -r ext-1 ext-stop
+    "$HSBD" resume ext-whole --set run.t_total=12 --quiet 2>/dev/null || bad "extension to 12"
+    "$HSBD" resume ext-stop --set run.t_total=12 --quiet 2>err &
+    ext_pid=$!
+    sleep 0.4
+    kill -TERM $ext_pid
+    wait $ext_pid
+    rc=$?
+    kept=1
+    for f in ext-1/*; do
+        [ -e "ext-stop/${f#ext-1/}" ] || [ -e "ext-stop/${f#ext-1/}.part" ] || kept=0
+        [ ! -e "ext-stop/${f#ext-1/}" ] || cmp -s "$f" "ext-stop/${f#ext-1/}" ||
+            case $f in */checkpoint*) ;; *) kept=0 ;; esac
+    done
+    if [ $rc = 143 ] && [ $kept = 1 ] && grep -q "finished run's results in '.*ext-stop' stay as they were" err
+    then ok; else bad "an extension stopped by SIGTERM: exit $rc, kept $kept, $(cat err)"; fi
+    same=1
+    "$HSBD" resume ext-stop --quiet 2>err || same=0
+    for f in ext-whole/*.tsv ext-whole/trajectory.xyz; do
+        cmp -s "$f" "ext-stop/${f#ext-whole/}" || same=0
+    done
+    if [ $same = 1 ]; then ok; else bad "an extension stopped, then resumed: $(cat err)"; fi
     # an extension stopped before its first checkpoint: the completed run is refused again,
     # with its streams back under their names and at their lengths
     cp -r ext-1 early-ext && mv early-ext/trajectory.xyz early-ext/trajectory.xyz.part &&
