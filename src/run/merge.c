@@ -638,8 +638,8 @@ static int merge_blocks_table(FILE *f, const char *name, const merge_source *src
                  t.names[1], base);
         write_comments(f, &b.text[0], n, what);
         fprintf(f, "%s", b.names[0]);
-        for (size_t k = 0; k < n; ++k)
-            fprintf(f, "\tblock_%zu", k + 1);
+        for (size_t k = 0; k < n; ++k) /* named by the replica (sorted by index) */
+            fprintf(f, "\treplica_%ld", src[k].index);
         fputc('\n', f);
         for (size_t i = 0; i < t.rows; ++i) {
             fputs(b.abscissa[i], f);
@@ -710,6 +710,25 @@ static void write_warnings(FILE *f, const merge_source *src, size_t n) {
     fprintf(f, "],\n");
 }
 
+/* A JSON array or object that closes on its own line (before a trailing comma); those
+ * that go on over lines (contacts per species pair) are the replicas' own. */
+static int whole_on_its_line(const char *v) {
+    int depth = 0, quoted = 0;
+    const char *end = v + value_len(v);
+    for (const char *c = v; c < end; ++c) {
+        if (quoted && *c == '\\' && c + 1 < end)
+            ++c;
+        else if (*c == '"')
+            quoted = !quoted;
+        else if (!quoted && (*c == '[' || *c == '{'))
+            ++depth;
+        else if (!quoted && (*c == ']' || *c == '}') &&
+                 (--depth < 0 || (depth == 0 && c + 1 < end)))
+            return 0;
+    }
+    return depth == 0 && !quoted;
+}
+
 static int write_summary(FILE *f, const merge_source *src, size_t n, const char *out,
                          hsbd_error *err) {
     double *v = malloc(n * sizeof *v);
@@ -720,13 +739,9 @@ static int write_summary(FILE *f, const merge_source *src, size_t n, const char 
         char key[64], errkey[80];
         const char *val = json_entry(s0->sum.line[k], 2, key, sizeof key);
         if (!val || timing_key(key)) continue;
-        if (*val == '{' || *val == '[') {        /* nested: only the input files' checksums, */
-            if (!strcmp(key, "input_checksums")) /* the same in all (same_inputs) */
-                fprintf(f, "  \"%s\": %.*s,\n", key, value_len(val), val);
-            else if (!strcmp(key, "warnings"))
-                write_warnings(f, src, n);
-            continue;
-        }
+        const int nested = *val == '{' || *val == '[';
+        if (nested && !strcmp(key, "warnings")) write_warnings(f, src, n);
+        if (nested && (!strcmp(key, "warnings") || !whole_on_its_line(val))) continue;
         const size_t len = strlen(key);
         if (len > 4 && !strcmp(key + len - 4, "_err")) {
             snprintf(errkey, sizeof errkey, "%.*s", (int)(len - 4), key);
@@ -742,6 +757,7 @@ static int write_summary(FILE *f, const merge_source *src, size_t n, const char 
         }
         if (same) {
             fprintf(f, "  \"%s\": %.*s,\n", key, value_len(val), val);
+        } else if (nested) { /* an array or object that differs: the replicas' own */
         } else if (numbers && !strncmp(key, "min_", 4)) { /* the smallest over replicas */
             double least = v[0];
             for (size_t r = 1; r < n; ++r)

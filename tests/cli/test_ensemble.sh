@@ -138,7 +138,8 @@ warned_once() { # warned_once WHAT LOG DIR
         python3 -c "import json, sys
 w = json.load(open('$dir/summary.json'))['warnings']
 r = [x for k in range(3) for x in json.load(open('$dir/replica-%d/summary.json' % k))['warnings']]
-sys.exit(not (w == list(dict.fromkeys(r)) and len(w) >= 3))"
+s = json.load(open('$dir/summary.json'))
+sys.exit(not (w == list(dict.fromkeys(r)) and len(w) >= 3 and len(s['box']) == 3))"
     then ok; else bad "$what: warnings $n times, $(cat "$log")"; fi
 }
 "$HSBD" run spheres.ini "${coarse[@]}" --out warned 2>warn.log || bad "coarse ensemble"
@@ -148,13 +149,16 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
         bad "coarse ensemble, mpirun"
     warned_once "mpirun -n 2" warn.log warned-mpi
 fi
-# a replica's summary.json whose warnings line is cut inside a string (edited by hand):
-# merged with its whole strings, and the merged summary.json is still JSON
+# a replica's summary.json whose warnings line is cut inside a string and whose box is no
+# JSON (edited by hand): merged with its whole strings, without the box (which all share
+# otherwise), and the merged summary.json is still JSON
 cp -r warned/replica-1 warned-hand
 sed -i 's/^  "warnings": .*/  "warnings": ["kept", "cut \\/' warned-hand/summary.json
+sed -i 's/^  "box": .*/  "box": [1, {"x": 2],/' warned-hand/summary.json
 "$HSBD" merge warned-merged warned/replica-0 warned-hand warned/replica-2 2>err.txt
 if [ $? -eq 0 ] && python3 -c "import json, sys
-sys.exit('kept' not in json.load(open('warned-merged/summary.json'))['warnings'])"; then ok
+s = json.load(open('warned-merged/summary.json'))
+sys.exit('kept' not in s['warnings'] or 'box' in s)"; then ok
 else bad "merge of a hand-written warnings line: $(cat err.txt)"; fi
 
 # an ensemble directory with a bad input leaves nothing behind
@@ -228,6 +232,10 @@ then ok; else bad "merge DIR DIR/replica-K: $(cat err.txt)"; fi
 if "$HSBD" merge rods-stopped3; then
     same_merged "an ensemble completed with hsbd merge DIR" rods-stopped3 rods-one3
 else bad "merge DIR of a whole ensemble"; fi
+# the merged blocks tables name each column by its replica
+"$HSBD" merge rods-merged20 rods-r2 rods-r0 || bad "merge of replicas 2 and 0"
+if grep -q "^x	replica_0	replica_2$" rods-merged20/density_blocks.tsv; then ok
+else bad "blocks columns: $(grep -v '^#' rods-merged20/density_blocks.tsv | head -1)"; fi
 mkdir no-replicas && "$HSBD" merge no-replicas 2>err.txt
 if [ $? -eq 2 ] && grep -q "holds no replica-K directories" err.txt; then ok
 else bad "merge DIR without replicas: $(cat err.txt)"; fi
