@@ -1386,21 +1386,18 @@ static int cmd_theory(int argc, char **argv) {
 }
 
 /* The command line's first checks: a command, and no argument with a control character
- * (messages quote arguments: one line each). 0, or EXIT_INPUT after the message to msg
- * (none when NULL). */
+ * (messages quote arguments: one line each). 0, or EXIT_INPUT after the message to msg. */
 static int command_line_check(int argc, char **argv, FILE *msg) {
     const char *cmd = argc > 1 ? argv[1] : NULL;
     for (int i = 1; i < argc; ++i)
         for (const char *p = argv[i]; *p; ++p)
             if (((unsigned char)*p < 0x20 && *p != '\t') || *p == 0x7f) {
                 const int after_flag = i > 1 && !strncmp(argv[i - 1], "--", 2);
-                if (msg)
-                    fprintf(msg,
-                            "hsbd: argument %d%s%s%s has a control character (0x%02x at "
-                            "position %d); allowed: text\n",
-                            i, after_flag ? " (the value of " : "", after_flag ? argv[i - 1] : "",
-                            after_flag ? ")" : "", (unsigned)(unsigned char)*p,
-                            (int)(p - argv[i]) + 1);
+                fprintf(msg,
+                        "hsbd: argument %d%s%s%s has a control character (0x%02x at "
+                        "position %d); allowed: text\n",
+                        i, after_flag ? " (the value of " : "", after_flag ? argv[i - 1] : "",
+                        after_flag ? ")" : "", (unsigned)(unsigned char)*p, (int)(p - argv[i]) + 1);
                 return EXIT_INPUT;
             }
     static const char *const known[] = {"run",      "resume",     "merge",   "bench",     "theory",
@@ -1408,13 +1405,14 @@ static int command_line_check(int argc, char **argv, FILE *msg) {
                                         "--help",   "-h",         NULL};
     for (const char *const *k = known; cmd && *k; ++k)
         if (!strcmp(cmd, *k)) return 0;
-    if (msg && cmd) fprintf(msg, "hsbd: unknown command '%s'\n", cmd);
-    if (msg) usage(msg);
+    if (cmd) fprintf(msg, "hsbd: unknown command '%s'\n", cmd);
+    usage(msg);
     return EXIT_INPUT;
 }
 
 /* The commands that run on the ranks of mpirun together; the others (bench, theory,
- * validate, ...) run in each process on its own, without MPI. */
+ * validate, ...) run in each process on its own, once the ranks agreed on the command
+ * line. */
 static int mpi_command(const char *cmd) {
     return !strcmp(cmd, "run") || !strcmp(cmd, "resume") || !strcmp(cmd, "merge");
 }
@@ -1476,14 +1474,20 @@ static int run_command(const ranks *r, int argc, char **argv) {
 }
 
 int main(int argc, char **argv) {
-    /* under mpirun, a command line refused (or a command that differs) on any rank stops
-     * every rank of run, resume and merge, its message printed once */
-    const int together = argc < 2 || mpi_command(argv[1]) || command_line_check(argc, argv, NULL);
-    const ranks r = together ? ranks_begin() : (ranks){0, 1, 0};
+    /* under mpirun every rank takes part in MPI until the ranks agree on the command line:
+     * one refused on any rank stops all, its message printed once, and so do different
+     * commands where one of them is run, resume or merge (which wait for each other);
+     * the other commands then run in each process on its own */
+    ranks r = ranks_begin();
     input_messages said;
     FILE *msg = input_messages_open(&r, &said);
     int code = input_messages_report(&r, &said, command_line_check(argc, argv, msg));
-    if (code == 0) code = ranks_same_command(&r, argv[1]);
+    if (code == 0 && ranks_lowest(&r, mpi_command(argv[1])) >= 0)
+        code = ranks_same_command(&r, argv[1]);
+    if (code == 0 && !mpi_command(argv[1])) {
+        ranks_end(&r);
+        r = (ranks){0, 1, 0};
+    }
     if (code == 0) code = run_command(&r, argc, argv);
     ranks_end(&r);
     return code;

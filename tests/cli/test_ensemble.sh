@@ -464,6 +464,17 @@ if [ ${#MPIRUN[@]} -gt 0 ]; then
     rank1_says "a control character" "argument 2 has a control character" run $'rods\x01.ini'
     rank1_says "another command" "ranks 0 and 1 of mpirun were given different commands" \
         merge out-cmd rods-r0 rods-r1
+    rank1_says "a command that does not use MPI" "ranks 0 and 1 of mpirun were given different commands" \
+        version
+    # the commands that do not use MPI agree on the command line first, then run on their own
+    timeout 300 "${MPIRUN[@]}" sh -c '[ "${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" = 1 ] &&
+        exec "$0" bogus; exec "$0" version' "$HSBD" >out.txt 2>err.txt
+    rc=$?
+    if [ $rc -eq 2 ] && [ "$(grep -c "unknown command 'bogus'" err.txt)" = 1 ]; then ok
+    else bad "mpirun, version on rank 0 and an unknown command on rank 1: exit $rc, $(cat err.txt)"; fi
+    if timeout 300 "${MPIRUN[@]}" "$HSBD" version >out.txt 2>err.txt &&
+        [ "$(grep -c '^hsbd ' out.txt)" = 2 ]; then ok
+    else bad "mpirun, version on both ranks: $(cat out.txt err.txt)"; fi
     # --help on one rank only stops every rank (printed once); ranks given different
     # configurations for an ensemble are refused; a bad input file of the replicas is
     # reported once; single runs given a directory per rank each run
