@@ -823,7 +823,12 @@ static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const
                 fprintf(msg, "hsbd resume: --threads needs a value (--threads N)\n");
                 return EXIT_INPUT;
             }
-            snprintf(threads_set, threads_len, "run.threads=%.40s", argv[++i]);
+            if ((size_t)snprintf(threads_set, threads_len, "run.threads=%s", argv[++i]) >=
+                threads_len) {
+                fprintf(msg, "hsbd resume: --threads %.40s...: too long; allowed: 0 <= N <= 1024\n",
+                        argv[i]);
+                return EXIT_INPUT;
+            }
             sets[(*nsets)++] = threads_set;
         } else if (!strcmp(argv[i], "--set")) {
             if (i + 1 >= argc || argv[i + 1][0] == '-') {

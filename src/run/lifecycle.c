@@ -255,9 +255,9 @@ static int finish(run *r, int run_rc, hsbd_error *err) {
         return run_rc != HSBD_OK
                    ? run_rc
                    : hsbd_error_set(err, HSBD_EINTERRUPT,
-                                    "stopped after %llu of %llu steps of the extension; the "
-                                    "finished run's results in '%s' stay as they were "
-                                    "(hsbd resume %s goes on with the extension)",
+                                    "the extension stopped at step %llu of %llu; the finished "
+                                    "run's results in '%s' stay as they were (hsbd resume %s "
+                                    "goes on with the extension)",
                                     (unsigned long long)r->steps_done,
                                     (unsigned long long)hsbd_config_steps(r->cfg),
                                     r->cfg->output.dir, r->cfg->output.dir);
@@ -454,10 +454,8 @@ static int keep_source(resumed_source *rs, const char *const *sets, size_t nsets
     return 0;
 }
 
-/* Whether a --set names run.t_total or run.threads, the keys a resume may set (spaces
- * around the key allowed, as for hsbd run): a longer run, and threads, which change no
- * result. */
-static int resume_may_set(const char *set) {
+/* Whether a --set names key (spaces around it allowed, as for hsbd run). */
+static int set_names(const char *set, const char *key) {
     const char *eq = strchr(set, '=');
     if (!eq) return 0;
     while (*set == ' ' || *set == '\t')
@@ -465,8 +463,7 @@ static int resume_may_set(const char *set) {
     size_t len = (size_t)(eq - set);
     while (len > 0 && (set[len - 1] == ' ' || set[len - 1] == '\t'))
         --len;
-    return (len == strlen("run.t_total") && !strncmp(set, "run.t_total", len)) ||
-           (len == strlen("run.threads") && !strncmp(set, "run.threads", len));
+    return len == strlen(key) && !strncmp(set, key, len);
 }
 
 /* Build the run of a checkpoint: configuration, model (without an initial state), then
@@ -505,13 +502,16 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     if (rc == HSBD_OK && nsets > RUN_MAX_RESUME_SETS)
         rc = hsbd_error_set(err, HSBD_EINPUT, "resume: too many --set");
     for (size_t k = 0; k < nsets && rc == HSBD_OK; ++k) /* the two kept keys are not the user's */
-        if (!resume_may_set(sets[k]))
+        if (!set_names(sets[k], "run.t_total") && !set_names(sets[k], "run.threads"))
             rc = hsbd_error_set(err, HSBD_EINPUT,
                                 "resume: --set %s: a resumed run keeps its configuration; "
                                 "allowed: --set run.t_total=T (a longer run), --set "
                                 "run.threads=N (--threads N)",
                                 sets[k]);
-    if (rc == HSBD_OK && nsets > 0) {
+    int extends = 0; /* a run.t_total given (the threads change no result) */
+    for (size_t k = 0; k < nsets; ++k)
+        extends |= set_names(sets[k], "run.t_total");
+    if (rc == HSBD_OK && extends) {
         hsbd_config *old = malloc(sizeof *old);
         rc = old ? config_from_source(&src, NULL, 0, absdir, old, err)
                  : hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
@@ -532,7 +532,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     for (size_t k = 0; k < nsets; ++k)
         ext[next++] = sets[k];
     if (rc == HSBD_OK) rc = config_from_source(&src, ext, next, absdir, cfg, err);
-    if (rc == HSBD_OK && nsets > 0 && hsbd_config_steps(cfg) < planned_steps)
+    if (rc == HSBD_OK && extends && hsbd_config_steps(cfg) < planned_steps)
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: --set run.t_total=%g is shorter than the run's own %g; "
                             "allowed: run.t_total >= %g (a run is continued or extended, never "
@@ -590,6 +590,16 @@ int run_checkpoint_try_load(const char *dir, hsbd_error *err) {
     const int rc = load_checkpoint(&r, cfg, &rs, dir, NULL, 0, err);
     unload(&r, cfg, &rs);
     return rc;
+}
+
+/* The time of steps + 1 steps of dt in the fewest digits that give steps + 1 steps again
+ * (run.t_total / run.dt is rounded: %g alone may print the run's own time). */
+static void one_step_longer(uint64_t steps, double dt, char *out, size_t len) {
+    const double t = (double)(steps + 1) * dt;
+    for (int digits = 6; digits <= 17; ++digits) {
+        snprintf(out, len, "%.*g", digits, t);
+        if (llround(strtod(out, NULL) / dt) == (long long)(steps + 1)) return;
+    }
 }
 
 /* What dir's summary.json says: a completed run, and one of `steps` steps (summary.json,
@@ -696,12 +706,13 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     if (rc == HSBD_OK && r.stage == RUN_DONE && r.steps_done == hsbd_config_steps(cfg) &&
         results_written(dir, r.steps_done)) {
         restore_streams(&r, dir);
+        char longer[32];
+        one_step_longer(r.steps_done, cfg->run.dt, longer, sizeof longer);
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "resume: the run in '%s' is complete (%llu of %llu steps); to "
-                            "extend it: --set run.t_total=T with T >= %g (a step more at least)",
+                            "extend it: --set run.t_total=T with T >= %s (a step more at least)",
                             dir, (unsigned long long)r.steps_done,
-                            (unsigned long long)hsbd_config_steps(cfg),
-                            (double)(r.steps_done + 1) * cfg->run.dt);
+                            (unsigned long long)hsbd_config_steps(cfg), longer);
     }
     if (rc == HSBD_OK && r.stage == RUN_DONE) /* extended, or its results unwritten */
         r.stage = RUN_PRODUCING;

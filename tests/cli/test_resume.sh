@@ -226,6 +226,9 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     "$HSBD" run rods.ini --quiet --set run.t_total=1 --set sample.blocking=replicas --out extrep 2>/dev/null
     "$HSBD" resume extrep --set run.t_total=2 --quiet 2>err
     if [ $? = 2 ] && grep -q "replicas" err; then ok; else bad "extending replicas: $(cat err)"; fi
+    # threads are no extension: such a run resumes with other threads (here: it is complete)
+    "$HSBD" resume extrep --threads 1 --quiet 2>err
+    if [ $? = 2 ] && grep -q "is complete" err; then ok; else bad "replicas, --threads: $(cat err)"; fi
     "$HSBD" resume dmg --set system.N=10 --quiet 2>err
     if [ $? = 2 ] && grep -q "run.t_total" err; then ok; else bad "resume --set other key: $(cat err)"; fi
     # the two keys an extension keeps for itself are not the user's to set
