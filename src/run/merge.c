@@ -934,9 +934,15 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
  * run.replicas = R (with R = 0, the ranks of mpirun, as many as are there). */
 static int whole_ensemble(const char *out, const merge_source *src, size_t n, hsbd_error *err) {
     const long planned = src[0].planned;
-    long missing = -1;
-    for (size_t k = 0; planned > 0 && k < (size_t)planned && missing < 0; ++k)
+    long missing = -1; /* the first index missing from 0 .. R-1 (R unknown: from those there) */
+    for (size_t k = 0; k < (planned > 0 ? (size_t)planned : n) && missing < 0; ++k)
         if (k >= n || src[k].index != (long)k) missing = (long)k;
+    if (missing >= 0 && planned <= 0)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: the ensemble in '%s' lacks replica %ld (it holds replicas "
+                              "up to %ld); run it alone first: hsbd run CONFIG --replica %ld "
+                              "--out %s/replica-%ld",
+                              out, missing, src[n - 1].index, missing, out, missing);
     if (missing < 0 && (planned <= 0 || (long)n == planned)) return HSBD_OK;
     if (missing < 0)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -1047,8 +1053,15 @@ static int list_replica_dirs(const char *dir, char ***paths, size_t *n, hsbd_err
         char path[HSBD_PATH_MAX + 300];
         struct stat st;
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        if (!run_is_replica_name(e->d_name) || lstat(path, &st) != 0 || !S_ISDIR(st.st_mode))
-            continue;
+        if (!run_is_replica_name(e->d_name)) continue;
+        if (lstat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "merge: '%s' is not a directory (a symbolic link or a file): an "
+                                "ensemble's replicas are directories of its own; merge replicas "
+                                "kept elsewhere with hsbd merge OUT DIR...",
+                                path);
+            break;
+        }
         if (*n == cap) {
             char **more = realloc(*paths, (cap = 2 * cap + 8) * sizeof *more);
             if (!more) {
@@ -1066,6 +1079,27 @@ static int list_replica_dirs(const char *dir, char ***paths, size_t *n, hsbd_err
     return rc;
 }
 
+/* An ensemble's directory holds its replicas and, once merged, the merged files; a run of
+ * its own there (a checkpoint, or a summary that is no merge's) is not replaced. */
+static int no_results_of_its_own(const char *dir, hsbd_error *err) {
+    text_lines sum = {0};
+    const int summary = read_in(dir, "summary.json", &sum, &(hsbd_error){0}) == HSBD_OK;
+    int merged = 0;
+    char key[64];
+    for (size_t k = 0; summary && k < sum.n && !merged; ++k)
+        merged = json_entry(sum.line[k], 2, key, sizeof key) && !strcmp(key, "replica_indices");
+    text_free(&sum);
+    if (run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd") ||
+        (summary && !merged))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: '%s' holds the results of a run of its own (a checkpoint "
+                              "or its summary.json), which merging its replica directories into "
+                              "it would replace; merge them elsewhere (hsbd merge OUT %s/replica-0 "
+                              "...)",
+                              dir, dir);
+    return HSBD_OK;
+}
+
 /* hsbd merge DIR: the replicas of the ensemble in DIR merged into DIR, as the ensemble
  * does at its end (an ensemble that was stopped, its replicas continued one by one). */
 static int merge_ensemble_in_place(const char *dir, hsbd_error *err) {
@@ -1078,8 +1112,15 @@ static int merge_ensemble_in_place(const char *dir, hsbd_error *err) {
                             "an ensemble; allowed: hsbd merge OUT DIR DIR... (at least two "
                             "replicas), or hsbd merge DIR for the ensemble in DIR",
                             dir);
+    if (rc == HSBD_OK && n == 1)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "merge: the ensemble in '%s' holds one replica (%s); run the others "
+                            "alone first (hsbd run CONFIG --replica K --out %s/replica-K, with the "
+                            "ensemble's run.replicas)",
+                            dir, paths[0], dir);
     int lock = -1; /* no ensemble or other merge writes in dir meanwhile */
     if (rc == HSBD_OK) rc = run_dir_claim(dir, RUN_DIR_WRITE, &lock, err);
+    if (rc == HSBD_OK) rc = no_results_of_its_own(dir, err);
     if (rc == HSBD_OK) rc = run_merge_into(dir, (const char *const *)paths, n, 0, 0, err);
     run_dir_release(lock);
     free_names(paths, n);

@@ -232,6 +232,27 @@ then ok; else bad "merge DIR DIR/replica-K: $(cat err.txt)"; fi
 if "$HSBD" merge rods-stopped3; then
     same_merged "an ensemble completed with hsbd merge DIR" rods-stopped3 rods-one3
 else bad "merge DIR of a whole ensemble"; fi
+# hsbd merge DIR refuses: a DIR that holds a run of its own beside replica directories, a
+# replica that is a link, a single replica, and a gap in the replicas of an ensemble whose
+# size is not recorded (run.replicas = 0: the ranks of mpirun); a finished ensemble merges
+# again into the same bytes
+merge_dir_refused() { # merge_dir_refused WHAT PATTERN DIR
+    "$HSBD" merge "$3" 2>err.txt
+    local rc=$?
+    if [ $rc -eq 2 ] && grep -q -- "$2" err.txt; then ok
+    else bad "merge DIR ($1): exit $rc, $(cat err.txt)"; fi
+}
+cp -r rods-plain own-run && cp -r rods-one3/replica-0 rods-one3/replica-1 own-run/
+merge_dir_refused "a run of its own" "holds the results of a run of its own" own-run
+mkdir linked && cp -r rods-one3/replica-1 linked/ && ln -s "$PWD/rods-one3/replica-0" linked/replica-0
+merge_dir_refused "a replica that is a link" "'linked/replica-0' is not a directory" linked
+mkdir single && cp -r rods-r0 single/replica-0
+merge_dir_refused "one replica" "holds one replica" single
+mkdir gap && cp -r rods-r0 gap/replica-0 && cp -r rods-r2 gap/replica-2
+merge_dir_refused "a gap" "lacks replica 1 (it holds replicas up to 2)" gap
+cp -r rods-one3 again
+if "$HSBD" merge again; then same_merged "a finished ensemble merged again" again rods-one3
+else bad "merge DIR of a finished ensemble"; fi
 # the merged blocks tables name each column by its replica
 "$HSBD" merge rods-merged20 rods-r2 rods-r0 || bad "merge of replicas 2 and 0"
 if grep -q "^x	replica_0	replica_2$" rods-merged20/density_blocks.tsv; then ok
