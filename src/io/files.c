@@ -193,15 +193,23 @@ int run_is_replica_name(const char *name) {
     return 1;
 }
 
+int run_dir_holds_checkpoint(const char *dir) {
+    return run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd");
+}
+
+int run_replica_entry(const char *dir, const char *name) {
+    if (!run_is_replica_name(name)) return 0;
+    char path[HSBD_PATH_MAX + 300];
+    struct stat st;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return lstat(path, &st) == 0 && S_ISDIR(st.st_mode) ? 1 : -1;
+}
+
 int run_dir_holds_replicas(const char *dir) {
     DIR *d = opendir(dir);
     int found = 0;
-    for (struct dirent *e; d && !found && (e = readdir(d));) {
-        char path[HSBD_PATH_MAX + 300];
-        struct stat st;
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        found = run_is_replica_name(e->d_name) && lstat(path, &st) == 0 && S_ISDIR(st.st_mode);
-    }
+    for (struct dirent *e; d && !found && (e = readdir(d));)
+        found = run_replica_entry(dir, e->d_name) > 0;
     if (d) closedir(d);
     return found;
 }
@@ -221,11 +229,7 @@ int run_dir_check_earlier(const char *dir, int replica_dirs, hsbd_error *err) {
     for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
         if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..") || is_run_output(e->d_name))
             continue;
-        char path[HSBD_PATH_MAX + 300];
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        struct stat st;
-        const int replica =
-            run_is_replica_name(e->d_name) && lstat(path, &st) == 0 && S_ISDIR(st.st_mode);
+        const int replica = run_replica_entry(dir, e->d_name) > 0;
         if (replica && replica_dirs) continue;
         if (replica)
             rc = hsbd_error_set(err, HSBD_EINPUT,
@@ -403,14 +407,13 @@ int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err) {
     struct stat st;
     if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) {
         const int empty = run_dir_is_empty(dir);
-        const int resumable =
-            run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd");
         if (!empty && !force && run_dir_holds_replicas(dir))
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "output directory '%s' already exists and holds an ensemble's "
                                   "replicas; choose another --out, or pass --force to an "
                                   "ensemble to replace them",
                                   dir);
+        const int resumable = !empty && !force && run_dir_holds_checkpoint(dir);
         if (!empty && !force)
             return hsbd_error_set(
                 err, HSBD_EINPUT,

@@ -23,8 +23,13 @@ int run_path_nesting(const char *a, const char *b);
 size_t run_path_bare(const char *path, char *out, size_t len);
 /* Does dir hold a regular file of this name? */
 int run_dir_holds(const char *dir, const char *name);
+/* Does dir hold a checkpoint (checkpoint.hsbd or checkpoint.prev.hsbd)? */
+int run_dir_holds_checkpoint(const char *dir);
 /* "replica-<digits>": the name of an ensemble's replica directory */
 int run_is_replica_name(const char *name);
+/* Entry name of dir: a replica directory (1), a replica's name on something else, a link
+ * or a file (-1), or another name (0). */
+int run_replica_entry(const char *dir, const char *name);
 /* Does dir hold a replica directory (an ensemble's run directory)? */
 int run_dir_holds_replicas(const char *dir);
 /* One writer per run directory: hsbd run, hsbd resume and hsbd merge (into OUT) hold an

@@ -679,13 +679,11 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     resumed_source rs = {0};
     int lock = -1; /* a second resume of the same run is refused, not raced (a directory
                     * without checkpoints gets no lock file: the load refuses it) */
-    int rc = run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd")
-                 ? run_dir_claim(dir, RUN_DIR_WRITE, &lock, err)
-                 : HSBD_OK;
+    int rc =
+        run_dir_holds_checkpoint(dir) ? run_dir_claim(dir, RUN_DIR_WRITE, &lock, err) : HSBD_OK;
     const int had_checkpoint = lock >= 0;
     if (rc == HSBD_OK) rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
-    if (rc == HSBD_EINPUT && !had_checkpoint && !run_dir_holds(dir, "checkpoint.hsbd") &&
-        !run_dir_holds(dir, "checkpoint.prev.hsbd"))
+    if (rc == HSBD_EINPUT && !had_checkpoint && !run_dir_holds_checkpoint(dir))
         why_no_checkpoint(dir, err);
     /* a run's first checkpoint may have landed between the test above and the load: a run
      * still going holds the directory, so the claim refuses this resume; one that ended in

@@ -162,12 +162,10 @@ static int load_source(merge_source *s, hsbd_error *err) {
         const char *v = json_entry(s->sum.line[k], 2, key, sizeof key);
         if (v && !strcmp(key, "completed")) completed = !strncmp(v, "true", 4);
         if (v && !strcmp(key, "parameters")) s->params = k;
-        if (s->params && k > s->params && (v = json_entry(s->sum.line[k], 6, key, sizeof key)) &&
-            !strcmp(key, "replica"))
-            found = replica_index(v, &s->index) ? 1 : -1;
-        if (s->params && k > s->params && (v = json_entry(s->sum.line[k], 6, key, sizeof key)) &&
-            !strcmp(key, "replicas"))
-            s->planned = strtol(v, NULL, 10);
+        if (!s->params || k <= s->params || !(v = json_entry(s->sum.line[k], 6, key, sizeof key)))
+            continue; /* below: run.replica and run.replicas, in the parameters */
+        if (!strcmp(key, "replica")) found = replica_index(v, &s->index) ? 1 : -1;
+        if (!strcmp(key, "replicas")) s->planned = strtol(v, NULL, 10);
     }
     if (found < 0)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -1050,11 +1048,11 @@ static int list_replica_dirs(const char *dir, char ***paths, size_t *n, hsbd_err
     size_t cap = 0;
     int rc = HSBD_OK;
     for (struct dirent *e; rc == HSBD_OK && (e = readdir(d));) {
+        const int replica = run_replica_entry(dir, e->d_name);
+        if (!replica) continue;
         char path[HSBD_PATH_MAX + 300];
-        struct stat st;
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        if (!run_is_replica_name(e->d_name)) continue;
-        if (lstat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        if (replica < 0) {
             rc = hsbd_error_set(err, HSBD_EINPUT,
                                 "merge: '%s' is not a directory (a symbolic link or a file): an "
                                 "ensemble's replicas are directories of its own; merge replicas "
@@ -1089,8 +1087,7 @@ static int no_results_of_its_own(const char *dir, hsbd_error *err) {
     for (size_t k = 0; summary && k < sum.n && !merged; ++k)
         merged = json_entry(sum.line[k], 2, key, sizeof key) && !strcmp(key, "replica_indices");
     text_free(&sum);
-    if (run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd") ||
-        (summary && !merged))
+    if (run_dir_holds_checkpoint(dir) || (summary && !merged))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: '%s' holds the results of a run of its own (a checkpoint "
                               "or its summary.json), which merging its replica directories into "
