@@ -197,6 +197,19 @@ int run_dir_holds_checkpoint(const char *dir) {
     return run_dir_holds(dir, "checkpoint.hsbd") || run_dir_holds(dir, "checkpoint.prev.hsbd");
 }
 
+int run_dir_holds_run(const char *dir) {
+    if (run_dir_holds_checkpoint(dir)) return 1;
+    char path[HSBD_PATH_MAX + 300], line[256];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    FILE *f = run_dir_holds(dir, "summary.json") ? fopen(path, "r") : NULL;
+    if (!f) return 0;
+    int merged = 0;
+    while (!merged && fgets(line, sizeof line, f))
+        merged = strstr(line, "\"replica_indices\":") != NULL;
+    fclose(f);
+    return !merged;
+}
+
 int run_replica_entry(const char *dir, const char *name) {
     if (!run_is_replica_name(name)) return 0;
     char path[HSBD_PATH_MAX + 300];

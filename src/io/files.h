@@ -25,6 +25,9 @@ size_t run_path_bare(const char *path, char *out, size_t len);
 int run_dir_holds(const char *dir, const char *name);
 /* Does dir hold a checkpoint (checkpoint.hsbd or checkpoint.prev.hsbd)? */
 int run_dir_holds_checkpoint(const char *dir);
+/* Does dir hold a run's own results: a checkpoint, or a summary.json that is no merge's
+ * (a merge's lists "replica_indices")? */
+int run_dir_holds_run(const char *dir);
 /* "replica-<digits>": the name of an ensemble's replica directory */
 int run_is_replica_name(const char *name);
 /* Entry name of dir: a replica directory (1), a replica's name on something else, a link

@@ -215,6 +215,12 @@ int hsbd_ensemble_prepare(const hsbd_config *cfg, int force, hsbd_ensemble_claim
                               "continue an interrupted ensemble replica by replica (hsbd "
                               "resume %s/replica-K, then hsbd merge %s)",
                               dir, dir, dir);
+    if (run_dir_holds_run(dir))
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "output directory '%s' holds a single run (its checkpoint or "
+                              "summary.json): an ensemble's --force replaces only an earlier "
+                              "ensemble's results, never a run's; choose another --out",
+                              dir);
     return set_earlier_aside(cfg, claim, err);
 }
 

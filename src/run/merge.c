@@ -897,8 +897,19 @@ static int make_file(merged_file *m, const char *name, const merge_source *src, 
     return rc;
 }
 
+/* The line that merges `first` and dirs into a new OUT, for messages: "hsbd merge MERGED
+ * first a b ..." */
+static void merge_line(char *line, size_t len, const char *first, const char *const *dirs,
+                       size_t ndirs) {
+    int used = snprintf(line, len, "hsbd merge MERGED %s", first);
+    for (size_t k = 0; k < ndirs && used >= 0 && (size_t)used < len; ++k)
+        used += snprintf(line + used, len - (size_t)used, " %s", dirs[k]);
+}
+
 /* The output directory of hsbd merge: a path of usable length, no run directory merged
- * (nor one inside it: --force would clear it first), and empty unless force. */
+ * (nor one inside it: --force would clear it first), never a run, a replica or an
+ * ensemble (whatever --force says: only an earlier merge's result is replaced), and empty
+ * unless force. */
 static int check_out(const char *out, const char *const *dirs, size_t ndirs, int force,
                      hsbd_error *err) {
     if (!out[0]) return hsbd_error_set(err, HSBD_EINPUT, "merge: OUT is empty; name a directory");
@@ -920,10 +931,23 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
                                                  : "",
                                   replica_of_out ? out : "", replica_of_out ? ")" : "");
     }
+    const int ensemble = run_dir_holds_replicas(out);
+    if (ensemble || run_dir_holds_run(out)) {
+        char line[512];
+        merge_line(line, sizeof line, out, dirs, ndirs);
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "merge: OUT '%s' holds %s, which merge never replaces (with or "
+                              "without --force); if it is an input run, name a new OUT first: "
+                              "%s",
+                              out,
+                              ensemble ? "an ensemble's replicas"
+                                       : "a run (its checkpoint or summary.json)",
+                              line);
+    }
     if (!force && !run_dir_is_empty(out))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: OUT '%s' already exists and is not empty; choose another "
-                              "OUT, or pass --force to replace an earlier result's files",
+                              "OUT, or pass --force to replace an earlier merge's result",
                               out);
     return HSBD_OK;
 }
@@ -1078,16 +1102,9 @@ static int list_replica_dirs(const char *dir, char ***paths, size_t *n, hsbd_err
 }
 
 /* An ensemble's directory holds its replicas and, once merged, the merged files; a run of
- * its own there (a checkpoint, or a summary that is no merge's) is not replaced. */
+ * its own there is not replaced. */
 static int no_results_of_its_own(const char *dir, hsbd_error *err) {
-    text_lines sum = {0};
-    const int summary = read_in(dir, "summary.json", &sum, &(hsbd_error){0}) == HSBD_OK;
-    int merged = 0;
-    char key[64];
-    for (size_t k = 0; summary && k < sum.n && !merged; ++k)
-        merged = json_entry(sum.line[k], 2, key, sizeof key) && !strcmp(key, "replica_indices");
-    text_free(&sum);
-    if (run_dir_holds_checkpoint(dir) || (summary && !merged))
+    if (run_dir_holds_run(dir))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: '%s' holds the results of a run of its own (a checkpoint "
                               "or its summary.json), which merging its replica directories into "

@@ -8,7 +8,9 @@
 # another content of an input file, the same replica twice, a run that is no replica, a
 # single directory, an unfinished replica, a table that one replica lacks, a cell that is
 # no number, a table cut short, an OUT that is or holds an input or is too long (exit 2,
-# nothing written); a table of more than 64 columns merges whole. An ensemble's --force
+# nothing written), and an OUT holding a run, a replica or an ensemble even with --force
+# (OUT forgotten: the message shows the line with a new OUT; --force replaces an earlier
+# merge's result only; an ensemble's --force never replaces a single run); a table of more than 64 columns merges whole. An ensemble's --force
 # keeps the earlier results when the input is bad (set aside as DIR.earlier when a later
 # replica is refused), refuses an input inside DIR and a replica directory that is a link
 # before it moves anything; an ensemble's own merge that fails leaves no merged file. A
@@ -304,6 +306,31 @@ then ok; else bad "merge --force into one of its inputs: exit $rc, $(cat err.txt
 rc=$?
 if [ $rc -eq 2 ] && grep -q "is or holds" err.txt && [ -e rods-one3/replica-0/summary.json ]
 then ok; else bad "merge --force into a directory holding an input: exit $rc"; fi
+# OUT forgotten (hsbd merge rep0 rep1 rep2): a run, a replica or an ensemble is never
+# replaced, with or without --force, and the message shows the line with a new OUT; an
+# earlier merge's result is replaced with --force only
+cp -r rods-r0 rods-k0 && cp -r rods-r1 rods-k1 && cp -r rods-r2 rods-k2
+for force in "" --force; do
+    "$HSBD" merge $force rods-k0 rods-k1 rods-k2 >/dev/null 2>err.txt
+    rc=$?
+    if [ $rc -eq 2 ] && grep -q "holds a run" err.txt &&
+        grep -q "hsbd merge MERGED rods-k0 rods-k1 rods-k2" err.txt &&
+        diff -r rods-k0 rods-r0 >/dev/null; then ok
+    else bad "merge $force over a replica (OUT forgotten): exit $rc, $(cat err.txt)"; fi
+done
+"$HSBD" merge --force rods-one2 rods-k1 rods-k2 >/dev/null 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "holds an ensemble's replicas" err.txt &&
+    [ -e rods-one2/replica-0/checkpoint.hsbd ]; then ok
+else bad "merge --force over an ensemble: exit $rc, $(cat err.txt)"; fi
+"$HSBD" merge rods-k-merged rods-k0 rods-k1 || bad "merge of k0 k1"
+"$HSBD" merge --force rods-k-merged rods-k1 rods-k2 2>err.txt && grep -q '"replica_indices": \[1, 2\]' \
+    rods-k-merged/summary.json && ok || bad "merge --force over an earlier merge: $(cat err.txt)"
+# an ensemble's --force never replaces a single run
+"$HSBD" run rods.ini --quiet --force --set run.replicas=2 --out rods-k0 2>err.txt
+rc=$?
+if [ $rc -eq 2 ] && grep -q "holds a single run" err.txt && diff -r rods-k0 rods-r0 >/dev/null
+then ok; else bad "ensemble --force over a run: exit $rc, $(cat err.txt)"; fi
 
 # a table of more than 64 columns (40 phases of a drive: 81) merges whole
 "$HSBD" run rods.ini --quiet --set field.type=cosine --set drive.parameter=amplitude \
@@ -611,11 +638,15 @@ in_use() { # in_use WHAT DIR CMD...: exit 2, "is in use", DIR unchanged
         [ "$(ls -AR "$dir"; cat "$dir"/* 2>/dev/null | sha256sum)" = "$before" ]; then ok
     else bad "$what while it is written: exit $rc, $(cat err.txt)"; fi
 }
-"$HSBD" run rods.ini --quiet --out busy-run || bad "busy-run"
-hold busy-run
-in_use "ensemble --force over a run" busy-run "$HSBD" run rods.ini --quiet --force \
-    --set run.replicas=2 --out busy-run
-in_use "merge --force into a run" busy-run "$HSBD" merge --force busy-run rods-r0 rods-r1
+cp -r rods-one2 busy-ens
+hold busy-ens
+in_use "ensemble --force over an ensemble" busy-ens "$HSBD" run rods.ini --quiet --force \
+    --set run.replicas=2 --out busy-ens
+release
+"$HSBD" merge busy-merge rods-r0 rods-r1 || bad "busy-merge"
+hold busy-merge
+in_use "merge --force into an earlier merge" busy-merge "$HSBD" merge --force busy-merge rods-r0 \
+    rods-r1
 release
 hold rods-one3/replica-1
 in_use "ensemble --force over a replica" rods-one3 "$HSBD" run rods.ini --quiet --force \
