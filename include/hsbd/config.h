@@ -128,6 +128,7 @@ typedef struct hsbd_config {
         double trajectory_every;
         int checkpoints;         /* write checkpoints (resumable runs) */
         double checkpoint_every; /* simulated time between them (0: by wall time) */
+        double checkpoint_wall;  /* wall-clock seconds between them (the first: a tenth) */
     } output;
     struct {
         char positions[HSBD_PATH_MAX];

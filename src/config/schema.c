@@ -251,8 +251,13 @@ const key_spec config_schema[] = {
      "bit; taking one never changes the results"},
     {"output", "checkpoint_every", ALL_MODELS, K_DOUBLE, OFF(output.checkpoint_every), 0, INF,
      OPEN_MAX | NO_HEADER, "0", 0,
-     "simulated time between checkpoints (0: one every 10 minutes of wall time, so that an "
-     "interruption loses at most that much); a stopped or finished run always writes one"},
+     "simulated time between checkpoints (0: by wall time, output.checkpoint_wall); a "
+     "stopped or finished run always writes one"},
+    {"output", "checkpoint_wall", ALL_MODELS, K_DOUBLE, OFF(output.checkpoint_wall), 0, INF,
+     OPEN_MIN | OPEN_MAX | NO_HEADER, "600", 0,
+     "wall-clock seconds between checkpoints when output.checkpoint_every = 0; the first "
+     "comes after a tenth of it (1 minute by default), also with checkpoint_every, so that "
+     "a run killed at any moment (kill -9, a lost node) loses at most one interval"},
     {"init", "positions", ALL_MODELS, K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
      "file with initial positions; rods: one per line ('#' comments), default an exact "
      "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "

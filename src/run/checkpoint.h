@@ -8,8 +8,6 @@
 
 #include "run/run.h"
 
-/* Wall time between checkpoints when output.checkpoint_every is 0 (seconds). */
-#define HSBD_CHECKPOINT_WALL 600.0
 #define HSBD_CHECKPOINT_FILE "checkpoint.hsbd"
 #define HSBD_CHECKPOINT_PREV "checkpoint.prev.hsbd"
 

@@ -117,24 +117,30 @@ static void leave_equilibration(run *r) {
 }
 
 /* When the next checkpoint is due: every output.checkpoint_every of simulated time, or
- * (0, the default) every HSBD_CHECKPOINT_WALL seconds of wall time. Taking one never
- * changes the results, so either rule is safe. */
+ * (0, the default) every output.checkpoint_wall seconds of wall time; the first one, by
+ * either rule, after a tenth of checkpoint_wall at the latest, so that a run killed early
+ * (kill -9, a lost node) leaves something to resume. Taking one never changes the results,
+ * so every rule is safe. */
 typedef struct checkpoint_clock {
     int enabled;
     uint64_t every_steps; /* > 0: by simulated time */
     uint64_t steps_since;
-    double wall_last;
+    double wall_last, wall_every;
+    int taken; /* one was taken by this process */
 } checkpoint_clock;
 
 static int checkpoint_due(checkpoint_clock *c, int at_poll) {
     if (!c->enabled) return 0;
+    const double waited = at_poll ? hsbd_wall_seconds() - c->wall_last : 0;
+    if (!c->taken && waited >= 0.1 * c->wall_every) return 1;
     if (c->every_steps) return c->steps_since >= c->every_steps;
-    return at_poll && hsbd_wall_seconds() - c->wall_last >= HSBD_CHECKPOINT_WALL;
+    return waited >= c->wall_every;
 }
 
 static int take_checkpoint(run *r, checkpoint_clock *c, hsbd_error *err) {
     c->steps_since = 0;
     c->wall_last = hsbd_wall_seconds();
+    c->taken = 1;
     return run_checkpoint_write(r, err);
 }
 
@@ -160,7 +166,8 @@ static int run_loop(run *r, uint64_t budget, hsbd_error *err) {
     const uint64_t nprod = hsbd_config_steps(cfg), nequil = hsbd_config_equil_steps(cfg);
     checkpoint_clock ck = {.enabled = r->model.save != NULL && cfg->output.checkpoints,
                            .every_steps = run_every(cfg, cfg->output.checkpoint_every),
-                           .wall_last = hsbd_wall_seconds()};
+                           .wall_last = hsbd_wall_seconds(),
+                           .wall_every = cfg->output.checkpoint_wall};
     hsbd_progress pr;
     int shown = -1;
     stage_clock clock = {hsbd_wall_seconds(), cpu_seconds()};
@@ -651,8 +658,8 @@ static void restore_streams(run *r, const char *dir) {
 }
 
 /* A directory without a checkpoint: in use by a run that has not reached its first
- * checkpoint, or an ensemble's, whose replicas hold them; said in err instead of "no
- * usable checkpoint" (which stays otherwise). */
+ * checkpoint, an ensemble's, whose replicas hold them, or one whose run stopped before its
+ * first; said in err instead of "no usable checkpoint". */
 static void why_no_checkpoint(const char *dir, hsbd_error *err) {
     int probe;
     hsbd_error busy;
@@ -668,6 +675,15 @@ static void why_no_checkpoint(const char *dir, hsbd_error *err) {
                        "checkpoints: continue each that stopped (hsbd resume %s/replica-K), "
                        "then merge them into it (hsbd merge %s)",
                        dir, dir, dir);
+    else if (access(dir, F_OK) != 0)
+        hsbd_error_set(err, HSBD_EINPUT, "resume: '%s': %s", dir, strerror(errno));
+    else
+        hsbd_error_set(err, HSBD_EINPUT,
+                       "resume: '%s' holds no checkpoint: its run stopped before its first one, "
+                       "due after a tenth of output.checkpoint_wall (1 minute by default) or "
+                       "one output.checkpoint_every, whichever came first; nothing there can be "
+                       "continued: run it again (hsbd run CONFIG --out %s --force)",
+                       dir, dir);
 }
 
 int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hsbd_run_options *opt,

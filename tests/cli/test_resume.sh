@@ -15,7 +15,9 @@
 # refused for a damaged stream, lose nothing; a run started with
 # --force past the sticky step check resumes; --force replaces every output of a run; a
 # directory another process writes is refused to a resume (also before the run's first
-# checkpoint, named as in use) and to run --force; --threads may change on a resume; a shorter run.t_total and one that
+# checkpoint, named as in use) and to run --force; the first checkpoint comes after a
+# tenth of output.checkpoint_wall (a run killed with -9 after it resumes), and a run killed
+# before it is named as such; --threads may change on a resume; a shorter run.t_total and one that
 # adds no step are refused, naming the least extension; a resume
 # racing a starting run (its window opened by strace, which CI installs) takes the newest
 # checkpoint or none.
@@ -331,6 +333,29 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     else bad "resume of a run before its first checkpoint: $(cat err)"; fi
     pkill -P $starter sleep
     wait $starter 2>/dev/null
+    # the first checkpoint comes after a tenth of output.checkpoint_wall (here 1 s of 10),
+    # not a whole interval: a run killed with -9 after it resumes (here stopped again at
+    # once by SIGTERM, which records the resume); killed before it, the message says why
+    "$HSBD" run rods.ini --quiet --set run.t_total=1e4 --set output.checkpoint_every=0 \
+        --set output.checkpoint_wall=10 --out early 2>/dev/null &
+    early=$!
+    for _ in $(seq 150); do [ -e early/checkpoint.hsbd ] && break; sleep 0.1; done
+    kill -9 $early 2>/dev/null
+    wait $early 2>/dev/null
+    if [ -e early/checkpoint.hsbd ]; then
+        timeout -s TERM 2 "$HSBD" resume early --quiet 2>/dev/null
+        if grep -q '^  "resumes": 1,$' early/summary.json; then ok
+        else bad "resume after kill -9 past the first checkpoint: $(cat early/summary.json 2>&1)"; fi
+    else bad "no checkpoint within 15 s with output.checkpoint_wall = 10"; fi
+    "$HSBD" run rods.ini --quiet --set run.t_total=1e4 --set output.checkpoint_every=0 \
+        --out killed0 2>/dev/null &
+    killed=$!
+    while [ ! -e killed0/.hsbd.lock ]; do sleep 0.02; done
+    kill -9 $killed
+    wait $killed 2>/dev/null
+    "$HSBD" resume killed0 --quiet 2>err
+    if [ $? -eq 2 ] && grep -q "stopped before its first one.*run it again" err; then ok
+    else bad "resume of a run killed before its first checkpoint: $(cat err)"; fi
     pkill -P $holder sleep
     wait $holder 2>/dev/null
     if "$HSBD" resume locked --quiet --set run.t_total=1 2>err; then ok
