@@ -22,6 +22,9 @@ typedef struct hsbd_field_ops {
                       double *restrict f);
     /* potential energy at x (energy); the force is its negative derivative */
     double (*potential)(const hsbd_field_term *term, double x);
+    /* largest |U''(x)| of the term as its parameters stand (energy / length^2); NULL:
+     * unknown (left out of hsbd_field_max_curvature) */
+    double (*max_curvature)(const hsbd_field_term *term);
     /* 1 + the index into p[] of the parameter a drive may change, 0: none (so terms of
      * older code have no drivable parameter): the strength (tilt force, cosine amplitude
      * U0, harmonic stiffness) and the position (cosine shift, harmonic centre) */
@@ -73,6 +76,10 @@ HSBD_API void hsbd_field_force(const hsbd_field *field, size_t n, const double *
                                double *restrict f);
 /* the potential of the terms as constructed (a drive's time dependence left out) */
 HSBD_API double hsbd_field_potential(const hsbd_field *field, double x);
+/* An upper bound of max |U''| (energy / length^2): the sum over the terms of each one's
+ * largest curvature, a driven strength at its largest magnitude |p(0)| + |amplitude| (a
+ * drive's steady velocity left out). It sets the field's time scale 1 / (mu max|U''|). */
+HSBD_API double hsbd_field_max_curvature(const hsbd_field *field);
 
 /* ---- drives (time-dependent terms) ---- */
 enum hsbd_drive_target { HSBD_DRIVE_STRENGTH = 0, HSBD_DRIVE_POSITION = 1 };

@@ -246,8 +246,10 @@ HSBD_API void hsbd_clusters_means(const hsbd_clusters *c, double *mean_size, dou
 #define HSBD_SCHEME_COLLISIONS_MAX 0.5
 enum { HSBD_WARNING_LEN = 256 };
 typedef struct hsbd_scheme_check {
-    double step_over_sigma;              /* largest <|dr_i|> / sigma_i over the particles, Eq. 6 */
-    double step_over_gap;                /* largest <|dr_i|> over rho^(-1/d) - <sigma>, Eq. 3 */
+    double step_over_sigma; /* largest <|dr_i|> / sigma_i over the particles, Eq. 6 */
+    double step_over_gap;   /* largest <|dr_i|> over the mean gap (Eq. 3): the nearest-neighbour
+                             * distance of the densest lattice at the number density (fcc,
+                             * hexagonal) minus <sigma>; NaN at or beyond close packing */
     double collisions_per_particle_step; /* as measured (NaN: not yet) */
 } hsbd_scheme_check;
 /* From the view's diameters and D (<|dr_i|> = E|N_d| sqrt(2 D_i dt)) and a measured

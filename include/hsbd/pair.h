@@ -64,5 +64,7 @@ HSBD_API double hsbd_pair_force(const hsbd_pair *pair, double r);
 HSBD_API double hsbd_pair_potential(const hsbd_pair *pair, double r);
 /* max |f(r)| over [r_lo, r_hi] (dense sampling plus golden-section refinement). */
 HSBD_API double hsbd_pair_max_force(const hsbd_pair *pair, double r_lo, double r_hi);
+/* max |V''(r)| = max |f'(r)| over [r_lo, r_hi] (central differences of dense samples). */
+HSBD_API double hsbd_pair_max_curvature(const hsbd_pair *pair, double r_lo, double r_hi);
 
 #endif

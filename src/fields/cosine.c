@@ -33,11 +33,18 @@ static double cosine_potential(const hsbd_field_term *t, double x) {
     return 0.5 * t->p[COS_U0] * cos(two_pi * r / lambda);
 }
 
+/* U'' = -(2 pi^2 U0 / lambda^2) cos(...) */
+static double cosine_max_curvature(const hsbd_field_term *t) {
+    const double pi = 3.141592653589793, lambda = t->p[COS_LAMBDA];
+    return 2 * pi * pi * fabs(t->p[COS_U0]) / (lambda * lambda);
+}
+
 static const hsbd_field_ops cosine_ops = {.name = "cosine",
                                           .strength = COS_U0 + 1,
                                           .position = COS_SHIFT + 1,
                                           .add_force = cosine_add_force,
-                                          .potential = cosine_potential};
+                                          .potential = cosine_potential,
+                                          .max_curvature = cosine_max_curvature};
 
 hsbd_field_term hsbd_field_cosine(double amplitude_u0, double wavelength) {
     hsbd_field_term t = {.ops = &cosine_ops};

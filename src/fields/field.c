@@ -17,6 +17,18 @@ double hsbd_field_potential(const hsbd_field *field, double x) {
     return u;
 }
 
+double hsbd_field_max_curvature(const hsbd_field *field) {
+    double sum = 0.0;
+    for (size_t k = 0; k < field->nterms; ++k) {
+        hsbd_field_term t = field->term[k];
+        const hsbd_drive *d = &t.drive;
+        if (d->wave != HSBD_WAVE_NONE && d->param == t.ops->strength - 1)
+            t.p[d->param] = fabs(t.p[d->param]) + fabs(d->amplitude);
+        sum += t.ops->max_curvature ? t.ops->max_curvature(&t) : 0.0; /* a user's term */
+    }
+    return sum;
+}
+
 int hsbd_field_add(hsbd_field *field, hsbd_field_term term) {
     if (field->nterms >= HSBD_MAX_FIELD_TERMS) return -1;
     field->term[field->nterms++] = term;

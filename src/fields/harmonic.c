@@ -24,11 +24,16 @@ static double harmonic_potential(const hsbd_field_term *t, double x) {
     return 0.5 * t->p[HARM_K] * d * d;
 }
 
+static double harmonic_max_curvature(const hsbd_field_term *t) {
+    return fabs(t->p[HARM_K]);
+}
+
 static const hsbd_field_ops harmonic_ops = {.name = "harmonic",
                                             .strength = HARM_K + 1,
                                             .position = HARM_CENTER + 1,
                                             .add_force = harmonic_add_force,
-                                            .potential = harmonic_potential};
+                                            .potential = harmonic_potential,
+                                            .max_curvature = harmonic_max_curvature};
 
 hsbd_field_term hsbd_field_harmonic(double stiffness, double center, double period) {
     hsbd_field_term t = {.ops = &harmonic_ops};

@@ -150,6 +150,18 @@ double hsbd_pair_potential(const hsbd_pair *pair, double r) {
     return v;
 }
 
+double hsbd_pair_max_curvature(const hsbd_pair *pair, double r_lo, double r_hi) {
+    enum { SAMPLES = 4096 };
+    const double step = (r_hi - r_lo) / SAMPLES;
+    double best = 0.0, f_prev = hsbd_pair_force(pair, r_lo);
+    for (int k = 1; k <= SAMPLES; ++k) {
+        const double f = hsbd_pair_force(pair, r_lo + k * step);
+        best = fmax(best, fabs(f - f_prev) / step);
+        f_prev = f;
+    }
+    return best;
+}
+
 double hsbd_pair_max_force(const hsbd_pair *pair, double r_lo, double r_hi) {
     enum { SAMPLES = 4096 };
     const double step = (r_hi - r_lo) / SAMPLES;

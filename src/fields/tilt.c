@@ -13,11 +13,17 @@ static double tilt_potential(const hsbd_field_term *t, double x) {
     return -t->p[0] * x;
 }
 
+static double tilt_max_curvature(const hsbd_field_term *t) {
+    (void)t;
+    return 0.0;
+}
+
 static const hsbd_field_ops tilt_ops = {.name = "tilt",
                                         .strength = 1,
                                         .position = 0,
                                         .add_force = tilt_add_force,
-                                        .potential = tilt_potential};
+                                        .potential = tilt_potential,
+                                        .max_curvature = tilt_max_curvature};
 
 hsbd_field_term hsbd_field_tilt(double force) {
     hsbd_field_term t = {.ops = &tilt_ops};

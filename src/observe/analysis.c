@@ -26,10 +26,15 @@ void hsbd_scheme_check_compute(const hsbd_spheres_view *v, double collisions_per
     }
     for (int a = 0; a < v->dimension; ++a)
         volume *= v->box[a];
-    /* Eq. 3: rho^(-1/d) - sigma, with the particles' mean diameter */
-    const double gap = pow(volume / (double)v->n, 1.0 / v->dimension) - sum_sigma / (double)v->n;
+    /* Eq. 3's mean gap rho^(-1/d) - sigma turns negative at phi = pi/6 (3D), pi/4 (2D), in
+     * fluids that are still far from dense; the nearest-neighbour distance of the densest
+     * lattice at the same number density (fcc: rho a^3 = sqrt 2; hexagonal: rho a^2 =
+     * 2 / sqrt 3) stays positive up to close packing and equals rho^(-1/d) within 12 % */
+    const double per = v->dimension == 3 ? sqrt(2.0) : 2.0 / sqrt(3.0);
+    const double gap =
+        pow(per * volume / (double)v->n, 1.0 / v->dimension) - sum_sigma / (double)v->n;
     out->step_over_sigma = worst_sigma;
-    out->step_over_gap = gap > 0 ? worst_step / gap : INFINITY;
+    out->step_over_gap = gap > 0 ? worst_step / gap : NAN; /* none at close packing */
     out->collisions_per_particle_step = collisions_per_particle_step;
 }
 
@@ -42,8 +47,9 @@ int hsbd_scheme_check_warnings(const hsbd_scheme_check *c, char (*msg)[HSBD_WARN
                  c->step_over_sigma, HSBD_SCHEME_STEP_SIGMA_MAX);
     if (n < max && c->step_over_gap > HSBD_SCHEME_STEP_GAP_MAX)
         snprintf(msg[n++], HSBD_WARNING_LEN,
-                 "the mean step is %.3g of the mean gap rho^(-1/d) - sigma: binary collisions "
-                 "need << 1 (Scala Eq. 3; warned above %g; smaller run.dt)",
+                 "the mean step is %.3g of the mean gap (the lattice spacing at this density "
+                 "minus sigma): binary collisions need << 1 (Scala Eq. 3; warned above %g; "
+                 "smaller run.dt)",
                  c->step_over_gap, HSBD_SCHEME_STEP_GAP_MAX);
     if (n < max && c->collisions_per_particle_step > HSBD_SCHEME_COLLISIONS_MAX)
         snprintf(msg[n++], HSBD_WARNING_LEN,

@@ -17,6 +17,23 @@ static hsbd_field_term driven(const hsbd_config *cfg, hsbd_field_term term, int 
     return term;
 }
 
+double run_euler_density_error(double k, double dt) {
+    return 0.25 * k * dt;
+}
+
+int run_euler_warning(double k, double dt, const char *what, const char *where,
+                      const char *curvature, char *msg, size_t len) {
+    const double e = run_euler_density_error(k, dt);
+    if (!(e > RUN_EULER_ERROR_MAX)) return 0;
+    snprintf(msg, len,
+             "run.dt = %g: the %s's Euler step distorts the %s by about %.2g %% (%s = %.3g, "
+             "a harmonic estimate; warned above %g %%); run.dt <= %.2g gives about 1 %%, <= "
+             "%.2g about 0.1 %%",
+             dt, what, where, 100 * e, curvature, e, 100 * RUN_EULER_ERROR_MAX, 0.04 / k,
+             0.004 / k);
+    return 1;
+}
+
 /* Field terms from the configuration (field.type is a sum) along a line of length L,
  * periodic or between walls (run.h). A table is loaded; between
  * walls it must cover the box [0, L] (natural spline); on a ring it must span exactly one

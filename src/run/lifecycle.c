@@ -354,6 +354,7 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
     if (rc == HSBD_OK) rc = run_dir_claim(cfg->output.dir, RUN_DIR_WRITE_NEW, &lock, err);
     if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(cfg->output.dir, opt->force, err);
     if (rc == HSBD_OK) rc = open_streams(&r, err);
+    if (rc == HSBD_OK && r.model.warn_start && !opt->quiet_warnings) r.model.warn_start(&r);
     if (rc == HSBD_OK) {
         record_inputs(&r);
         r.started = 1;

@@ -19,9 +19,12 @@
 
 typedef struct rods_model {
     hsbd_rods *rods;
-    hsbd_table *pair_table;  /* pair.type = table */
-    hsbd_table *field_table; /* field.type with table */
-    double sticky_ratio;     /* mu max|f| dt / epsilon, Eq. (33) (NaN without stickiness) */
+    hsbd_table *pair_table;         /* pair.type = table */
+    hsbd_table *field_table;        /* field.type with table */
+    double sticky_ratio;            /* mu max|f| dt / epsilon, Eq. (33) (NaN without stickiness) */
+    double field_error, pair_error; /* Euler's distortion, dt k / 4 (NaN: no such force) */
+    char warnings[3][HSBD_WARNING_LEN]; /* the time step's, printed at the start */
+    int nwarnings;
     hsbd_profile *profile;
     hsbd_msd *msd;
     hsbd_msd *msd_species[HSBD_MAX_SPECIES]; /* mixtures: one MSD per species */
@@ -116,6 +119,14 @@ static double sum_unwrapped(const hsbd_rods *rods) {
     return s;
 }
 
+/* The largest mobility D / kT of the rods (of their species). */
+static double mobility_max(const hsbd_config *cfg) {
+    double d = cfg->system.diffusion;
+    for (size_t k = 0; k < cfg->species.n; ++k)
+        d = fmax(d, cfg->species.diffusion[k]);
+    return d / cfg->system.kT;
+}
+
 /* Antonov Eq. (33): the sticky force must move a rod much less than epsilon per step. The
  * largest step of the run (equilibration may be coarser) is the one that counts. */
 static int check_sticky_step(const run *r, rods_model *m, const hsbd_rods_params *par,
@@ -127,7 +138,7 @@ static int check_sticky_step(const run *r, rods_model *m, const hsbd_rods_params
     hsbd_pair_add(&sticky, par->pair.term[0]);
     const double fbig =
         hsbd_pair_max_force(&sticky, cfg->system.sigma, cfg->system.sigma + cfg->contact.epsilon);
-    const double mu = cfg->system.diffusion / cfg->system.kT;
+    const double mu = mobility_max(cfg);
     const double dt = fmax(cfg->run.dt, hsbd_config_dt_equil(cfg));
     m->sticky_ratio = mu * fbig * dt / cfg->contact.epsilon;
     const double dt_limit = cfg->contact.epsilon / (mu * fbig);
@@ -139,15 +150,43 @@ static int check_sticky_step(const run *r, rods_model *m, const hsbd_rods_params
                               "order = %g, or --force",
                               hsbd_config_origin(cfg, "run", "dt"), dt, m->sticky_ratio, dt_limit,
                               cfg->contact.gamma, cfg->contact.epsilon, cfg->contact.order);
-    if (m->sticky_ratio > 0.1 && !r->opt->quiet_warnings)
-        fprintf(stderr,
-                "hsbd: warning: sticky step ratio mu max|f| dt / epsilon = %.3g > 0.1 "
-                "(Antonov Eq. 33); dt < %.3g keeps it below 0.1\n",
-                m->sticky_ratio, 0.1 * dt_limit);
-    else if (r->opt->progress && m->sticky_ratio <= 0.1)
+    if (m->sticky_ratio > 0.1)
+        snprintf(m->warnings[m->nwarnings++], HSBD_WARNING_LEN,
+                 "sticky step ratio mu max|f| dt / epsilon = %.3g > 0.1 (Antonov Eq. 33); dt < "
+                 "%.3g keeps it below 0.1",
+                 m->sticky_ratio, 0.1 * dt_limit);
+    else if (r->opt->progress)
         fprintf(stderr, "hsbd: sticky step ratio mu max|f| dt / epsilon = %.3g (Eq. 33)\n",
                 m->sticky_ratio);
     return HSBD_OK;
+}
+
+/* The Euler step of the field and of the continuous pair force (the sticky term apart:
+ * Eq. 33 above) against their time scales, 1 / (mu max|U''|) and 1 / (2 mu max|V''|) (the
+ * gap of two rods diffuses with both mobilities): estimates in the summary, warnings
+ * beyond 1 %. */
+static void check_field_step(const hsbd_config *cfg, rods_model *m, const hsbd_rods_params *par) {
+    const double mu = mobility_max(cfg), dt = cfg->run.dt;
+    m->field_error = m->pair_error = NAN;
+    if (par->field.nterms) {
+        const double k = mu * hsbd_field_max_curvature(&par->field);
+        m->field_error = run_euler_density_error(k, dt);
+        m->nwarnings +=
+            run_euler_warning(k, dt, "field", "stationary density", "dt mu max|U''| / 4",
+                              m->warnings[m->nwarnings], HSBD_WARNING_LEN);
+    }
+    hsbd_pair smooth = {0}; /* the continuous terms */
+    for (size_t t = cfg->contact.gamma > 0 ? 1 : 0; t < par->pair.nterms; ++t)
+        hsbd_pair_add(&smooth, par->pair.term[t]);
+    if (smooth.nterms) {
+        const double k = 2 * mu *
+                         hsbd_pair_max_curvature(&smooth, cfg->system.sigma,
+                                                 fmax(hsbd_pair_range(&smooth), cfg->system.sigma));
+        m->pair_error = run_euler_density_error(k, dt);
+        m->nwarnings +=
+            run_euler_warning(k, dt, "pair force", "pair distribution", "dt 2 mu max|V''| / 4",
+                              m->warnings[m->nwarnings], HSBD_WARNING_LEN);
+    }
 }
 
 /* Mixtures: the species of each rod along the line, a uniformly random arrangement of
@@ -212,6 +251,7 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
     if (rc == HSBD_OK) rc = build_pair(cfg, &m->pair_table, &par.pair, err);
     if (rc == HSBD_OK) rc = check_sticky_step(r, m, &par, err);
     if (rc != HSBD_OK) return rc;
+    check_field_step(cfg, m, &par);
     double *x = NULL;
     if (cfg->init.positions[0]) { /* before the rods copy the species */
         x = malloc(par.n * sizeof *x);
@@ -711,6 +751,14 @@ static void rods_write_summary(run *r, FILE *f) {
     hsbd_json_number(f, "mean_cluster_size", mean_size, 1);
     hsbd_json_number(f, "mean_cluster_size_err", mean_size_err, 1);
     hsbd_json_number(f, "sticky_step_ratio", m->sticky_ratio, 1);
+    hsbd_json_number(f, "euler_field_error", m->field_error, 1);
+    hsbd_json_number(f, "euler_pair_error", m->pair_error, 1);
+    fprintf(f, "  \"warnings\": [");
+    for (int k = 0; k < m->nwarnings; ++k) {
+        fputs(k ? ", " : "", f);
+        hsbd_json_string(f, m->warnings[k]);
+    }
+    fprintf(f, "],\n");
     hsbd_json_number(f, "min_gap", cfg->system.hard_core ? hsbd_profile_min_gap(m->profile) : NAN,
                      1);
     hsbd_json_number(f, "particle_current", current, 1);
@@ -718,6 +766,12 @@ static void rods_write_summary(run *r, FILE *f) {
     if (m->trap) write_trap_json(m, f);
     if (m->contacts && r->steps_done >= (uint64_t)cfg->sample.every) write_contacts_json(r, m, f);
     hsbd_json_number(f, "final_time", v.time, 1);
+}
+
+static void rods_warn_start(const run *r) {
+    const rods_model *m = model_of(r);
+    for (int k = 0; k < m->nwarnings; ++k)
+        fprintf(stderr, "hsbd: warning: %s\n", m->warnings[k]);
 }
 
 /* ---- checkpoints ------------------------------------------------------------------------ */
@@ -834,6 +888,7 @@ int run_rods_build(run *r, hsbd_error *err) {
                            .write_tables = rods_write_tables,
                            .write_summary = rods_write_summary,
                            .expose = rods_expose,
+                           .warn_start = rods_warn_start,
                            .release = rods_release};
     int rc = build_system(r, m, err);
     if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);

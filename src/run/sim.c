@@ -28,6 +28,7 @@ hsbd_sim *hsbd_sim_alloc(const hsbd_config *cfg, hsbd_error *err) {
         hsbd_sim_free(s);
         return NULL;
     }
+    if (s->r.model.warn_start) s->r.model.warn_start(&s->r);
     run_begin(&s->r);
     return s;
 }

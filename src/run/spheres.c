@@ -241,6 +241,10 @@ static void warn_scheme(const run *r, const spheres_model *m, double collisions_
     }
 }
 
+static void spheres_warn_start(const run *r) {
+    warn_scheme(r, model_of(r), NAN);
+}
+
 /* ---- operations ---- */
 
 static int sample_virial_msd(run *r, void *ctx, hsbd_error *err) {
@@ -632,10 +636,10 @@ int run_spheres_build(run *r, hsbd_error *err) {
                            .write_tables = spheres_write_tables,
                            .write_summary = spheres_write_summary,
                            .expose = spheres_expose,
+                           .warn_start = spheres_warn_start,
                            .release = spheres_release};
     int rc = build_system(r, m, err);
     if (rc == HSBD_OK) rc = build_observers(r->cfg, m, err);
     if (rc == HSBD_OK) rc = register_ops(r, m, err);
-    if (rc == HSBD_OK && !r->resuming) warn_scheme(r, m, NAN);
     return rc;
 }

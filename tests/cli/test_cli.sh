@@ -379,6 +379,30 @@ assert any('Eq. 6' in w for w in d['warnings'])" 2>/dev/null; then ok; else bad 
 if "$HSBD" run sph.ini --set system.packing_fraction=0.45 --set init.method=compress --set run.dt=2e-3 \
        --out eq3 --quiet 2>eq3.err && grep -q "Scala Eq. 3" eq3.err; then ok; else bad "Eq. 3 warning: $(cat eq3.err)"; fi
 
+# rods' time step against the field's and the pair force's time scales: the cosine of
+# U0 = 6 at dt 0.01 distorts the density by ~30 % (dt mu max|U''| / 4 = 0.296), warned on
+# stderr with a suggested dt and listed in summary.json; none at dt 1e-5; a stiff pair
+# force (LJ well at contact) is warned too
+rods_dt() { # rods_dt DIR DT [--set ...]: a short cosine run at DT
+    local dir=$1 dt=$2
+    shift 2
+    "$HSBD" run "$SRC/examples/rods-cosine.ini" --quiet --set run.dt="$dt" --set run.t_equil=0 \
+        --set run.t_total="$(awk -v d="$dt" 'BEGIN { print 200 * d }')" --set sample.every=1 \
+        --set sample.blocks=4 "$@" --out "$dir" 2>"$dir.err"
+}
+if rods_dt coarse 0.01 && grep -q "warning: run.dt = 0.01: the field's Euler step distorts the stationary density by about 30 %.*run.dt <= 0.00034 gives about 1 %" coarse.err &&
+    python3 -c "
+import json; d = json.load(open('coarse/summary.json'))
+assert abs(d['euler_field_error'] - 0.296) < 1e-3, d['euler_field_error']
+assert len(d['warnings']) == 1 and 'Euler' in d['warnings'][0]" 2>/dev/null; then ok
+else bad "rods time-step warning at dt 0.01: $(cat coarse.err)"; fi
+if rods_dt fine 1e-5 && [ ! -s fine.err ] && python3 -c "
+import json; d = json.load(open('fine/summary.json')); assert d['warnings'] == []" 2>/dev/null; then ok
+else bad "rods at dt 1e-5 warned: $(cat fine.err)"; fi
+if rods_dt ljpair 1e-3 --set pair.type=lj --set pair.strength=2 --set pair.cutoff=1 &&
+    grep -q "the field's Euler step" ljpair.err && grep -q "the pair force's Euler step distorts the pair distribution by about 29 %" ljpair.err
+then ok; else bad "rods pair-force time-step warning: $(cat ljpair.err)"; fi
+
 # the configuration reference in docs/ is the one the schema generates
 if "$HSBD" config-doc | diff -q - "$SRC/docs/config.md" >/dev/null; then ok; else bad "docs/config.md is stale: run 'build/hsbd config-doc > docs/config.md'"; fi
 

@@ -1,7 +1,8 @@
 /* Time-dependent field terms (drives): the parameters at time t, the waveforms, the refused
  * drives, a static field left alone (same pointer, same bits), and the BCD step with a
  * driven field equal to the literal oracle fed with the field evaluated at each step's
- * start time (travelling cosine, square-wave rocking tilt, sticky contact rule).
+ * start time (travelling cosine, square-wave rocking tilt, sticky contact rule); the
+ * field's largest curvature.
  * Deterministic: exact values or 1e-12. */
 #include <math.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 #include "bcd_oracle.h"
 #include "hsbd/field.h"
 #include "hsbd/rods.h"
+#include "hsbd/table.h"
 
 static const double PI = 3.141592653589793;
 
@@ -99,7 +101,38 @@ static void test_driven_step_vs_oracle(void) {
     CHECK(worst <= 1e-12, "driven step vs oracle: max deviation %.3g", worst);
 }
 
+/* The field's largest curvature, which sets the Euler warning: exact for the cosine
+ * (2 pi^2 U0 / lambda^2) and the trap (k), zero for a tilt, a driven strength at its largest
+ * |p(0)| + |amplitude|, a sum bounded by the sum of its terms, and a tabulated cosine within
+ * its spline's accuracy. */
+static void test_max_curvature(void) {
+    hsbd_field f = {0};
+    hsbd_field_add(&f, hsbd_field_cosine(6.0, 0.5));
+    CHECK_CLOSE(hsbd_field_max_curvature(&f), 2 * PI * PI * 6.0 / 0.25, 1e-12);
+    hsbd_field_add(&f, hsbd_field_tilt(-3.0));
+    hsbd_field_add(&f, hsbd_field_harmonic(-0.7, 1.0, 0.0));
+    CHECK_CLOSE(hsbd_field_max_curvature(&f), 2 * PI * PI * 6.0 / 0.25 + 0.7, 1e-12);
+    hsbd_field g = {0};
+    hsbd_field_term c = hsbd_field_cosine(2.0, 1.0);
+    hsbd_field_term_drive(&c, HSBD_DRIVE_STRENGTH, HSBD_WAVE_COSINE, -3.0, 1.0, 0, 0);
+    hsbd_field_add(&g, c);
+    CHECK_CLOSE(hsbd_field_max_curvature(&g), 2 * PI * PI * 5.0, 1e-12);
+    enum { M = 201 };
+    double x[M], y[M];
+    for (int k = 0; k < M; ++k)
+        x[k] = -0.25 + 1.5 * k / (double)(M - 1), y[k] = 3.0 * cos(2 * PI * x[k]);
+    hsbd_error err;
+    hsbd_table *t = hsbd_table_alloc(M, x, y, "cosine table", &err);
+    CHECK(t != NULL, "table");
+    if (!t) return;
+    hsbd_field h = {0};
+    hsbd_field_add(&h, hsbd_field_table(t, HSBD_TABLE_POTENTIAL, 0.0));
+    CHECK_CLOSE(hsbd_field_max_curvature(&h), 3.0 * 4 * PI * PI, 0.01 * 3.0 * 4 * PI * PI);
+    hsbd_table_free(t);
+}
+
 int main(void) {
+    test_max_curvature();
     test_parameters_at_time();
     test_refused_drives();
     test_driven_step_vs_oracle();

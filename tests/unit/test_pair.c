@@ -231,7 +231,21 @@ static void test_zero_pair_force_is_exact(void) {
     CHECK(!hsbd_rods_alloc(&b, &err) && err.status == HSBD_EINPUT, "pair without hard core");
 }
 
+/* max |V''| (the Euler warning's pair time scale): the LJ well's 72 depth / sigma^2 at
+ * contact (the force shift does not change f'), Yukawa's A (kappa^2 + 2 kappa / sigma +
+ * 2 / sigma^2) at contact (its largest), both to the sampling's accuracy. */
+static void test_max_curvature(void) {
+    hsbd_pair lj = {0}, yk = {0};
+    hsbd_pair_add(&lj, hsbd_pair_lj(0.5, 2.0, 1.2));
+    CHECK_CLOSE(hsbd_pair_max_curvature(&lj, 0.5, 1.2), 72 * 2.0 / 0.25, 0.01 * 72 * 2.0 / 0.25);
+    const double a = 3.0, kappa = 2.0, s = 1.0;
+    hsbd_pair_add(&yk, hsbd_pair_yukawa(s, a, kappa, 4.0));
+    const double expect = a * (kappa * kappa + 2 * kappa / s + 2 / (s * s));
+    CHECK_CLOSE(hsbd_pair_max_curvature(&yk, s, 4.0), expect, 0.01 * expect);
+}
+
 int main(void) {
+    test_max_curvature();
     test_periodic_table();
     test_sticky();
     test_analytic();
