@@ -379,6 +379,15 @@ assert any('Eq. 6' in w for w in d['warnings'])" 2>/dev/null; then ok; else bad 
 if "$HSBD" run sph.ini --set system.packing_fraction=0.45 --set init.method=compress --set run.dt=2e-3 \
        --out eq3 --quiet 2>eq3.err && grep -q "Scala Eq. 3" eq3.err; then ok; else bad "Eq. 3 warning: $(cat eq3.err)"; fi
 
+# above phi = pi/6 Scala's mean gap rho^(-1/3) - sigma is negative: the lattice spacing's
+# gap stays finite (phi 0.55, dt 2e-4: a step of 0.31 of it, no warning, no inf or nan)
+if "$HSBD" run sph.ini --set system.packing_fraction=0.55 --set init.method=compress \
+       --set run.dt=2e-4 --set run.t_equil=0 --set run.t_total=0.02 --out dense55 2>dense55.err &&
+    ! grep -q -i -E "inf|nan|mean gap" dense55.err && python3 -c "
+import json; d = json.load(open('dense55/summary.json'))
+assert abs(d['mean_step_over_mean_gap'] - 0.306) < 0.005, d['mean_step_over_mean_gap']" 2>/dev/null
+then ok; else bad "spheres at phi 0.55: $(cat dense55.err)"; fi
+
 # rods' time step against the field's and the pair force's time scales: the cosine of
 # U0 = 6 at dt 0.01 distorts the density by ~30 % (dt mu max|U''| / 4 = 0.296), warned on
 # stderr with a suggested dt and listed in summary.json; none at dt 1e-5; a stiff pair
