@@ -23,6 +23,7 @@ typedef struct spheres_model {
     size_t ns;         /* species (1 for one species) */
     double *unwrapped; /* d N unwrapped coordinates for the MSD */
     hsbd_gr *gr;
+    char no_gr[HSBD_WARNING_LEN]; /* why gr.tsv is not written ("" when it is) */
     hsbd_msd *msd;
     hsbd_msd *msd_species[HSBD_MAX_SPECIES];
     hsbd_blocks *virial; /* collisional virial per sampled interval */
@@ -193,6 +194,16 @@ static int build_observers(const hsbd_config *cfg, spheres_model *m, hsbd_error 
                                       cfg->sample.contact_fit, blocks,
                                       steps / (uint64_t)cfg->sample.gr_every, err);
         if (!m->gr) return err->status;
+    } else {
+        snprintf(m->no_gr, sizeof m->no_gr,
+                 "gr.tsv is not written (nor contact values or "
+                 "Z_virial): %s",
+                 axis < 3 && walls <= 1
+                     ? "ideal particles (system.hard_core = off) in a periodic box without a "
+                       "field have g(r) = 1"
+                     : "its reference density would be a profile over a plane (walls on "
+                       "two or more axes, or a field across the walls' axis); the density "
+                       "profiles along each walls' axis are written");
     }
     if (walls_observers_build(cfg, &v, &m->walls, err) != HSBD_OK) return err->status;
     m->virial = hsbd_blocks_alloc(1, blocks, steps / every);
@@ -229,6 +240,8 @@ static int build_observers(const hsbd_config *cfg, spheres_model *m, hsbd_error 
  * run keeps them to its summary.json. */
 static void warn_scheme(const run *r, const spheres_model *m, double collisions_per_particle_step) {
     if (r->opt->quiet_warnings) return;
+    if (m->no_gr[0] && isnan(collisions_per_particle_step))
+        fprintf(stderr, "hsbd: warning: %s\n", m->no_gr);
     const hsbd_spheres_view v = hsbd_spheres_get_view(m->sys);
     hsbd_scheme_check c;
     hsbd_scheme_check_compute(&v, collisions_per_particle_step, &c);
@@ -528,6 +541,10 @@ static void spheres_write_summary(run *r, FILE *f) {
     for (int k = 0; k < nw; ++k) {
         fputs(k ? ", " : "", f);
         hsbd_json_string(f, warnings[k]);
+    }
+    if (m->no_gr[0]) {
+        fputs(nw ? ", " : "", f);
+        hsbd_json_string(f, m->no_gr);
     }
     fprintf(f, "],\n");
     hsbd_json_number(f, "shell_updates_per_particle_step",

@@ -388,6 +388,17 @@ import json; d = json.load(open('dense55/summary.json'))
 assert abs(d['mean_step_over_mean_gap'] - 0.306) < 0.005, d['mean_step_over_mean_gap']" 2>/dev/null
 then ok; else bad "spheres at phi 0.55: $(cat dense55.err)"; fi
 
+# g(r) between walls on two axes, or with a field across the walls' axis, is not
+# written: said on stderr and in summary.json's warnings, not dropped in silence
+for case in "walls2|--set system.boundary=walls,walls,periodic" \
+    "across|--set system.boundary=walls,periodic,periodic --set field.type=tilt --set field.force=-1 --set field.axis=y"; do
+    name=${case%%|*}
+    "$HSBD" run sph.ini ${case#*|} --set run.t_total=0.05 --out nogr-$name 2>nogr-$name.err
+    if [ ! -e nogr-$name/gr.tsv ] && grep -q "warning: gr.tsv is not written" nogr-$name.err &&
+        grep -q '"warnings": \[.*gr.tsv is not written' nogr-$name/summary.json; then ok
+    else bad "g(r) not written ($name) without a word: $(cat nogr-$name.err)"; fi
+done
+
 # rods' time step against the field's and the pair force's time scales: the cosine of
 # U0 = 6 at dt 0.01 distorts the density by ~30 % (dt mu max|U''| / 4 = 0.296), warned on
 # stderr with a suggested dt and listed in summary.json; none at dt 1e-5; a stiff pair
