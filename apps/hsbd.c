@@ -1,6 +1,7 @@
 /* hsbd: command-line front end. Subcommands: run, bench, theory, validate, config-doc,
  * version; each takes --help. */
 #define _GNU_SOURCE /* sched_getaffinity: the CPUs of an MPI rank */
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -130,7 +131,7 @@ static const char *const synopsis_washboard =
     "                                       one particle in a tilted cosine: <v>, D_eff\n";
 static const char *const synopsis_validate =
     "hsbd validate [--quick] [--dt-scan] [--sticky] [--out DIR] [--case TEXT]\n"
-    "                     [--jobs N] [--seed-offset K]\n"
+    "                     [--jobs N] [--seed-offset K] [--list]\n"
     "                                       simulations against exact theory\n";
 
 static void usage(FILE *out) {
@@ -611,6 +612,17 @@ static int names_standard_input(const char *path) {
 
 /* The command line and the configuration read into q (nranks: of mpirun, 1 without); an
  * exit status, with the message written to msg. */
+/* A --set value is section.key=value: 0, or EXIT_INPUT with a message that shows the line
+ * meant ("--set run.t_total 5": --set run.t_total=5) when the value is missing its '='. */
+static int set_value_check(const char *cmd, int argc, char **argv, int i, FILE *msg) {
+    if (strchr(argv[i], '=')) return 0;
+    const int next = i + 1 < argc && argv[i + 1][0] != '-';
+    fprintf(msg, "hsbd %s: --set needs section.key=value, not '%.100s'%s%.100s%s%.100s%s\n", cmd,
+            argv[i], next ? " (write --set " : "", next ? argv[i] : "", next ? "=" : "",
+            next ? argv[i + 1] : "", next ? ")" : "");
+    return EXIT_INPUT;
+}
+
 static int run_request_read(int argc, char **argv, int nranks, FILE *msg, run_request *q) {
     int defaults = 0, noverrides = 0;
     run_override *overrides = calloc((size_t)argc, sizeof *overrides);
@@ -624,7 +636,8 @@ static int run_request_read(int argc, char **argv, int nranks, FILE *msg, run_re
         if (!strcmp(a, "--set") || !strcmp(a, "--out") || !strcmp(a, "--seed") ||
             !strcmp(a, "--replica") || !strcmp(a, "--threads")) {
             const char *v = flag_value("run", argc, argv, &i, msg);
-            if (!v) return free(overrides), EXIT_INPUT;
+            if (!v || (!strcmp(a, "--set") && set_value_check("run", argc, argv, i, msg)))
+                return free(overrides), EXIT_INPUT;
             overrides[noverrides++] = (run_override){a, v};
         } else if (!strcmp(a, "--defaults")) {
             defaults = 1;
@@ -835,7 +848,8 @@ static int resume_args(int argc, char **argv, FILE *msg, const char **dir, const
                 fprintf(msg, "hsbd resume: --set needs a value (--set run.t_total=T)\n");
                 return EXIT_INPUT;
             }
-            sets[(*nsets)++] = argv[++i];
+            if (set_value_check("resume", argc, argv, ++i, msg)) return EXIT_INPUT;
+            sets[(*nsets)++] = argv[i];
         } else if (argv[i][0] == '-') {
             fprintf(msg, "hsbd resume: unknown option '%s' (hsbd resume --help)\n", argv[i]);
             return EXIT_INPUT;
@@ -1305,7 +1319,10 @@ static void validate_help(void) {
     printf("usage: %s\n"
            "Simulations of the validation grid against exact theory; prints the table and\n"
            "writes DIR/validation.tsv and DIR/validation.md (docs/validation.md).\n"
-           "  --quick          minutes instead of an hour (fewer, shorter cases)\n"
+           "  --quick          15 short cases in about 4 minutes on 2 cores: three Percus\n"
+           "                   cases, one sticky, Tonks, single file, and nine of hard\n"
+           "                   spheres and disks (without --quick: the whole grid, far longer)\n"
+           "  --list           print the names of the cases, run nothing\n"
            "  --dt-scan        add the time-step convergence cases\n"
            "  --sticky         the paper's sticky contact rule instead of reflect\n"
            "  --out DIR        run directory of the cases (default runs/validate)\n"
@@ -1343,6 +1360,8 @@ static int cmd_validate(int argc, char **argv) {
             return 0;
         } else if (!strcmp(a, "--quick")) {
             opt.quick = 1;
+        } else if (!strcmp(a, "--list")) {
+            opt.list = 1;
         } else if (!strcmp(a, "--dt-scan")) {
             opt.dt_scan = 1;
         } else if (!strcmp(a, "--sticky")) {
@@ -1478,11 +1497,41 @@ static int run_command(const ranks *r, int argc, char **argv) {
     return 0;
 }
 
+/* GNU-style "--name=value" as "--name" "value" (users type --threads=2, --out=DIR,
+ * --set=key=value); every other argument as it is. A new array (freed at exit), or NULL. */
+static char **split_gnu_options(int argc, char **argv, int *out_argc) {
+    char **out = malloc((2 * (size_t)argc + 1) * sizeof *out);
+    if (!out) return NULL;
+    int n = 0;
+    for (int i = 0; i < argc; ++i) {
+        const char *eq = i > 0 && !strncmp(argv[i], "--", 2) ? strchr(argv[i], '=') : NULL;
+        const char *p = argv[i] + 2;
+        while (eq && p < eq && (isalnum((unsigned char)*p) || *p == '-'))
+            ++p;
+        if (eq && p == eq && eq > argv[i] + 2) {
+            *(char *)eq = '\0'; /* argv's strings are the program's to change */
+            out[n++] = argv[i];
+            out[n++] = (char *)eq + 1;
+        } else {
+            out[n++] = argv[i];
+        }
+    }
+    out[n] = NULL;
+    *out_argc = n;
+    return out;
+}
+
 int main(int argc, char **argv) {
     /* under mpirun every rank takes part in MPI until the ranks agree on the command line:
      * one refused on any rank stops all, its message printed once, and so do different
      * commands where one of them is run, resume or merge (which wait for each other);
      * the other commands then run in each process on its own */
+    char **split = split_gnu_options(argc, argv, &argc);
+    if (!split) {
+        fprintf(stderr, "hsbd: out of memory\n");
+        return EXIT_FAILURE;
+    }
+    argv = split;
     ranks r = ranks_begin();
     input_messages said;
     FILE *msg = input_messages_open(&r, &said);
@@ -1495,5 +1544,6 @@ int main(int argc, char **argv) {
     }
     if (code == 0) code = run_command(&r, argc, argv);
     ranks_end(&r);
+    free(split);
     return code;
 }

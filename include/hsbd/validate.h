@@ -15,6 +15,7 @@ typedef struct hsbd_validate_options {
     int dt_scan;          /* add the time-step convergence cases */
     int sticky;           /* run the paper's sticky contact rule instead of the default reflect */
     unsigned seed_offset; /* added to every case's seed: the same grid with other noise */
+    int list;             /* only print the cases' names to `report`, one per line */
 } hsbd_validate_options;
 
 /* Runs the cases, prints the table to `report`, writes validation.tsv and validation.md

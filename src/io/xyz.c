@@ -76,7 +76,17 @@ static int blank(const char *s) {
     return *s == '\0';
 }
 
-/* line 1: the particle count, a whole number alone on its line */
+/* The non-blank lines left after the comment line (the frame's particle lines), or -1 */
+static long particle_lines_left(hsbd_lines *in, hsbd_error *err) {
+    long lines = 0;
+    int got = hsbd_lines_next(in, err); /* the comment line */
+    while (got > 0 && (got = hsbd_lines_next(in, err)) > 0)
+        lines += !blank(in->text);
+    return got < 0 ? -1 : lines;
+}
+
+/* line 1: the particle count, a whole number alone on its line, equal to system.N (when
+ * not: the particle lines counted, to say which of the two is off) */
 static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
     const int got = hsbd_lines_next(in, err);
     if (got < 0) return err->status;
@@ -98,11 +108,17 @@ static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err)
                               "%s:1: expected the number of particles (a whole number alone on "
                               "the line) at the start of an XYZ frame",
                               in->name);
-    if (count != e->n)
+    if (count == e->n) return HSBD_OK;
+    const long lines = particle_lines_left(in, err);
+    if (lines < 0) return err->status;
+    if ((size_t)lines != count)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "%s:1: the XYZ file has %zu particles; allowed: system.N = %zu",
-                              in->name, count, e->n);
-    return HSBD_OK;
+                              "%s:1: the count line says %zu, the file has %ld particle lines "
+                              "(and system.N = %zu)",
+                              in->name, count, lines, e->n);
+    return hsbd_error_set(err, HSBD_EINPUT,
+                          "%s:1: the XYZ file has %zu particles; allowed: system.N = %zu", in->name,
+                          count, e->n);
 }
 
 /* Lattice="a1 a2 a3 b1 b2 b3 c1 c2 c3" on the comment line, when present: a diagonal box
@@ -256,8 +272,9 @@ int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, d
         if (got <= 0) {
             rc = got < 0 ? err->status
                          : hsbd_error_set(err, HSBD_EINPUT,
-                                          "%s:%ld: the file ends after %zu of %zu particles", name,
-                                          in.number, i, e->n);
+                                          "%s:1: the count line says %zu, the file has %zu "
+                                          "particle lines",
+                                          name, e->n, i);
             break;
         }
         rc = read_particle(&in, e, i, x, species, radius, err);

@@ -18,6 +18,7 @@
 #include "hsbd/io.h"
 #include "hsbd/run.h"
 #include "hsbd/theory.h"
+#include "core/progress.h"
 #include "core/threads.h"
 #include "hsbd/validate.h"
 #include "validate/report.h"
@@ -422,26 +423,46 @@ static int run_case(const hsbd_validate_options *opt, const vcase *c) {
     return 0;
 }
 
+/* A line on stderr as each case's simulation ends: "[k/n] name: simulated in T s". */
+static void case_done(const vcase *c, size_t done, size_t n, double seconds, int ok) {
+    fprintf(stderr, "hsbd validate: [%zu/%zu] %s: %s in %.0f s\n", done, n, c->name,
+            ok ? "simulated" : "FAILED", seconds);
+}
+
 static int run_all(const hsbd_validate_options *opt, const vcase *cases, size_t n) {
     const int jobs = opt->jobs > 0 ? opt->jobs : 1;
     int running = 0, failed = 0;
+    size_t done = 0;
+    pid_t *pids = calloc(n ? n : 1, sizeof *pids);
+    double *start = calloc(n ? n : 1, sizeof *start);
+    if (!pids || !start) return free(pids), free(start), 1;
     for (size_t i = 0; i <= n; ++i) {
         while (running >= jobs || (i == n && running > 0)) {
             int status;
-            if (wait(&status) > 0) {
-                --running;
-                failed |= !WIFEXITED(status) || WEXITSTATUS(status) != 0;
-            }
+            const pid_t pid = wait(&status);
+            if (pid <= 0) continue;
+            --running;
+            const int ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+            failed |= !ok;
+            for (size_t k = 0; k < i; ++k)
+                if (pids[k] == pid)
+                    case_done(&cases[k], ++done, n, hsbd_wall_seconds() - start[k], ok);
         }
         if (i == n) break;
         fflush(NULL);
+        start[i] = hsbd_wall_seconds();
         const pid_t pid = fork();
         if (pid == 0) _exit(run_case(opt, &cases[i]));
-        if (pid < 0)
-            failed |= run_case(opt, &cases[i]);
-        else
-            ++running;
+        if (pid < 0) {
+            const int bad = run_case(opt, &cases[i]);
+            failed |= bad;
+            case_done(&cases[i], ++done, n, hsbd_wall_seconds() - start[i], !bad);
+        } else {
+            pids[i] = pid, ++running;
+        }
     }
+    free(pids);
+    free(start);
     return failed;
 }
 
@@ -1004,6 +1025,9 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
     const size_t n = make_cases(opt, cases);
     if (n == 0)
         return hsbd_error_set(err, HSBD_EINPUT, "validate: no case matches '%s'", opt->only);
+    for (size_t i = 0; opt->list && i < n; ++i)
+        fprintf(report, "%s\n", cases[i].name);
+    if (opt->list) return HSBD_OK;
     if (hsbd_dir_create(opt->out_dir, err) != HSBD_OK) return err->status;
     if (run_all(opt, cases, n))
         return hsbd_error_set(err, HSBD_ENUMERIC, "validate: a simulation failed (see above)");

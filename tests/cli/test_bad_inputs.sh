@@ -96,13 +96,16 @@ sph xyz-count-negative "count-neg.xyz:1:" "number of particles" -- run sph.ini -
 { echo "0x14"; tail -n +2 frame.xyz; } >count-hex.xyz
 sph xyz-count-hex "count-hex.xyz:1:" "number of particles" -- run sph.ini --set init.positions=count-hex.xyz
 { echo "21"; tail -n +2 frame.xyz; } >count-more.xyz
-sph xyz-count-mismatch "count-more.xyz:1:" "has 21 particles; allowed: system.N = 20" -- run sph.ini --set init.positions=count-more.xyz
+sph xyz-count-mismatch "count-more.xyz:1:" "the count line says 21, the file has 20 particle lines" -- run sph.ini --set init.positions=count-more.xyz
+head -n -1 frame.xyz >count-short.xyz
+sph xyz-count-short "count-short.xyz:1:" "the count line says 20, the file has 19 particle lines" -- run sph.ini --set init.positions=count-short.xyz
+sph xyz-count-not-n "frame.xyz:1:" "has 20 particles; allowed: system.N = 21" -- run sph.ini --set system.N=21 --set init.positions=frame.xyz
 { echo "99999999999999999999999"; tail -n +2 frame.xyz; } >count-huge.xyz
 sph xyz-count-huge "count-huge.xyz:1:" -- run sph.ini --set init.positions=count-huge.xyz
 head -n 1 frame.xyz >count-only.xyz
 sph xyz-count-only "count-only.xyz:1:" "ends after the count" -- run sph.ini --set init.positions=count-only.xyz
 head -n 12 frame.xyz >short.xyz
-sph xyz-short "short.xyz:12:" "ends after 10 of 20 particles" -- run sph.ini --set init.positions=short.xyz
+sph xyz-short "short.xyz:1:" "the count line says 20, the file has 10 particle lines" -- run sph.ini --set init.positions=short.xyz
 awk 'NR == 5 { $2 = 1e6 } { print }' frame.xyz >outside.xyz
 sph xyz-outside-box "outside.xyz:5:" "outside the box" -- run sph.ini --set init.positions=outside.xyz
 awk 'NR == 6 { $3 = -0.5 } { print }' frame.xyz >negative.xyz
@@ -422,7 +425,8 @@ bad_case run-out-under-file "cannot create output directory 'plainfile/run'" -- 
 bad_case out-without-value "--out needs a value" -- run good.ini --out
 bad_case out-then-flag "--out needs a value, but the next argument '--quiet' is a flag" -- run good.ini --out --quiet
 bad_case set-then-flag "--set needs a value, but the next argument '--out' is a flag" -- run good.ini --set --out x
-bad_case set-without-equals "command line (--set) 'run.dt': expected section.key=value" -- run good.ini --set run.dt
+bad_case set-without-equals "--set needs section.key=value, not 'run.dt'" -- run good.ini --set run.dt
+bad_case set-value-apart "--set needs section.key=value, not 'run.t_total' (write --set run.t_total=5)" -- run good.ini --set run.t_total 5
 bad_case set-without-section "command line (--set) 'dt=1': expected section.key=value" -- run good.ini --set dt=1
 bad_case set-unknown-section "unknown key 'sytem.N'; did you mean 'system.N'?" -- run good.ini --set sytem.N=5
 bad_case set-control "argument 4 (the value of --set) has a control character (0x0a at position 13)" -- run good.ini --set "$(printf 'output.dir=a\nb')"

@@ -2,7 +2,8 @@
 # The command line and the configuration reader on good input: spheres in a box given by
 # system.box (2D and 3D, one length or one per dimension), --defaults, comments of any
 # length (never read as keys), inline comments, a UTF-8 byte-order mark, --help of every
-# subcommand, bench --list, theory output to a file or standard output.
+# subcommand, bench --list, theory output to a file or standard output, GNU-style
+# --name=value options.
 set -u
 HSBD=${1:?usage: test_cli_options.sh path/to/hsbd}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
@@ -36,6 +37,21 @@ done
 # a drift with one value per dimension
 sph_box 3 8 >drift.ini
 "$HSBD" run drift.ini --set "system.drift=0.5 0 0" --out drift --quiet && ok || bad "system.drift with 3 values"
+
+# GNU-style options: --name=value is --name value (--set=key=value too), same results
+"$HSBD" run drift.ini --quiet --threads 1 --seed 5 --set run.t_total=0.05 --out gnu-apart &&
+    "$HSBD" run drift.ini --quiet --threads=1 --seed=5 --set=run.t_total=0.05 --out=gnu-joined &&
+    cmp -s gnu-apart/msd.tsv gnu-joined/msd.tsv && grep -q '"seed": 5,' gnu-joined/summary.json &&
+    ok || bad "GNU-style --name=value options"
+
+# hsbd validate --quick: its help says how many cases it runs, as many as it lists; a
+# line on stderr as each case's simulation ends
+said=$("$HSBD" validate --help | grep -o -E '[0-9]+ short cases' | cut -d' ' -f1)
+listed=$("$HSBD" validate --quick --list | wc -l)
+[ -n "$said" ] && [ "$said" = "$listed" ] && ok || bad "validate --quick: help says '$said' cases, it lists $listed"
+if "$HSBD" validate --quick --case tonks --out vq >/dev/null 2>vq.err &&
+    grep -q -E '^hsbd validate: \[1/1\] tonks-s0.5-rho0.5: simulated in [0-9]+ s$' vq.err; then ok
+else bad "validate: a line per case: $(cat vq.err)"; fi
 
 # --defaults: no file, every key at its default, into runs/defaults
 if "$HSBD" run --defaults --set run.t_total=0.01 --set run.t_equil=0 --set run.dt=1e-3 \
