@@ -5,6 +5,7 @@
 #include "hsbd/config.h"
 #include "hsbd/error.h"
 #include "hsbd/field.h"
+#include "hsbd/frame.h"
 #include "hsbd/io.h"
 #include "hsbd/isotonic.h"
 #include "hsbd/observe.h"

@@ -10,6 +10,7 @@
 
 #include "hsbd/config.h"
 #include "hsbd/error.h"
+#include "hsbd/frame.h"
 #include "hsbd/rods.h"
 #include "hsbd/spheres.h"
 
@@ -63,18 +64,12 @@ HSBD_API int hsbd_read_positions_stream(FILE *f, const char *name, const hsbd_co
 
 /* ---- extended XYZ (src/io/xyz.c) ---- */
 
-/* One extended-XYZ frame of the rods (wrapped positions, unwrapped column, radius); names:
- * the species names of a mixture (NULL: every rod is "R"). */
-HSBD_API void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v,
-                                  const char (*names)[HSBD_SPECIES_NAME]);
+/* One extended-XYZ frame: species name, wrapped position, radius, then rods the exact
+ * unwrapped position, disks and spheres the image counters, and an id per particle. */
+HSBD_API void hsbd_xyz_write(FILE *f, const hsbd_frame *frame);
 
 /* The species name of spheres without species.names */
 #define HSBD_XYZ_ONE_SPECIES "S"
-
-/* One frame of the spheres: species, wrapped position, radius, image counters, id per
- * particle; names: the species names of a mixture (NULL: every particle is "S"). */
-HSBD_API void hsbd_xyz_write_spheres(FILE *f, const hsbd_spheres_view *v,
-                                     const char (*names)[HSBD_SPECIES_NAME]);
 
 /* What a frame read back must match. */
 typedef struct hsbd_xyz_expect {
@@ -128,11 +123,9 @@ HSBD_API int hsbd_gsd_continue(hsbd_gsd *g, FILE *f, const char *name, int64_t l
 HSBD_API void hsbd_gsd_free(hsbd_gsd *g);
 /* One frame: configuration/step, box, particles/N, position (float32, centred at the
  * origin), image, log/hsbd/time and log/hsbd/position (float64, the same positions);
- * the first frame also configuration/dimensions, particles/types, typeid, diameter.
- * names: the species names of a mixture (NULL: one type, "R" for rods, "S" for spheres). */
-HSBD_API int hsbd_gsd_write_rods(hsbd_gsd *g, const hsbd_rods_view *v,
-                                 const char (*names)[HSBD_SPECIES_NAME], hsbd_error *err);
-HSBD_API int hsbd_gsd_write_spheres(hsbd_gsd *g, const hsbd_spheres_view *v,
-                                    const char (*names)[HSBD_SPECIES_NAME], hsbd_error *err);
+ * the first frame also configuration/dimensions, particles/types (the species names, or
+ * the frame's one_name), typeid, diameter. Rods are a 2D box of height
+ * HSBD_GSD_RODS_HEIGHT. */
+HSBD_API int hsbd_gsd_write(hsbd_gsd *g, const hsbd_frame *frame, hsbd_error *err);
 
 #endif

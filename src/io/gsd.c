@@ -66,12 +66,11 @@ typedef struct gsd_frame {
     double box[3]; /* Lx Ly Lz (Lz = 0 in 2D) */
     size_t n, ntypes;
     const char (*types)[HSBD_SPECIES_NAME];
-    const char *one_type; /* ntypes == 0: every particle has this type */
-    const double *x;      /* 3 n, centred */
-    const int32_t *image; /* 3 n */
-    const int *typeid;    /* n, or NULL (all 0) */
-    const double *diameter;
-    double one_diameter; /* diameter == NULL */
+    const char *one_type;   /* ntypes == 0: every particle has this type */
+    const double *x;        /* 3 n, centred */
+    const int32_t *image;   /* 3 n */
+    const int *typeid;      /* n, or NULL (all 0) */
+    const double *diameter; /* n */
 } gsd_frame;
 
 static void put_le(unsigned char *p, uint64_t v, int bytes) {
@@ -250,8 +249,7 @@ static int frame_chunks(hsbd_gsd *g, const gsd_frame *fr, chunk_list *c) {
             put_le(g->buf + 4 * i, fr->typeid ? (uint64_t)fr->typeid[i] : 0, 4);
         if (append_chunk(g, c, ID_TYPEID, n, 1, GSD_UINT32, 4)) return -1;
         for (size_t i = 0; i < n; ++i)
-            put_le(g->buf + 4 * i, float_bits(fr->diameter ? fr->diameter[i] : fr->one_diameter),
-                   4);
+            put_le(g->buf + 4 * i, float_bits(fr->diameter[i]), 4);
         if (append_chunk(g, c, ID_DIAMETER, n, 1, GSD_FLOAT, 4)) return -1;
     }
     for (size_t i = 0; i < 3 * n; ++i)
@@ -285,87 +283,36 @@ static int write_frame(hsbd_gsd *g, const gsd_frame *fr, hsbd_error *err) {
     return HSBD_OK;
 }
 
-/* ---- the models ---- */
+/* ---- frames ---- */
 
-typedef struct frame_room {
-    double *x;
-    int32_t *image;
-} frame_room;
-
-static int frame_room_alloc(frame_room *fr, size_t n, hsbd_error *err) {
-    fr->x = malloc(3 * n * sizeof *fr->x);
-    fr->image = malloc(3 * n * sizeof *fr->image);
-    if (fr->x && fr->image) return HSBD_OK;
-    free(fr->x), free(fr->image);
-    return hsbd_error_set(err, HSBD_ENOMEM, "GSD trajectory: out of memory for N = %zu", n);
-}
-
-static void frame_room_free(frame_room *fr) {
-    free(fr->x);
-    free(fr->image);
-}
-
-int hsbd_gsd_write_rods(hsbd_gsd *g, const hsbd_rods_view *v,
-                        const char (*names)[HSBD_SPECIES_NAME], hsbd_error *err) {
-    frame_room room;
-    if (frame_room_alloc(&room, v->n, err) != HSBD_OK) return err->status;
-    const double L = v->length;
-    double *sigma = v->species ? malloc(v->n * sizeof *sigma) : NULL;
-    if (v->species && !sigma) {
-        frame_room_free(&room);
-        return hsbd_error_set(err, HSBD_ENOMEM, "GSD trajectory: out of memory");
+int hsbd_gsd_write(hsbd_gsd *g, const hsbd_frame *f, hsbd_error *err) {
+    double *x = malloc(3 * f->n * sizeof *x);
+    int32_t *image = malloc(3 * f->n * sizeof *image);
+    if (!x || !image) {
+        free(x), free(image);
+        return hsbd_error_set(err, HSBD_ENOMEM, "GSD trajectory: out of memory for N = %zu", f->n);
     }
-    for (size_t i = 0; i < v->n; ++i) {
-        const double xu = v->z[i] + v->offset[i] + v->unwrap;
-        const double wraps = v->periodic ? floor(xu / L) : 0.0;
-        room.x[3 * i] = xu - L * wraps - 0.5 * L;
-        room.x[3 * i + 1] = room.x[3 * i + 2] = 0.0;
-        room.image[3 * i] = (int32_t)wraps;
-        room.image[3 * i + 1] = room.image[3 * i + 2] = 0;
-        if (sigma) sigma[i] = v->species_sigma[v->species[i]];
-    }
-    const gsd_frame fr = {.step = v->step,
-                          .time = v->time,
-                          .dimension = 2,
-                          .box = {L, HSBD_GSD_RODS_HEIGHT, 0.0},
-                          .n = v->n,
-                          .ntypes = names && v->species ? v->nspecies : 0,
-                          .types = names,
-                          .one_type = "R",
-                          .x = room.x,
-                          .image = room.image,
-                          .typeid = v->species,
-                          .diameter = sigma,
-                          .one_diameter = v->sigma};
-    const int rc = write_frame(g, &fr, err);
-    free(sigma);
-    frame_room_free(&room);
-    return rc;
-}
-
-int hsbd_gsd_write_spheres(hsbd_gsd *g, const hsbd_spheres_view *v,
-                           const char (*names)[HSBD_SPECIES_NAME], hsbd_error *err) {
-    frame_room room;
-    if (frame_room_alloc(&room, v->n, err) != HSBD_OK) return err->status;
-    const int d = v->dimension;
-    for (size_t i = 0; i < v->n; ++i)
-        for (int a = 0; a < 3; ++a) {
-            room.x[3 * i + a] = a < d ? v->x[3 * i + a] - 0.5 * v->box[a] : 0.0;
-            room.image[3 * i + a] = a < d ? (int32_t)v->image[3 * i + a] : 0;
+    const int rods = f->dimension == 1;
+    for (size_t i = 0; i < f->n; ++i)
+        for (int a = 0; a < 3; ++a) { /* centred at the origin */
+            const int used = a < f->dimension;
+            x[3 * i + a] = used ? f->x[3 * i + a] - 0.5 * f->box[a] : 0.0;
+            image[3 * i + a] = used ? (int32_t)f->image[3 * i + a] : 0;
         }
-    const gsd_frame fr = {.step = v->step,
-                          .time = v->time,
-                          .dimension = d,
-                          .box = {v->box[0], v->box[1], d == 3 ? v->box[2] : 0.0},
-                          .n = v->n,
-                          .ntypes = names ? v->nspecies : 0,
-                          .types = names,
-                          .one_type = HSBD_XYZ_ONE_SPECIES,
-                          .x = room.x,
-                          .image = room.image,
-                          .typeid = v->species,
-                          .diameter = v->sigma};
+    const gsd_frame fr = {.step = f->step,
+                          .time = f->time,
+                          .dimension = rods ? 2 : f->dimension,
+                          .box = {f->box[0], rods ? HSBD_GSD_RODS_HEIGHT : f->box[1],
+                                  f->dimension == 3 ? f->box[2] : 0.0},
+                          .n = f->n,
+                          .ntypes = f->names && f->species ? f->nspecies : 0,
+                          .types = f->names,
+                          .one_type = f->one_name,
+                          .x = x,
+                          .image = image,
+                          .typeid = f->species,
+                          .diameter = f->diameter};
     const int rc = write_frame(g, &fr, err);
-    frame_room_free(&room);
+    free(x), free(image);
     return rc;
 }

@@ -9,38 +9,34 @@
 #include "core/input.h"
 #include "hsbd/io.h"
 
-void hsbd_xyz_write_rods(FILE *f, const hsbd_rods_view *v, const char (*names)[HSBD_SPECIES_NAME]) {
-    const double L = v->length;
-    fprintf(f, "%zu\n", v->n);
-    fprintf(f,
-            "Lattice=\"%.17g 0 0 0 1 0 0 0 1\" pbc=\"%s F F\" Time=%.17g Step=%llu "
-            "Properties=species:S:1:pos:R:3:radius:R:1:x_unwrapped:R:1:id:I:1\n",
-            L, v->periodic ? "T" : "F", v->time, (unsigned long long)v->step);
-    for (size_t i = 0; i < v->n; ++i) {
-        const double xu = v->z[i] + v->offset[i] + v->unwrap;
-        const double xw = v->periodic ? xu - L * floor(xu / L) : xu;
-        const int sp = v->species ? v->species[i] : 0;
-        const double sigma = v->species ? v->species_sigma[sp] : v->sigma;
-        fprintf(f, "%s %.10g 0 0 %.10g %.15g %zu\n", names && v->species ? names[sp] : "R", xw,
-                0.5 * sigma, xu, i + 1);
+/* rods: positions on x, their radius, the exact unwrapped position; disks and spheres:
+ * positions, radius, image counters (OVITO and ASE read both) */
+void hsbd_xyz_write(FILE *f, const hsbd_frame *fr) {
+    const int rods = fr->dimension == 1, three = fr->dimension == 3;
+    fprintf(f, "%zu\n", fr->n);
+    if (rods)
+        fprintf(f,
+                "Lattice=\"%.17g 0 0 0 1 0 0 0 1\" pbc=\"%s F F\" Time=%.17g Step=%llu "
+                "Properties=species:S:1:pos:R:3:radius:R:1:x_unwrapped:R:1:id:I:1\n",
+                fr->box[0], fr->periodic[0] ? "T" : "F", fr->time, (unsigned long long)fr->step);
+    else
+        fprintf(f,
+                "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"%c %c %c\" Time=%.17g Step=%llu "
+                "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
+                fr->box[0], fr->box[1], three ? fr->box[2] : 1.0, fr->periodic[0] ? 'T' : 'F',
+                fr->periodic[1] ? 'T' : 'F', three && fr->periodic[2] ? 'T' : 'F', fr->time,
+                (unsigned long long)fr->step);
+    for (size_t i = 0; i < fr->n; ++i) {
+        const char *name = fr->names && fr->species ? fr->names[fr->species[i]] : fr->one_name;
+        const double *x = fr->x + 3 * i;
+        if (rods)
+            fprintf(f, "%s %.10g 0 0 %.10g %.15g %zu\n", name, x[0], 0.5 * fr->diameter[i],
+                    fr->unwrapped[i], i + 1);
+        else
+            fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n", name, x[0], x[1], x[2],
+                    0.5 * fr->diameter[i], (long long)fr->image[3 * i],
+                    (long long)fr->image[3 * i + 1], (long long)fr->image[3 * i + 2], i + 1);
     }
-}
-
-void hsbd_xyz_write_spheres(FILE *f, const hsbd_spheres_view *v,
-                            const char (*names)[HSBD_SPECIES_NAME]) {
-    fprintf(f, "%zu\n", v->n);
-    const int three = v->dimension == 3;
-    fprintf(f,
-            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"%c %c %c\" Time=%.17g Step=%llu "
-            "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
-            v->box[0], v->box[1], three ? v->box[2] : 1.0, v->walls[0] ? 'F' : 'T',
-            v->walls[1] ? 'F' : 'T', three && !v->walls[2] ? 'T' : 'F', v->time,
-            (unsigned long long)v->step);
-    for (size_t i = 0; i < v->n; ++i)
-        fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n",
-                names ? names[v->species[i]] : HSBD_XYZ_ONE_SPECIES, v->x[3 * i], v->x[3 * i + 1],
-                v->x[3 * i + 2], 0.5 * v->sigma[i], (long long)v->image[3 * i],
-                (long long)v->image[3 * i + 1], (long long)v->image[3 * i + 2], i + 1);
 }
 
 /* ---- reading ---------------------------------------------------------------------------- */

@@ -12,7 +12,7 @@
 #include "hsbd_version.h"
 
 static const char magic[8] = {'H', 'S', 'B', 'D', 'C', 'K', 'P', 'T'};
-enum { CHECKPOINT_FORMAT = 1 };
+enum { CHECKPOINT_FORMAT = 2 };
 
 /* Where the configuration came from, and the input files it read. */
 static void save_source(const run *r, hsbd_writer *w) {
@@ -123,6 +123,7 @@ int run_checkpoint_write(run *r, hsbd_error *err) {
     save_source(r, &w);
     save_run(r, &w);
     r->model.save(r, &w);
+    run_observers_save(r, &w);
     hsbd_put_tag(&w, "end");
     const char *dir = r->cfg->output.dir;
     char path[HSBD_PATH_MAX + 32], part[HSBD_PATH_MAX + 40], prev[HSBD_PATH_MAX + 32];

@@ -3,6 +3,7 @@
 #include "run/run.h"
 
 #include <errno.h>
+#include <stdarg.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -42,18 +43,6 @@ int run_stream_check(const run_stream *s, hsbd_error *err) {
     return hsbd_error_set(err, HSBD_EIO, "writing '%s' failed: %s", s->file.tmp, strerror(errno));
 }
 
-int run_add_trajectory(run *r, run_action write, void *ctx, run_stream **s, hsbd_error *err) {
-    const hsbd_config *cfg = r->cfg;
-    *s = NULL;
-    if (cfg->output.trajectory == HSBD_TRAJ_NONE) return HSBD_OK;
-    const int gsd = cfg->output.trajectory == HSBD_TRAJ_GSD;
-    *s = run_add_stream(r, gsd ? "trajectory.gsd" : "trajectory.xyz", err);
-    if (!*s) return err->status;
-    (*s)->is_gsd = gsd;
-    return run_add_op(r, "trajectory", run_every(cfg, cfg->output.trajectory_every), write, ctx,
-                      err);
-}
-
 uint64_t run_every(const hsbd_config *cfg, double period) {
     return period > 0 ? (uint64_t)fmax(1.0, round(period / cfg->run.dt)) : 0;
 }
@@ -84,6 +73,37 @@ static int replica_due(const run *r) {
            r->replicas_started <= block;
 }
 
+void run_warn(run *r, const char *format, ...) {
+    if (r->nwarnings == RUN_MAX_WARNINGS) return;
+    va_list ap;
+    va_start(ap, format);
+    vsnprintf(r->warnings[r->nwarnings++], HSBD_WARNING_LEN, format, ap);
+    va_end(ap);
+}
+
+void run_write_warnings(const run *r, FILE *f, const char (*more)[HSBD_WARNING_LEN], int nmore) {
+    fprintf(f, "  \"warnings\": [");
+    for (int k = 0; k < nmore + r->nwarnings; ++k) {
+        fputs(k ? ", " : "", f);
+        hsbd_json_string(f, k < nmore ? more[k] : r->warnings[k - nmore]);
+    }
+    fprintf(f, "],\n");
+}
+
+/* the warnings of the build on stderr (hsbd_run's and hsbd_sim's start) */
+void run_warn_start(const run *r) {
+    if (r->opt->quiet_warnings) return;
+    for (int k = 0; k < r->nwarnings; ++k)
+        fprintf(stderr, "hsbd: warning: %s\n", r->warnings[k]);
+    if (r->model.warn_start) r->model.warn_start(r);
+}
+
+const hsbd_frame *run_frame(run *r) {
+    if (!r->frame_valid) r->model.frame(r, &r->frame);
+    r->frame_valid = 1;
+    return &r->frame;
+}
+
 static int run_ops(run *r, hsbd_error *err) {
     for (size_t i = 0; i < r->nops; ++i) {
         const run_op *op = &r->ops[i];
@@ -111,8 +131,10 @@ static void leave_equilibration(run *r) {
         if (r->cfg->sample.blocking == HSBD_BLOCKS_REPLICAS && r->model.start_replica)
             r->replicas_started = 1;
         if (r->model.start_production) r->model.start_production(r);
-    } else if (r->model.replica_ready) { /* a replica's equilibration ended */
-        r->model.replica_ready(r);
+        run_observers_start_production(r);
+    } else { /* a replica's equilibration ended */
+        if (r->model.replica_ready) r->model.replica_ready(r);
+        run_observers_replica_ready(r);
     }
 }
 
@@ -193,13 +215,17 @@ static int run_loop(run *r, uint64_t budget, hsbd_error *err) {
         }
         if (!equilibrating && replica_due(r)) {
             account(r, &clock);
-            rc = r->model.start_replica(r, r->replicas_started, err);
+            rc = run_observers_end_replica(r, err);
+            if (rc == HSBD_OK) rc = r->model.start_replica(r, r->replicas_started, err);
+            r->frame_valid = 0;
+            if (rc == HSBD_OK) run_observers_start_replica(r);
             r->replicas_started += 1;
             enter_equilibration(r);
             continue;
         }
         if (taken++ == budget) break;
         rc = r->model.step(r, err);
+        r->frame_valid = 0;
         if (rc != HSBD_OK) break;
         if (equilibrating)
             r->stage_steps += 1, r->equil_done += 1;
@@ -271,7 +297,8 @@ static int finish(run *r, int run_rc, hsbd_error *err) {
     const char *reason = run_rc == HSBD_OK ? (r->completed ? "completed" : "interrupted") : "error";
     hsbd_error werr;
     hsbd_error_clear(&werr);
-    int rc = r->model.write_tables(r, &werr);
+    int rc = r->model.write_tables ? r->model.write_tables(r, &werr) : HSBD_OK;
+    if (rc == HSBD_OK) rc = run_observers_write_tables(r, &werr);
     for (size_t k = 0; k < r->nstreams && rc == HSBD_OK; ++k)
         rc = hsbd_outfile_commit(&r->streams[k].file, &werr);
     if (rc == HSBD_OK) {
@@ -280,6 +307,7 @@ static int finish(run *r, int run_rc, hsbd_error *err) {
         if (rc == HSBD_OK) {
             run_write_summary_head(r, o.f, reason);
             r->model.write_summary(r, o.f);
+            run_observers_write_summary(r, o.f);
             fprintf(o.f, "  \"parameters\": ");
             hsbd_config_write_json(r->cfg, o.f, 2);
             fprintf(o.f, "\n}\n");
@@ -301,6 +329,7 @@ static void release(run *r) {
             hsbd_outfile_discard(o);
         hsbd_gsd_free(&r->streams[k].gsd);
     }
+    run_observers_free(r);
     if (r->model.release) r->model.release(r);
 }
 
@@ -348,13 +377,12 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
     hsbd_error_clear(err);
     run r = {.cfg = cfg, .opt = opt, .source = opt->source};
     /* everything that can refuse the input happens before the directory is touched */
-    int rc = cfg->system.model == HSBD_MODEL_SPHERES ? run_spheres_build(&r, err)
-                                                     : run_rods_build(&r, err);
+    int rc = run_build(&r, err);
     int lock = -1; /* claimed before its checks: no other run writes there meanwhile */
     if (rc == HSBD_OK) rc = run_dir_claim(cfg->output.dir, RUN_DIR_WRITE_NEW, &lock, err);
     if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(cfg->output.dir, opt->force, err);
     if (rc == HSBD_OK) rc = open_streams(&r, err);
-    if (rc == HSBD_OK && r.model.warn_start && !opt->quiet_warnings) r.model.warn_start(&r);
+    if (rc == HSBD_OK) run_warn_start(&r);
     if (rc == HSBD_OK) {
         record_inputs(&r);
         r.started = 1;
@@ -553,18 +581,19 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     if (rc == HSBD_OK) {
         r->cfg = cfg;
         r->resuming = 1;
-        rc = cfg->system.model == HSBD_MODEL_SPHERES ? run_spheres_build(r, err)
-                                                     : run_rods_build(r, err);
+        rc = run_build(r, err);
     }
     if (here[0] && chdir(here) != 0 && rc == HSBD_OK)
         rc = hsbd_error_set(err, HSBD_EIO, "resume: cannot return to '%s'", here);
     if (rc == HSBD_OK && !r->model.load)
         rc = hsbd_error_set(err, HSBD_EINPUT, "%s: the %s model cannot be resumed", ck.path,
                             r->model.name);
-    if (rc == HSBD_OK && (run_checkpoint_load_run(r, &rd) != 0 || r->model.load(r, &rd) != 0 ||
-                          hsbd_get_tag(&rd, "end") != 0 || rd.pos != rd.len))
+    if (rc == HSBD_OK &&
+        (run_checkpoint_load_run(r, &rd) != 0 || r->model.load(r, &rd) != 0 ||
+         run_observers_load(r, &rd) != 0 || hsbd_get_tag(&rd, "end") != 0 || rd.pos != rd.len))
         rc = hsbd_error_set(err, rd.oom ? HSBD_ENOMEM : HSBD_EINPUT, "%s: %s", ck.path,
                             rd.bad ? rd.why : "data after the end");
+    r->frame_valid = 0; /* the state loaded */
     if (rc == HSBD_OK) {
         r->newest_unusable = ck.fell_back;
         snprintf(r->cwd, sizeof r->cwd, "%s", src.cwd);

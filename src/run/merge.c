@@ -935,14 +935,13 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
     if (ensemble || run_dir_holds_run(out)) {
         char line[512];
         merge_line(line, sizeof line, out, dirs, ndirs);
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "merge: OUT '%s' holds %s, which merge never replaces (with or "
-                              "without --force); if it is an input run, name a new OUT first: "
-                              "%s",
-                              out,
-                              ensemble ? "an ensemble's replicas"
-                                       : "a run (its checkpoint or summary.json)",
-                              line);
+        return hsbd_error_set(
+            err, HSBD_EINPUT,
+            "merge: OUT '%s' holds %s, which merge never replaces (with or "
+            "without --force); if it is an input run, name a new OUT first: "
+            "%s",
+            out, ensemble ? "an ensemble's replicas" : "a run (its checkpoint or summary.json)",
+            line);
     }
     if (!force && !run_dir_is_empty(out))
         return hsbd_error_set(err, HSBD_EINPUT,

@@ -13,7 +13,9 @@
 #include "hsbd/config.h"
 #include "hsbd/error.h"
 #include "hsbd/field.h"
+#include "hsbd/frame.h"
 #include "hsbd/io.h"
+#include "hsbd/observe.h"
 #include "hsbd/run.h"
 #include "hsbd/sim.h"
 
@@ -42,6 +44,41 @@ typedef struct run_stream {
     hsbd_gsd gsd;
 } run_stream;
 
+/* An observer: what it measures, built for a run from its configuration and fed at its
+ * samples. Each is one file under src/run/observers/ and one line in a model's list
+ * (src/run/models.c); the lifecycle calls it at every stage. Every function but build may
+ * be NULL; `state` is what build made. */
+typedef struct run_observer_ops {
+    const char *name; /* also its section's tag in checkpoints */
+    /* its state for this run in *state, or NULL when it does not apply to the run (HSBD_OK
+     * both); an error refuses the input */
+    int (*build)(run *r, void **state, hsbd_error *err);
+    /* steps between its samples (NULL: sample.every; 0: it takes none) */
+    uint64_t (*every)(const run *r);
+    int (*sample)(run *r, void *state, hsbd_error *err);
+    /* production begins (the model's statistics were just reset) */
+    void (*start_production)(run *r, void *state);
+    /* sample.blocking = replicas: the last replica ends (its state still there), then the
+     * next one's state is made, then its equilibration ends */
+    int (*end_replica)(run *r, void *state, hsbd_error *err);
+    void (*start_replica)(run *r, void *state);
+    void (*replica_ready)(run *r, void *state);
+    /* checkpoints: its accumulators */
+    void (*save)(const run *r, const void *state, hsbd_writer *w);
+    int (*load)(run *r, void *state, hsbd_reader *rd);
+    /* results: its tables, and its lines of summary.json ("key": value,) */
+    int (*write_tables)(const run *r, const void *state, hsbd_error *err);
+    void (*write_summary)(const run *r, const void *state, FILE *f);
+    /* what hsbd_sim shows of it */
+    void (*expose)(const run *r, const void *state, hsbd_sim_parts *parts);
+    void (*free)(void *state);
+} run_observer_ops;
+
+typedef struct run_observer {
+    const run_observer_ops *ops;
+    void *state;
+} run_observer;
+
 /* What a model provides. Every function gets the run; the model's own state is r->m. */
 typedef struct run_model {
     const char *name; /* "rods", "spheres" */
@@ -65,16 +102,24 @@ typedef struct run_model {
     int (*load)(run *r, hsbd_reader *rd);
     /* final tables and the model's part of summary.json */
     int (*write_tables)(run *r, hsbd_error *err);
-    /* the state and observers, for hsbd_sim */
+    /* the state, for hsbd_sim */
     void (*expose)(const run *r, hsbd_sim_parts *parts);
+    /* the particles now as a frame (into memory of the model's) */
+    void (*frame)(const run *r, hsbd_frame *frame);
     void (*write_summary)(run *r, FILE *f);
-    /* the time step's warnings on stderr, once the whole input is accepted (a fresh run,
-     * not a resume; none with opt->quiet_warnings); may be NULL */
+    /* warnings of its own on stderr once the whole input is accepted, after those of
+     * run_warn (a fresh run, not a resume; none with opt->quiet_warnings); may be NULL */
     void (*warn_start)(const run *r);
     void (*release)(run *r);
 } run_model;
 
-enum { RUN_MAX_OPS = 16, RUN_MAX_STREAMS = 4, RUN_MAX_INPUTS = 4 };
+enum {
+    RUN_MAX_OPS = 16,
+    RUN_MAX_STREAMS = 4,
+    RUN_MAX_INPUTS = 4,
+    RUN_MAX_OBSERVERS = 16,
+    RUN_MAX_WARNINGS = 8
+};
 
 /* An input file the run read while it was built (tables): a resumed run must read the
  * same bytes. */
@@ -91,6 +136,12 @@ struct run {
     void *m;
     run_op ops[RUN_MAX_OPS];
     size_t nops;
+    run_observer observers[RUN_MAX_OBSERVERS];
+    size_t nobservers;
+    hsbd_frame frame; /* run_frame's, while frame_valid (until the next step) */
+    int frame_valid;
+    char warnings[RUN_MAX_WARNINGS][HSBD_WARNING_LEN]; /* run_warn's */
+    int nwarnings;
     run_stream streams[RUN_MAX_STREAMS];
     size_t nstreams;
     run_input inputs[RUN_MAX_INPUTS];
@@ -121,9 +172,6 @@ int run_add_op(run *r, const char *name, uint64_t every, run_action act, void *c
 run_stream *run_add_stream(run *r, const char *name, hsbd_error *err);
 /* After writing to a stream: HSBD_EIO naming its file when a write failed (disk full). */
 int run_stream_check(const run_stream *s, hsbd_error *err);
-/* output.trajectory: the stream trajectory.xyz or trajectory.gsd and the operation `write`
- * that adds a frame every output.trajectory_every; *s stays NULL without a trajectory. */
-int run_add_trajectory(run *r, run_action write, void *ctx, run_stream **s, hsbd_error *err);
 /* Steps between calls for a period of simulated time (at least 1); 0 for period 0. */
 uint64_t run_every(const hsbd_config *cfg, double period);
 
@@ -153,6 +201,34 @@ int run_threads(const hsbd_config *cfg);
 size_t run_input_files(const hsbd_config *cfg, const char *key[3], const char *path[3]);
 int run_rods_build(run *r, hsbd_error *err);
 int run_spheres_build(run *r, hsbd_error *err);
+/* The model of r->cfg (src/run/models.c): its system, state and observers. */
+int run_build(run *r, hsbd_error *err);
+
+/* The observers of a run (src/run/observer.c): built from a NULL-terminated list (each that
+ * applies, with its sampling registered as an operation), and called at each stage, in
+ * the list's order. */
+int run_observers_build(run *r, const run_observer_ops *const *list, hsbd_error *err);
+void run_observers_start_production(run *r);
+int run_observers_end_replica(run *r, hsbd_error *err);
+void run_observers_start_replica(run *r);
+void run_observers_replica_ready(run *r);
+void run_observers_save(const run *r, hsbd_writer *w);
+int run_observers_load(run *r, hsbd_reader *rd);
+int run_observers_write_tables(const run *r, hsbd_error *err);
+void run_observers_write_summary(const run *r, FILE *f);
+void run_observers_expose(const run *r, hsbd_sim_parts *parts);
+void run_observers_free(run *r);
+
+/* A warning about the run found while it is built (a time step too large, an output that
+ * cannot be made): printed on stderr once the input is accepted, listed in summary.json. */
+void run_warn(run *r, const char *format, ...) __attribute__((format(printf, 2, 3)));
+/* run_warn's warnings, then the model's warn_start, on stderr (unless quiet_warnings) */
+void run_warn_start(const run *r);
+/* The summary's "warnings": the model's own (measured ones) first, then run_warn's. */
+void run_write_warnings(const run *r, FILE *f, const char (*more)[HSBD_WARNING_LEN], int nmore);
+
+/* The particles now, as a frame (made once per step, on demand). */
+const hsbd_frame *run_frame(run *r);
 
 /* A built run enters its first equilibration. */
 void run_begin(run *r);

@@ -22,19 +22,19 @@ hsbd_sim *hsbd_sim_alloc(const hsbd_config *cfg, hsbd_error *err) {
     s->cfg.output.checkpoints = 0;
     s->cfg.sample.current_every = 0;
     s->r = (run){.cfg = &s->cfg, .opt = &s->opt};
-    const int rc = s->cfg.system.model == HSBD_MODEL_SPHERES ? run_spheres_build(&s->r, err)
-                                                             : run_rods_build(&s->r, err);
+    const int rc = run_build(&s->r, err);
     if (rc != HSBD_OK) {
         hsbd_sim_free(s);
         return NULL;
     }
-    if (s->r.model.warn_start) s->r.model.warn_start(&s->r);
+    run_warn_start(&s->r);
     run_begin(&s->r);
     return s;
 }
 
 void hsbd_sim_free(hsbd_sim *s) {
     if (!s) return;
+    run_observers_free(&s->r);
     if (s->r.model.release) s->r.model.release(&s->r);
     free(s);
 }
@@ -60,6 +60,7 @@ hsbd_sim_parts hsbd_sim_get_parts(const hsbd_sim *s) {
     hsbd_sim_parts p;
     memset(&p, 0, sizeof p);
     s->r.model.expose(&s->r, &p);
+    run_observers_expose(&s->r, &p);
     return p;
 }
 

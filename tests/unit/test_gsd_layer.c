@@ -23,19 +23,22 @@ static void frame(hsbd_gsd *g, uint64_t k) {
     for (int i = 0; i < 3 * N; ++i)
         x[i] = 0.37 * (double)((i * 7 + (int)k * 3) % 20);
     image[0] = (int64_t)k;
-    const hsbd_spheres_view v = {.n = N,
-                                 .dimension = 3,
-                                 .box = {8, 8, 8},
-                                 .x = x,
-                                 .image = image,
-                                 .sigma = sigma,
-                                 .species = species,
-                                 .nspecies = 2,
-                                 .time = 0.01 * (double)k,
-                                 .step = 10 * k};
     const char names[2][HSBD_SPECIES_NAME] = {"A", "B"};
+    const hsbd_frame fr = {.n = N,
+                           .dimension = 3,
+                           .box = {8, 8, 8},
+                           .periodic = {1, 1, 1},
+                           .x = x,
+                           .image = image,
+                           .diameter = sigma,
+                           .species = species,
+                           .nspecies = 2,
+                           .names = names,
+                           .one_name = "S",
+                           .time = 0.01 * (double)k,
+                           .step = 10 * k};
     hsbd_error err;
-    CHECK(hsbd_gsd_write_spheres(g, &v, names, &err) == HSBD_OK, "%s", err.message);
+    CHECK(hsbd_gsd_write(g, &fr, &err) == HSBD_OK, "%s", err.message);
 }
 
 static unsigned char *contents(FILE *f, long *len) {

@@ -1,6 +1,7 @@
-/* Observers of spheres between walls and in fields (walls.h). */
-#include "run/walls.h"
-
+/* Hard disks and spheres between walls and in fields: the density profiles along every
+ * walls or field axis, all particles and per species (density.tsv, density_<axis>.tsv),
+ * and the contact density at each wall from its impulses (contact theorem) and from the
+ * profiles (summary "walls"). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,6 +9,16 @@
 #include "hsbd/spheres.h"
 #include "io/tables.h"
 #include "observe/checkpoint.h"
+#include "run/observers.h"
+#include "run/spheres_model.h"
+
+typedef struct walls_observers {
+    hsbd_slab *slab[3];   /* per axis: walls or the field act along it; else NULL */
+    hsbd_blocks *impulse; /* per sample: wall impulse increments, 6 (ns + 1) (the last: all) */
+    double *impulse_last; /* 6 ns sums at the previous sample */
+    double *scratch;      /* 6 ns */
+    size_t ns;
+} walls_observers;
 
 static const char *species_label(const hsbd_config *cfg, size_t k) {
     return cfg->species.n ? cfg->species.name[k] : "S";
@@ -25,9 +36,27 @@ static int profiled(const hsbd_config *cfg, int a) {
     return cfg->system.walls[a] || (cfg->field.type && cfg->field.axis == a);
 }
 
-int walls_observers_build(const hsbd_config *cfg, const hsbd_spheres_view *v, walls_observers *w,
-                          hsbd_error *err) {
-    memset(w, 0, sizeof *w);
+static void release(void *state) {
+    walls_observers *w = state;
+    if (!w) return;
+    for (int a = 0; a < 3; ++a)
+        hsbd_slab_free(w->slab[a]);
+    hsbd_blocks_free(w->impulse);
+    free(w->impulse_last);
+    free(w);
+}
+
+/* none without walls or a field */
+static int build(run *r, void **state, hsbd_error *err) {
+    const hsbd_config *cfg = r->cfg;
+    int any = 0;
+    for (int a = 0; a < (int)cfg->system.dimension; ++a)
+        any |= profiled(cfg, a);
+    if (!any) return HSBD_OK;
+    const hsbd_spheres_view view = hsbd_spheres_get_view(spheres_model_of(r)->sys), *v = &view;
+    walls_observers *w = calloc(1, sizeof *w);
+    if (!w) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    *state = w;
     w->ns = cfg->species.n ? cfg->species.n : 1;
     const uint64_t samples = hsbd_config_steps(cfg) / (uint64_t)cfg->sample.every;
     const size_t blocks = (size_t)cfg->sample.blocks;
@@ -51,19 +80,14 @@ int walls_observers_build(const hsbd_config *cfg, const hsbd_spheres_view *v, wa
     return HSBD_OK;
 }
 
-void walls_observers_free(walls_observers *w) {
-    for (int a = 0; a < 3; ++a)
-        hsbd_slab_free(w->slab[a]);
-    hsbd_blocks_free(w->impulse);
-    free(w->impulse_last);
-    memset(w, 0, sizeof *w);
-}
-
-void walls_observers_sample(walls_observers *w, const hsbd_spheres *sys) {
+static int sample(run *r, void *state, hsbd_error *err) {
+    (void)err;
+    walls_observers *w = state;
+    const hsbd_spheres *sys = spheres_model_of(r)->sys;
     const hsbd_spheres_view v = hsbd_spheres_get_view(sys);
     for (int a = 0; a < 3; ++a)
         if (w->slab[a]) hsbd_slab_sample(w->slab[a], &v);
-    if (!w->impulse) return;
+    if (!w->impulse) return HSBD_OK;
     hsbd_spheres_wall_impulses(sys, w->scratch);
     double *acc = hsbd_blocks_acc(w->impulse);
     for (size_t k = 0; k < w->ns; ++k)
@@ -74,15 +98,20 @@ void walls_observers_sample(walls_observers *w, const hsbd_spheres *sys) {
         }
     memcpy(w->impulse_last, w->scratch, 6 * w->ns * sizeof *w->scratch);
     hsbd_blocks_end_sample(w->impulse);
+    return HSBD_OK;
 }
 
-void walls_observers_restart(walls_observers *w) {
+/* production begins: the engine's sums were reset */
+static void start_production(run *r, void *state) {
+    (void)r;
+    walls_observers *w = state;
     if (w->impulse_last) memset(w->impulse_last, 0, 6 * w->ns * sizeof *w->impulse_last);
 }
 
 /* density.tsv along the field's axis (or the first walls axis), density_<axis>.tsv along
  * the others */
-int walls_observers_write_tables(const run *r, const walls_observers *w, hsbd_error *err) {
+static int write_tables(const run *r, const void *state, hsbd_error *err) {
+    const walls_observers *w = state;
     const hsbd_config *cfg = r->cfg;
     int first = 1;
     for (int pass = 0; pass < 2; ++pass)
@@ -138,7 +167,8 @@ static void json_pair(FILE *f, const char *key, double v, double e) {
             isfinite(e) ? e : 0);
 }
 
-void walls_observers_write_summary(const run *r, const walls_observers *w, FILE *f) {
+static void write_summary(const run *r, const void *state, FILE *f) {
+    const walls_observers *w = state;
     const hsbd_config *cfg = r->cfg;
     if (!w->impulse) return;
     fprintf(f, "  \"walls\": [");
@@ -172,7 +202,9 @@ void walls_observers_write_summary(const run *r, const walls_observers *w, FILE 
     fprintf(f, "\n  ],\n");
 }
 
-void walls_observers_save(const walls_observers *w, hsbd_writer *wr) {
+static void save(const run *r, const void *state, hsbd_writer *wr) {
+    (void)r;
+    const walls_observers *w = state;
     for (int a = 0; a < 3; ++a)
         if (w->slab[a]) hsbd_blocks_save(hsbd_slab_blocks(w->slab[a]), wr);
     if (!w->impulse) return;
@@ -180,10 +212,22 @@ void walls_observers_save(const walls_observers *w, hsbd_writer *wr) {
     hsbd_put_f64s(wr, w->impulse_last, 6 * w->ns);
 }
 
-int walls_observers_load(walls_observers *w, hsbd_reader *rd) {
+static int load(run *r, void *state, hsbd_reader *rd) {
+    (void)r;
+    walls_observers *w = state;
     for (int a = 0; a < 3; ++a)
         if (w->slab[a] && hsbd_blocks_load(hsbd_slab_blocks(w->slab[a]), rd)) return -1;
     if (!w->impulse) return 0;
     return hsbd_blocks_load(w->impulse, rd) || hsbd_get_f64s(rd, w->impulse_last, 6 * w->ns) ? -1
                                                                                              : 0;
 }
+
+const run_observer_ops run_observe_walls = {.name = "walls",
+                                            .build = build,
+                                            .sample = sample,
+                                            .start_production = start_production,
+                                            .save = save,
+                                            .load = load,
+                                            .write_tables = write_tables,
+                                            .write_summary = write_summary,
+                                            .free = release};
