@@ -23,8 +23,10 @@ HSBD_API double *hsbd_blocks_acc_block(hsbd_blocks *b, size_t k);
 HSBD_API double *hsbd_blocks_acc(hsbd_blocks *b);
 /* Close the current sample. */
 HSBD_API void hsbd_blocks_end_sample(hsbd_blocks *b);
-/* Mean per sample and its standard error: the sample standard deviation of the block
- * means over sqrt(blocks), using the blocks that received samples. Returns blocks used. */
+/* Mean per sample (over all samples) and its standard error from the blocks that received
+ * samples: sqrt(sum_k (m_k - mean)^2 / (B (B - 1))) with m_k block k's mean, B the blocks
+ * used; for blocks of equal size the standard deviation of the block means over sqrt(B).
+ * A block still being filled counts with its samples so far. Returns blocks used. */
 HSBD_API size_t hsbd_blocks_result(const hsbd_blocks *b, double *mean, double *err);
 /* the number of blocks (sample.blocks, more after a run was extended) */
 HSBD_API size_t hsbd_blocks_count(const hsbd_blocks *b);
@@ -35,7 +37,9 @@ HSBD_API size_t hsbd_blocks_current(const hsbd_blocks *b);
 HSBD_API size_t hsbd_blocks_block_of(uint64_t sample, size_t nblocks, uint64_t nsamples_total);
 /* As hsbd_blocks_result, but the error is that of the shape: each block's values are
  * rescaled to the common total first (for quantities whose total is fixed, like the
- * density of a fixed number of rods observed in segments of the ring). */
+ * density of a fixed number of rods observed in segments of the ring), their deviations
+ * taken from the overall mean (conservative: the rescaled rows' own mean would give a
+ * smaller error). */
 HSBD_API size_t hsbd_blocks_result_shape(const hsbd_blocks *b, double *mean, double *err);
 
 /* Each block's mean per sample (nblocks x nvalues, row k = block k; NaN rows for blocks

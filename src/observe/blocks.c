@@ -137,16 +137,18 @@ size_t hsbd_blocks_result_shape(const hsbd_blocks *b, double *mean, double *err)
     if (!(total > 0)) return used;
     for (size_t j = 0; j < b->nvalues; ++j)
         err[j] = 0;
-    /* each block's values rescaled to the common total: the scatter of the shape */
+    /* each block's values rescaled to the common total: the scatter of the shape (the
+     * block being filled, of an interrupted run, with its samples as hsbd_blocks_result) */
+    const size_t cur = b->spatial ? b->nblocks : block_of(b, b->nsamples);
     for (size_t k = 0; k < b->nblocks; ++k) {
         if (!b->block_n[k]) continue;
-        const double *v = b->block_sum + k * b->nvalues;
+        const double *v = b->block_sum + k * b->nvalues, *open = k == cur ? b->acc : NULL;
         double sk = 0;
         for (size_t j = 0; j < b->nvalues; ++j)
-            sk += v[j];
+            sk += v[j] + (open ? open[j] : 0.0);
         if (!(sk > 0)) continue;
         for (size_t j = 0; j < b->nvalues; ++j) {
-            const double d = v[j] * total / sk - mean[j];
+            const double d = (v[j] + (open ? open[j] : 0.0)) * total / sk - mean[j];
             err[j] += d * d;
         }
     }

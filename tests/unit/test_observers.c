@@ -141,6 +141,26 @@ static void test_time_blocks(void) {
     hsbd_blocks_free(b);
 }
 
+/* The shape error of an interrupted run counts the block being filled, as the plain error
+ * does: samples (1,3), (1,3) close block 0, (3,1) is in the open block 1; rescaled to the
+ * total 4 the rows are (1,3) and (3,1), the mean (5/3, 7/3), so the error is
+ * sqrt(((1 - 5/3)^2 + (3 - 5/3)^2) / 2) = sqrt(10)/3 for both values. */
+static void test_shape_open_block(void) {
+    hsbd_blocks *b = hsbd_blocks_alloc(2, 2, 4);
+    CHECK(b != NULL, "hsbd_blocks_alloc");
+    if (!b) return;
+    static const double s[3][2] = {{1, 3}, {1, 3}, {3, 1}};
+    for (int k = 0; k < 3; ++k) {
+        hsbd_blocks_acc(b)[0] += s[k][0], hsbd_blocks_acc(b)[1] += s[k][1];
+        hsbd_blocks_end_sample(b);
+    }
+    double mean[2], err[2];
+    CHECK(hsbd_blocks_result_shape(b, mean, err) == 2, "two blocks used");
+    CHECK_NEAR(err[0], sqrt(10.0) / 3);
+    CHECK_NEAR(err[1], sqrt(10.0) / 3);
+    hsbd_blocks_free(b);
+}
+
 /* Blocks without samples: no samples at all (NaN mean and error, 0 blocks used), one block
  * (a mean, NaN error), two of four blocks (the empty ones left out of the error). */
 static void test_empty_blocks(void) {
@@ -1032,6 +1052,7 @@ static void test_contacts_walls(void) {
 }
 
 int main(void) {
+    test_shape_open_block();
     test_block_of();
     test_time_blocks();
     test_empty_blocks();
