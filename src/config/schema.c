@@ -238,6 +238,12 @@ const key_spec config_schema[] = {
      "contact_fit)"},
     {"sample", "fs_k", SPHERES, K_DOUBLE, OFF(sample.fs_k), 0, INF, OPEN_MAX, "0", 0,
      "spheres: wavenumber of F_s(k, t) (0: 2 pi / sigma of species 0)"},
+    {"sample", "sk_every", SPHERES, K_INT, OFF(sample.sk_every), 0, 1e15, 0, "0", 0,
+     "spheres in a periodic box: sample the static structure factor S(k) (sk.tsv) every this "
+     "many steps along the axes and the diagonals of the box's wavevector lattice; 0: off"},
+    {"sample", "sk_max", SPHERES, K_DOUBLE, OFF(sample.sk_max), 0, INF, OPEN_MAX, "0", 0,
+     "spheres: the largest |k| of S(k) (0: 20 / system.sigma, past the third peak of a dense "
+     "fluid)"},
     {"output", "dir", ALL_MODELS, K_STRING, OFF(output.dir), 0, 0, NO_HEADER, "", 0,
      "run directory (default: runs/<config name>); --out overrides"},
     {"output", "trajectory", ALL_MODELS, K_ENUM, OFF(output.trajectory), 0, 0, 0, "none",

@@ -17,6 +17,7 @@ extern const run_observer_ops run_observe_current;  /* particle current */
 extern const run_observer_ops run_observe_gr;     /* g(r), contact values, Z by contacts */
 extern const run_observer_ops run_observe_virial; /* Z from the collisional virial */
 extern const run_observer_ops run_observe_walls;  /* profiles and wall contact densities */
+extern const run_observer_ops run_observe_sk;     /* the static structure factor */
 /* both models */
 extern const run_observer_ops run_observe_msd;        /* MSD, F_s, D_L */
 extern const run_observer_ops run_observe_trajectory; /* XYZ or GSD frames */
