@@ -122,7 +122,7 @@ typedef struct hsbd_config {
         double gr_max, gr_bin, contact_fit, fs_k;
         int64_t sk_every; /* S(k) every this many steps (0: off) */
         double sk_max;    /* its largest |k| (0: 20 / system.sigma) */
-        int64_t phases; /* profiles resolved by the drive's phase: bins of its period */
+        int64_t phases;   /* profiles resolved by the drive's phase: bins of its period */
     } sample;
     struct {
         char dir[HSBD_PATH_MAX];

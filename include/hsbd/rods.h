@@ -26,7 +26,7 @@
 enum hsbd_contact_rule {
     HSBD_CONTACT_REFLECT = 0, /* first each gap's Brownian bridge minimum is drawn and a
                                  crossing reflects the gap (exact for an isolated pair,
-                                 any dt and constant force, design note 7); then the
+                                 any dt and constant force, docs/theory.md); then the
                                  same regression resolves what still overlaps */
     HSBD_CONTACT_STICKY = 1   /* the paper's BCD: overlapping free end points merge
                                  (perfectly inelastic); contacts crossed and left within

@@ -1,9 +1,9 @@
 /* Event-driven Brownian dynamics (EDBD) of hard disks (2D) and spheres (3D) in a periodic
- * rectangular box, one species, a mixture, or one size per particle (Scala 2012,
- * design notes section 6).
+ * rectangular box, one species, a mixture, or one size per particle (Scala 2012;
+ * docs/spheres.md).
  *
  * A step of length dt draws Gaussian displacements dr_i (variance 2 D_i dt per component,
- * Scala Eq. 2 as corrected in design note 10) plus the common drift, turns them into
+ * Scala Eq. 2 as corrected in docs/theory.md) plus the common drift, turns them into
  * fictive velocities v_i = dr_i / dt, and runs event-driven elastic collisions inside
  * [0, dt) with masses 1/D_i (the Brownian collision matrix, Scala Sec. III): positions
  * at t + dt follow the last event. Only neighbours can collide: each particle owns a
@@ -78,7 +78,7 @@ typedef struct hsbd_spheres_params {
      * along axis a (else periodic); centres stay in [sigma_i/2, box[a] - sigma_i/2]. A wall
      * is a body of infinite mass 1/D: a contact reflects the normal velocity. Walls act
      * with hard_core = 0 too. The step is exact for an isolated particle at a wall with
-     * any drift (the Skorokhod reflection, design notes 7). */
+     * any drift (the Skorokhod reflection, docs/theory.md). */
     int walls[3];
     /* External field along axis field_axis (NULL: none; the caller keeps it alive): the
      * drift v_i = (D_i / kT) coupling_i F(x_i) with F at the start-of-step position.

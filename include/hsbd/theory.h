@@ -113,7 +113,7 @@ HSBD_API double hsbd_short_time_msd(double t, double rho_gap, double diffusion);
 
 /* Density at x >= 0 after time t of a Brownian particle (diffusion D) with constant drift
  * velocity c, started at x0 >= 0, reflected at a wall at 0: Scala Eq. 9 as corrected in
- * design notes 10, G(x - x0 - c t) + e^(-c x0 / D) G(x + x0 - c t)
+ * docs/theory.md, G(x - x0 - c t) + e^(-c x0 / D) G(x + x0 - c t)
  * - (c / 2D) e^(c x / D) erfc((x + x0 + c t) / sqrt(4 D t)), G the free Gaussian of
  * variance 2 D t. Its stationary limit for c < 0 is the barometric (|c| / D) e^(c x / D). */
 HSBD_API double hsbd_reflected_drift_density(double x, double x0, double c, double diffusion,

@@ -564,9 +564,9 @@ static inline int bridge_surely_clear(double g0, double g1, double d_rel_dt, dou
     return 4.0 * d_rel_dt * (1.0 - u) * (1.0 + 1e-12) + 1e-12 * a * a * u < 4.0 * g0 * g1 * u;
 }
 
-/* The push that reflects a gap that may cross (gaps.h) at zero (Skorokhod; design note 7),
- * with its uniform u: -m when the bridge minimum m drawn with u is < 0, else +0.0, selected
- * by a mask (the same bits as the branch, without its mispredictions). */
+/* The push that reflects a gap that may cross (gaps.h) at zero (Skorokhod; docs/theory.md, exact
+ * shortcuts), with its uniform u: -m when the bridge minimum m drawn with u is < 0, else +0.0,
+ * selected by a mask (the same bits as the branch, without its mispredictions). */
 static inline double bridge_push_with(double g0, double g1, double d_rel_dt, double u) {
     const double d = g1 - g0;
     const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));

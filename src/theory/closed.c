@@ -130,7 +130,8 @@ double hsbd_short_time_msd(double t, double rho_gap, double diffusion) {
            (1.0 - 4.0 / (3.0 * sqrt(2.0 * PI)) * rho_gap * sqrt(4.0 * diffusion * t));
 }
 
-/* ---- a reflecting wall with drift (Scala Eq. 9, corrected: design notes 10) ---- */
+/* ---- a reflecting wall with drift (Scala Eq. 9, corrected: docs/theory.md, slips in the papers)
+ * ---- */
 
 double hsbd_reflected_drift_density(double x, double x0, double c, double diffusion, double t) {
     const double pi = 3.14159265358979323846, four_dt = 4.0 * diffusion * t;

@@ -3,7 +3,7 @@
 # - The exact wall-and-drift step: 20000 free disks start 1 from contact with the wall at
 #   x = 0 (D = 1, kT = 1, field.force = -1: drift c = -1 towards it) and run to t = 1 in
 #   steps dt = 1, 0.1 and 0.01 (the first trajectory frame); the end gaps' mean and mean square must lie within 4 of
-#   their standard errors of the corrected Scala Eq. 9 (design notes 10): 0.850398 and
+#   their standard errors of the corrected Scala Eq. 9 (docs/theory.md): 0.850398 and
 #   1.299204, the quadrature of hsbd_reflected_drift_density (its moments are checked in
 #   test_spheres_walls). The naive mirror rule would give a mean of 1.13 (about 100 error
 #   bars off).

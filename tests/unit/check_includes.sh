@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The include graph of src/ (design notes section 1): a file in src/<room>/ includes only
-# the public headers (hsbd/...), the headers of its own room and those of core/, the room
-# every other one stands on; the run lifecycle (src/run/), which sits on top, also the
-# writers of src/io/ and the checkpoint interfaces of the rooms below (<room>/checkpoint.h).
+# The include graph of src/ (docs/architecture.md): a file in src/<room>/ (or a folder
+# inside it, such as src/run/observers/) includes only the public headers (hsbd/...), the
+# headers of its own room and those of core/, the room every other one stands on; the run
+# lifecycle (src/run/), which sits on top, also the writers of src/io/ and the checkpoint
+# interfaces of the rooms below (<room>/checkpoint.h).
 # So the configuration room's schema (src/config/schema.h) is its own: every other room
 # reads the configuration through hsbd/config.h. Inside each room the files form no cycle. A
 # file and the header of the same name are one node (x.c, x.h -> x), so two files that call
@@ -13,9 +14,9 @@ fail=0
 for dir in "$SRC"/*/; do
     room=$(basename "$dir")
     edges=$(mktemp)
-    for file in "$dir"*.c "$dir"*.h; do
-        [ -e "$file" ] || continue
-        node=$(basename "$file" | sed 's/\.[ch]$//')
+    while IFS= read -r file; do
+        node=${file#"$dir"}
+        node=${node%.[ch]}
         echo "$node $node" >>"$edges" # every file is a node, with or without includes
         while IFS= read -r inc; do
             case "$room:$inc" in
@@ -29,12 +30,13 @@ for dir in "$SRC"/*/; do
             esac
             case "$inc" in
             "$room"/*)
-                target=$(basename "$inc" .h)
+                target=${inc#"$room"/}
+                target=${target%.h}
                 [ "$target" = "$node" ] || echo "$node $target" >>"$edges"
                 ;;
             esac
         done < <(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$file")
-    done
+    done < <(find "$dir" -name '*.[ch]' | sort)
     # tsort prints the members of a loop and fails when the graph has one
     if ! tsort "$edges" >/dev/null 2>"$edges.err"; then
         echo "FAIL: src/$room: the includes form a cycle:" >&2
