@@ -353,7 +353,7 @@ size_t run_input_files(const hsbd_config *cfg, const char *key[3], const char *p
     size_t n = 0;
     if (cfg->field.type & HSBD_FIELD_TABLE) /* both models */
         key[n] = "field.table", path[n++] = cfg->field.table;
-    if (cfg->system.model == HSBD_MODEL_RODS && cfg->pair.type == HSBD_PAIR_TABLE)
+    if (cfg->pair.type == HSBD_PAIR_TABLE) /* rods: finalisation refuses it for spheres */
         key[n] = "pair.table", path[n++] = cfg->pair.table;
     if (cfg->init.positions[0]) /* species, sizes */
         key[n] = "init.positions", path[n++] = cfg->init.positions;
@@ -575,7 +575,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
                             "cut)",
                             cfg->run.t_total, planned_t, planned_t);
     if (rc == HSBD_OK &&
-        strcmp(src.model, cfg->system.model == HSBD_MODEL_SPHERES ? "spheres" : "rods"))
+        strcmp(src.model, run_model_name(cfg)))
         rc = hsbd_error_set(err, HSBD_EINPUT, "%s: a checkpoint of model %s", ck.path, src.model);
     if (rc == HSBD_OK) rc = check_inputs(&src, err);
     if (rc == HSBD_OK) {

@@ -30,6 +30,10 @@ static const run_model_spec models[] = {
     [HSBD_MODEL_SPHERES] = {"spheres", run_spheres_build, spheres_observers},
 };
 
+const char *run_model_name(const hsbd_config *cfg) {
+    return models[cfg->system.model].name;
+}
+
 int run_build(run *r, hsbd_error *err) {
     const run_model_spec *m = &models[r->cfg->system.model];
     const int rc = m->build(r, err);

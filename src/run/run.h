@@ -203,6 +203,8 @@ int run_rods_build(run *r, hsbd_error *err);
 int run_spheres_build(run *r, hsbd_error *err);
 /* The model of r->cfg (src/run/models.c): its system, state and observers. */
 int run_build(run *r, hsbd_error *err);
+/* The name of the configuration's model ("rods", "spheres"). */
+const char *run_model_name(const hsbd_config *cfg);
 
 /* The observers of a run (src/run/observer.c): built from a NULL-terminated list (each that
  * applies, with its sampling registered as an operation), and called at each stage, in
