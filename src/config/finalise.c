@@ -480,7 +480,7 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
         for (size_t k = 0; k < cfg->species.n; ++k)
             d = fmax(d, cfg->species.diffusion[k]);
         cfg->sample.contact_width = fmax(1e-2, 3 * sqrt(4 * d * cfg->run.dt));
-        config_set_origin(cfg, "sample", "contact_width", "default (derived from run.dt)");
+        config_origin_derived(cfg, "sample", "contact_width", "default (derived from run.dt)");
     }
     if (cfg->pair.type != HSBD_PAIR_NONE && !cfg->system.hard_core)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -501,7 +501,7 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
         if (cfg->pair.cutoff == 0) {
             cfg->pair.cutoff =
                 cfg->pair.type == HSBD_PAIR_YUKAWA ? sigma + 5.0 / cfg->pair.kappa : 2.5 * sigma;
-            config_set_origin(cfg, "pair", "cutoff", "default (derived from pair.type)");
+            config_origin_derived(cfg, "pair", "cutoff", "default (derived from pair.type)");
         }
         if (!(cfg->pair.cutoff > sigma) || !(cfg->pair.cutoff <= 0.5 * L))
             return hsbd_error_set(err, HSBD_EINPUT,
@@ -535,13 +535,13 @@ static int finalise_rods(hsbd_config *cfg, hsbd_error *err) {
                               config_origin_of(cfg, "field", "type"));
     if (isnan(cfg->field.center)) {
         cfg->field.center = 0.5 * L;
-        config_set_origin(cfg, "field", "center", "default (L/2)");
+        config_origin_derived(cfg, "field", "center", "default (L/2)");
     }
     if (isnan(cfg->sample.period)) {
         cfg->sample.period = has_cosine && !walls ? cfg->field.wavelength : L;
         if (!divides(cfg->sample.period, L)) cfg->sample.period = L;
-        config_set_origin(cfg, "sample", "period",
-                          walls ? "default (L: walls)" : "default (field.wavelength or L)");
+        config_origin_derived(cfg, "sample", "period",
+                              walls ? "default (L: walls)" : "default (field.wavelength or L)");
     }
     if (walls && cfg->sample.period != L)
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -620,7 +620,7 @@ static int finalise_spheres_walls_field(hsbd_config *cfg, double sigma_max, hsbd
                               config_origin_of(cfg, "field", "type"));
     if (isnan(cfg->field.center)) {
         cfg->field.center = 0.5 * length;
-        config_set_origin(cfg, "field", "center", "default (half the box along field.axis)");
+        config_origin_derived(cfg, "field", "center", "default (half the box along field.axis)");
     }
     const size_t ns = cfg->species.n ? cfg->species.n : 1;
     for (size_t k = 0; k < ns; ++k)
@@ -664,13 +664,13 @@ static int finalise_spheres_walls_field(hsbd_config *cfg, double sigma_max, hsbd
     }
     if (config_is_default(cfg, "sample", "bin_width")) {
         cfg->sample.bin_width = 0.05 * cfg->system.sigma;
-        config_set_origin(cfg, "sample", "bin_width", "default (spheres: sigma/20)");
+        config_origin_derived(cfg, "sample", "bin_width", "default (spheres: sigma/20)");
     }
     const int folds = (cfg->field.type & HSBD_FIELD_COSINE) && periodic;
     if (isnan(cfg->sample.period)) {
         cfg->sample.period = folds ? cfg->field.wavelength : length;
-        config_set_origin(cfg, "sample", "period",
-                          "default (spheres: field.wavelength or the box)");
+        config_origin_derived(cfg, "sample", "period",
+                              "default (spheres: field.wavelength or the box)");
     }
     if (!divides(cfg->sample.period, length) || (!periodic && cfg->sample.period != length))
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -685,7 +685,7 @@ static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
     const int dim = (int)cfg->system.dimension;
     if (config_is_default(cfg, "system", "sigma")) {
         cfg->system.sigma = 1.0;
-        config_set_origin(cfg, "system", "sigma", "default (spheres)");
+        config_origin_derived(cfg, "system", "sigma", "default (spheres)");
     }
     if (!(cfg->system.sigma > 0))
         return hsbd_error_set(err, HSBD_EINPUT, "%s: system.sigma = %g; allowed: sigma > 0",
@@ -767,7 +767,7 @@ static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
                               cfg->sample.gr_max);
     if (config_is_default(cfg, "sample", "every")) { /* an MSD sample costs d N: every 10 steps */
         cfg->sample.every = 10;
-        config_set_origin(cfg, "sample", "every", "default (spheres)");
+        config_origin_derived(cfg, "sample", "every", "default (spheres)");
     }
     if (cfg->sample.fs_k == 0)
         cfg->sample.fs_k = 2 * 3.14159265358979323846 /
@@ -780,7 +780,7 @@ static int finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
         /* short runs: still at least 10 samples per error block */
         const double most = floor(steps / (10.0 * (double)cfg->sample.blocks));
         if ((double)cfg->sample.gr_every > most) cfg->sample.gr_every = (int64_t)fmax(1.0, most);
-        config_set_origin(cfg, "sample", "gr_every", "default (0.05 time units)");
+        config_origin_derived(cfg, "sample", "gr_every", "default (0.05 time units)");
     }
     const uint64_t gr_samples = hsbd_config_steps(cfg) / (uint64_t)cfg->sample.gr_every;
     if (gr_samples < (uint64_t)cfg->sample.blocks)

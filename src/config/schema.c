@@ -312,25 +312,6 @@ int config_key_read(const hsbd_config *cfg, const key_spec *k) {
     return (k->models & (1u << cfg->system.model)) != 0;
 }
 
-int config_is_default(const hsbd_config *cfg, const char *section, const char *key) {
-    return !strncmp(cfg->origin[config_key_index(config_find_key(section, key))], "default", 7);
-}
-
-const char *config_origin_of(const hsbd_config *cfg, const char *section, const char *key) {
-    const char *o = cfg->origin[config_key_index(config_find_key(section, key))];
-    return !strncmp(o, "default", 7) && cfg->file[0] ? cfg->file : o;
-}
-
-void config_set_origin(hsbd_config *cfg, const char *section, const char *key, const char *origin) {
-    snprintf(cfg->origin[config_key_index(config_find_key(section, key))], HSBD_ORIGIN_MAX, "%s",
-             origin);
-}
-
-const char *hsbd_config_origin(const hsbd_config *cfg, const char *section, const char *key) {
-    const key_spec *k = config_find_key(section, key);
-    return k ? cfg->origin[config_key_index(k)] : "";
-}
-
 /* ---- names near a misspelt one ------------------------------------------------------ */
 
 static size_t edit_distance(const char *a, const char *b) {

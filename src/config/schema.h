@@ -1,8 +1,9 @@
 /* The configuration room's private interface: the schema table (one row per key: section,
  * name, the models that read it, type, range, default, doc) and the helpers its files
- * share. schema.c holds the table, parse.c reads values, INI lines and --set, dialect.c
- * the authors' section-less files, finalise.c the checks across keys per model, memory.c
- * the run's memory estimate, emit.c --help, docs/config.md and the tables' headers. */
+ * share. schema.c holds the table, origin.c where each key got its value, parse.c reads values,
+ * INI lines and --set, dialect.c the authors' section-less files, finalise.c the checks across keys
+ * per model, memory.c the run's memory estimate, emit.c --help, docs/config.md and the tables'
+ * headers. */
 #ifndef HSBD_CONFIG_SCHEMA_H
 #define HSBD_CONFIG_SCHEMA_H
 
@@ -60,13 +61,23 @@ const char *config_suggest(const char *section, const char *key, char *buf, size
 void config_format_range(const key_spec *k, char *buf, size_t len);
 /* Does the configuration's model read this key? */
 int config_key_read(const hsbd_config *cfg, const key_spec *k);
-/* Is a key at its default (set by no file or --set)? */
+
+/* ---- origin.c: where each key got its value ------------------------------------------ */
+
+/* Is a key at its default, or at one derived from other keys (set by no file or --set)? */
 int config_is_default(const hsbd_config *cfg, const char *section, const char *key);
 /* Where a key got its value, for messages: for a key at its default, the configuration
  * file (when there is one), so that every message names the file. */
 const char *config_origin_of(const hsbd_config *cfg, const char *section, const char *key);
+/* A key's origin as hsbd_config_origin() gives it. */
+const char *config_origin_text(const hsbd_config *cfg, const key_spec *k);
+/* Records a key read from line `line` of the file `path`. */
+void config_origin_from_file(hsbd_config *cfg, const key_spec *k, const char *path, long line);
+/* Records a key set by hsbd_config_set with its origin ("command line (--set)"). */
+void config_origin_from_set(hsbd_config *cfg, const key_spec *k, const char *origin);
 /* Records where a derived value came from ("default (L/2)"). */
-void config_set_origin(hsbd_config *cfg, const char *section, const char *key, const char *origin);
+void config_origin_derived(hsbd_config *cfg, const char *section, const char *key,
+                           const char *note);
 
 /* ---- parse.c: values ---------------------------------------------------------------- */
 
