@@ -1,6 +1,7 @@
-/* Where each key got its value (src/config/origin.c), checked text for text: a file's
- * lines, --set, derived defaults, two origins in one message, a copy by value, texts of
- * the longest length, many distinct origins, and the size of the configuration. */
+/* The configuration room's own checks. Where each key got its value (src/config/origin.c),
+ * text for text: a file's lines, --set, derived defaults, two origins in one message, a copy
+ * by value, texts of the longest length, many distinct origins, and the size of the
+ * configuration. The table of models: one row per system.model choice, in its order. */
 #include <stdio.h>
 #include <string.h>
 
@@ -153,7 +154,29 @@ static void long_and_many_origins(void) {
     CHECK_TEXT(hsbd_config_origin(&cfg, "system", "N"), "first system.N");
 }
 
+static void models(void) {
+    static hsbd_config cfg;
+    hsbd_error err;
+    const char *names[] = {"rods", "spheres"};
+    CHECK(config_nmodels == 2, "%zu models", config_nmodels);
+    for (size_t m = 0; m < 2; ++m) {
+        char set[64];
+        snprintf(set, sizeof set, "system.model=%s", names[m]);
+        hsbd_config_defaults(&cfg);
+        CHECK(hsbd_config_set(&cfg, set, "test", &err) == HSBD_OK, "%s", err.message);
+        CHECK(config_model(&cfg) == &config_models[m], "%s", names[m]);
+        CHECK_TEXT(config_models[m].name, names[m]);
+        CHECK(config_models[m].keys == 1u << m, "%s reads its keys", names[m]);
+    }
+    hsbd_config_defaults(&cfg);
+    cfg.system.model = 7; /* written past the schema */
+    CHECK(config_model(&cfg) == NULL, "no model 7");
+    CHECK(hsbd_config_finalize(&cfg, &err) == HSBD_EINPUT, "model 7 finalised");
+    CHECK_TEXT(err.message, "default: system.model = 7 is not known; allowed: one of rods|spheres");
+}
+
 int main(void) {
+    models();
     file_and_set_origins();
     messages_with_origins();
     derived_origins_and_copies();
@@ -162,5 +185,5 @@ int main(void) {
     CHECK(sizeof(hsbd_config) < CONFIG_BOUND, "sizeof(hsbd_config) = %zu", sizeof(hsbd_config));
     printf("sizeof(hsbd_config) = %zu, of its origins %zu\n", sizeof(hsbd_config),
            sizeof(hsbd_origins));
-    return test_finish("test_config_origin");
+    return test_finish("test_config");
 }
