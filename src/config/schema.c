@@ -278,9 +278,16 @@ const size_t config_nkeys = NKEYS;
 
 /* The models, in the order of enum hsbd_model and of system.model's choices. */
 const model_spec config_models[] = {
-    [HSBD_MODEL_RODS] = {"rods", RODS, 1, 0, config_finalise_rods, config_memory_rods},
-    [HSBD_MODEL_SPHERES] = {"spheres", SPHERES, 0, 1, config_finalise_spheres,
-                            config_memory_spheres},
+    [HSBD_MODEL_RODS] = {.name = "rods",
+                         .keys = RODS,
+                         .point_particles = 1,
+                         .finalise = config_finalise_rods,
+                         .memory = config_memory_rods},
+    [HSBD_MODEL_SPHERES] = {.name = "spheres",
+                            .keys = SPHERES,
+                            .immobile_species = 1,
+                            .finalise = config_finalise_spheres,
+                            .memory = config_memory_spheres},
 };
 const size_t config_nmodels = sizeof config_models / sizeof config_models[0];
 
