@@ -61,8 +61,8 @@ typedef struct hsbd_key_origin {
 
 /* Every key's origin and the texts they name, each held once. Without pointers: a copy of
  * the configuration by value keeps its origins. hsbd_config_origin() formats into `ring`,
- * so a text it returns stays valid for HSBD_ORIGIN_RING calls on the same configuration
- * (one configuration is not read for origins by two threads at once). */
+ * so the last HSBD_ORIGIN_RING texts it returned for a configuration are valid at once (one
+ * configuration is not asked for origins by two threads at once). */
 typedef struct hsbd_origins {
     hsbd_key_origin key[HSBD_CONFIG_MAX_KEYS];
     char texts[HSBD_ORIGIN_TEXTS];
@@ -179,7 +179,7 @@ HSBD_API int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
 
 /* Where a key got its value ("file:line", "<origin> section.key" for hsbd_config_set,
  * "default", or "default (<how it was derived>)"); "" for unknown keys. The text is valid
- * until HSBD_ORIGIN_RING further calls on the same configuration. */
+ * until the configuration changes or is asked for HSBD_ORIGIN_RING more origins. */
 HSBD_API const char *hsbd_config_origin(const hsbd_config *cfg, const char *section,
                                         const char *key);
 
