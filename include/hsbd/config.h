@@ -42,11 +42,33 @@ enum hsbd_trajectory { HSBD_TRAJ_NONE = 0, HSBD_TRAJ_XYZ, HSBD_TRAJ_GSD };
 enum hsbd_blocking { HSBD_BLOCKS_TIME = 0, HSBD_BLOCKS_SPACE, HSBD_BLOCKS_REPLICAS };
 enum {
     HSBD_PATH_MAX = 1024,
-    HSBD_ORIGIN_MAX = 1100,
+    HSBD_ORIGIN_MAX = 1100, /* an origin's text, with its NUL (longer ones are cut) */
     HSBD_CONFIG_MAX_KEYS = 128,
+    HSBD_ORIGIN_TEXTS = 2048, /* the distinct texts the origins of one configuration name */
+    HSBD_ORIGIN_RING = 4,     /* origins whose texts are valid at once */
     HSBD_MAX_SPECIES = 16,
     HSBD_SPECIES_NAME = 32
 };
+
+/* Where one key got its value: its kind (default, a file's line, --set, a derived default;
+ * src/config/origin.c), the file's line, and where its text (the file's name, the origin
+ * given to hsbd_config_set, the derived default's note) starts in hsbd_origins.texts. */
+typedef struct hsbd_key_origin {
+    long line;
+    uint16_t text;
+    uint8_t kind;
+} hsbd_key_origin;
+
+/* Every key's origin and the texts they name, each held once. Without pointers: a copy of
+ * the configuration by value keeps its origins. hsbd_config_origin() formats into `ring`,
+ * so the last HSBD_ORIGIN_RING texts it returned for a configuration are valid at once (one
+ * configuration is not asked for origins by two threads at once). */
+typedef struct hsbd_origins {
+    hsbd_key_origin key[HSBD_CONFIG_MAX_KEYS];
+    char texts[HSBD_ORIGIN_TEXTS];
+    uint16_t texts_used, ring_next;
+    char ring[HSBD_ORIGIN_RING][HSBD_ORIGIN_MAX];
+} hsbd_origins;
 
 typedef struct hsbd_config {
     struct {
@@ -136,8 +158,7 @@ typedef struct hsbd_config {
         char positions[HSBD_PATH_MAX];
         int method; /* enum hsbd_init_method */
     } init;
-    /* where each schema key got its value: "file:line", "--set", or "default" */
-    char origin[HSBD_CONFIG_MAX_KEYS][HSBD_ORIGIN_MAX];
+    hsbd_origins origins;     /* where each schema key got its value */
     char file[HSBD_PATH_MAX]; /* the configuration file read, if any */
     int authors_dialect;      /* the file used the authors' section-less keys */
 } hsbd_config;
@@ -158,7 +179,9 @@ HSBD_API int hsbd_config_set(hsbd_config *cfg, const char *assignment, const cha
 /* Derived defaults and checks that involve several keys; call once after all input. */
 HSBD_API int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
 
-/* Where a key got its value ("file:line", "--set ...", "default"); "" for unknown keys. */
+/* Where a key got its value ("file:line", "<origin> section.key" for hsbd_config_set,
+ * "default", or "default (<how it was derived>)"); "" for unknown keys. The text is valid
+ * until the configuration changes or is asked for HSBD_ORIGIN_RING more origins. */
 HSBD_API const char *hsbd_config_origin(const hsbd_config *cfg, const char *section,
                                         const char *key);
 

@@ -13,12 +13,6 @@ enum { RODS_BYTES = 96, SPHERES_BYTES_2D = 900, SPHERES_BYTES_3D = 1300 };
 /* the share of the machine's physical memory a run may plan to use */
 #define MEMORY_SHARE 0.8
 
-/* One part of the estimate and the key that makes it large. */
-typedef struct memory_part {
-    double bytes;
-    const char *section, *key, *what;
-} memory_part;
-
 /* The MSD observer of `items` coordinates (hsbd_msd_alloc): its snapshots, its lag table
  * (one entry per sample up to the largest lag) and its values per lag and origin (twice
  * with F_s); parts[0..2] += those. */
@@ -39,49 +33,58 @@ static void msd_memory(const hsbd_config *cfg, double items, int fs, double copi
     parts[2].bytes += copies * lags * origins * 8 * (fs ? 2 : 1);
 }
 
-/* the engine and its run driver: bytes per particle times N */
-static memory_part particles_memory(const hsbd_config *cfg) {
-    const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
-    const double per = !spheres                     ? RODS_BYTES
-                       : cfg->system.dimension == 3 ? SPHERES_BYTES_3D
-                                                    : SPHERES_BYTES_2D;
-    return (memory_part){(double)cfg->system.n * per, "system", "N", "the particles"};
+/* the particles' part: bytes per particle times N */
+static memory_part particles_part(const hsbd_config *cfg, double bytes_per_particle) {
+    return (memory_part){(double)cfg->system.n * bytes_per_particle, "system", "N",
+                         "the particles"};
 }
 
-/* Estimated bytes of a finalized configuration's run, in parts (returns their count). */
-static size_t memory_estimate(const hsbd_config *cfg, memory_part *parts) {
-    const int spheres = cfg->system.model == HSBD_MODEL_SPHERES;
+/* the MSD's three parts (parts[0..2]) for `items` coordinates, with one more MSD per
+ * species when there are at least `own_from` species */
+static size_t msd_parts(const hsbd_config *cfg, double items, int fs, size_t own_from,
+                        memory_part *parts) {
+    parts[0] = (memory_part){0, "system", "N", "the MSD's snapshots"};
+    parts[1] = (memory_part){0, "sample", "msd_max_lag", "the MSD's lag table"};
+    parts[2] = (memory_part){0, "sample", "msd_points_per_decade", "the MSD's values"};
+    const double per_species = cfg->species.n >= own_from ? (double)cfg->species.n : 0;
+    msd_memory(cfg, items, fs, 1 + per_species, parts);
+    return 3;
+}
+
+/* rods: the ring, the MSD of N positions (one per species with species), the profiles */
+size_t config_memory_rods(const hsbd_config *cfg, int particles_only, memory_part *parts) {
+    parts[0] = particles_part(cfg, RODS_BYTES);
+    if (particles_only) return 1;
+    size_t np = 1 + msd_parts(cfg, (double)cfg->system.n, 0, 1, parts + 1);
+    const double bins = round(cfg->sample.period / cfg->sample.bin_width);
+    parts[np++] = (memory_part){4 * bins * 8 * (1 + (double)cfg->sample.blocks), "sample",
+                                "bin_width", "the profiles' bins"};
+    return np;
+}
+
+/* spheres: the particles, the MSD of d N coordinates with F_s (one per species from two
+ * species on), g(r)'s bins and the density profiles across walls or along the field */
+size_t config_memory_spheres(const hsbd_config *cfg, int particles_only, memory_part *parts) {
     const double n = (double)cfg->system.n, d = (double)cfg->system.dimension;
+    parts[0] = particles_part(cfg, d == 3 ? SPHERES_BYTES_3D : SPHERES_BYTES_2D);
+    if (particles_only) return 1;
+    size_t np = 1 + msd_parts(cfg, d * n, 1, 2, parts + 1);
     const double blocks = (double)cfg->sample.blocks;
-    size_t np = 0;
-    parts[np++] = particles_memory(cfg);
-    parts[np++] = (memory_part){0, "system", "N", "the MSD's snapshots"};
-    parts[np++] = (memory_part){0, "sample", "msd_max_lag", "the MSD's lag table"};
-    parts[np++] = (memory_part){0, "sample", "msd_points_per_decade", "the MSD's values"};
-    /* mixtures: one more MSD per species (spheres: from two species on) */
-    const double per_species = (double)cfg->species.n >= (spheres ? 2 : 1) ? cfg->species.n : 0;
-    msd_memory(cfg, spheres ? d * n : n, spheres, 1 + (double)per_species, parts + 1);
-    if (spheres) {
-        const double pairs = cfg->species.n ? cfg->species.n * (cfg->species.n + 1) / 2.0 : 1;
-        const double bins = ceil(cfg->sample.gr_max / cfg->sample.gr_bin) + 10;
-        const double ns = cfg->species.n ? (double)cfg->species.n : 1;
-        double gr_bytes = pairs * bins * 8 * (3 + blocks), profiles = 0;
-        for (int a = 0; a < (int)d; ++a) {
-            if (!cfg->system.walls[a] && !(cfg->field.type && cfg->field.axis == a)) continue;
-            profiles += /* src/run/walls.c */
-                (ceil(cfg->system.box[a] / cfg->sample.bin_width) + 8) * ns * 8 * (3 + blocks);
-            /* g(r)'s own profile in z bins of half its r bins, and its reference weights
-             * (src/observe/gr.c; an upper bound when g(r) is not measured there) */
-            const double nz = ceil(2 * cfg->system.box[a] / cfg->sample.gr_bin) + 1;
-            gr_bytes += (ns * nz * (3 + blocks) + pairs * fmin(nz, 2 * bins) * bins) * 8;
-        }
-        parts[np++] = (memory_part){gr_bytes, "sample", "gr_bin", "g(r)'s bins"};
-        parts[np++] = (memory_part){profiles, "sample", "bin_width", "the density profiles' bins"};
-    } else {
-        const double bins = round(cfg->sample.period / cfg->sample.bin_width);
-        parts[np++] =
-            (memory_part){4 * bins * 8 * (1 + blocks), "sample", "bin_width", "the profiles' bins"};
+    const double pairs = cfg->species.n ? cfg->species.n * (cfg->species.n + 1) / 2.0 : 1;
+    const double bins = ceil(cfg->sample.gr_max / cfg->sample.gr_bin) + 10;
+    const double ns = cfg->species.n ? (double)cfg->species.n : 1;
+    double gr_bytes = pairs * bins * 8 * (3 + blocks), profiles = 0;
+    for (int a = 0; a < (int)d; ++a) {
+        if (!cfg->system.walls[a] && !(cfg->field.type && cfg->field.axis == a)) continue;
+        profiles += /* src/run/walls.c */
+            (ceil(cfg->system.box[a] / cfg->sample.bin_width) + 8) * ns * 8 * (3 + blocks);
+        /* g(r)'s own profile in z bins of half its r bins, and its reference weights
+         * (src/observe/gr.c; an upper bound when g(r) is not measured there) */
+        const double nz = ceil(2 * cfg->system.box[a] / cfg->sample.gr_bin) + 1;
+        gr_bytes += (ns * nz * (3 + blocks) + pairs * fmin(nz, 2 * bins) * bins) * 8;
     }
+    parts[np++] = (memory_part){gr_bytes, "sample", "gr_bin", "g(r)'s bins"};
+    parts[np++] = (memory_part){profiles, "sample", "bin_width", "the density profiles' bins"};
     return np;
 }
 
@@ -94,8 +97,7 @@ static double physical_memory(void) {
 /* MEMORY_SHARE of the machine's memory at most */
 int config_check_memory(const hsbd_config *cfg, int particles_only, hsbd_error *err) {
     memory_part parts[8];
-    const size_t np = particles_only ? 1 : memory_estimate(cfg, parts);
-    if (particles_only) parts[0] = particles_memory(cfg);
+    const size_t np = config_model(cfg)->memory(cfg, particles_only, parts);
     double total = 0;
     size_t big = 0;
     for (size_t k = 0; k < np; ++k) {

@@ -199,11 +199,10 @@ void config_format_value(const hsbd_config *cfg, const key_spec *k, char *buf, s
 }
 
 void hsbd_config_defaults(hsbd_config *cfg) {
-    memset(cfg, 0, sizeof *cfg);
+    memset(cfg, 0, sizeof *cfg); /* and every key's origin: the default */
     for (size_t i = 0; i < config_nkeys; ++i) {
         const key_spec *k = &config_schema[i];
         if (k->def[0] || k->type == K_STRING) config_parse_value(cfg, k, k->def, "default", NULL);
-        snprintf(cfg->origin[i], HSBD_ORIGIN_MAX, "default");
     }
     cfg->sample.period = NAN; /* derived in finalize unless set */
     cfg->field.center = NAN;  /* L/2 unless set */
@@ -217,11 +216,11 @@ int config_assign(ini_state *st, const key_spec *k, const char *value, const cha
     const size_t idx = config_key_index(k);
     if (st->set_at[idx])
         return hsbd_error_set(st->err, HSBD_EINPUT, "%s: %s is set twice (first at %s)", where, as,
-                              st->cfg->origin[idx]);
+                              config_origin_text(st->cfg, k));
     if (config_parse_value(st->cfg, k, value, where, st->err) != HSBD_OK) return st->err->status;
     st->set_at[idx] = 1;
     st->keys++;
-    snprintf(st->cfg->origin[idx], HSBD_ORIGIN_MAX, "%s", where);
+    config_origin_from_file(st->cfg, k, st->path, st->line);
     return HSBD_OK;
 }
 
@@ -381,9 +380,7 @@ int hsbd_config_set(hsbd_config *cfg, const char *assignment, const char *origin
                               section, key, s ? "; did you mean '" : "", s ? s : "",
                               s ? "'?" : " (hsbd run --help lists all keys)");
     }
-    char where[HSBD_ORIGIN_MAX];
-    snprintf(where, sizeof where, "%s %s.%s", origin, section, key);
     const int rc = config_parse_value(cfg, k, value, origin, err);
-    if (rc == HSBD_OK) snprintf(cfg->origin[config_key_index(k)], HSBD_ORIGIN_MAX, "%s", where);
+    if (rc == HSBD_OK) config_origin_from_set(cfg, k, origin);
     return rc;
 }

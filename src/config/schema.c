@@ -1,6 +1,8 @@
 /* The one schema table of the configuration: every key, its models, type, range, default
  * and doc. Parsing, the checks, --help, docs/config.md and the tables' headers all read it:
- * adding a key is adding a row (and its check in finalise.c if it depends on other keys). */
+ * adding a key is adding a row (and its check in finalise.c, or in finalise_<model>.c for
+ * one model, if it depends on other keys). Then the table of models: what each one reads,
+ * its rules across keys and its memory estimate. */
 #include "config/schema.h"
 
 #include <string.h>
@@ -280,6 +282,26 @@ enum { NKEYS = sizeof config_schema / sizeof config_schema[0] };
 _Static_assert((int)NKEYS <= (int)HSBD_CONFIG_MAX_KEYS, "raise HSBD_CONFIG_MAX_KEYS");
 const size_t config_nkeys = NKEYS;
 
+/* The models, in the order of enum hsbd_model and of system.model's choices. */
+const model_spec config_models[] = {
+    [HSBD_MODEL_RODS] = {.name = "rods",
+                         .keys = RODS,
+                         .point_particles = 1,
+                         .finalise = config_finalise_rods,
+                         .memory = config_memory_rods},
+    [HSBD_MODEL_SPHERES] = {.name = "spheres",
+                            .keys = SPHERES,
+                            .immobile_species = 1,
+                            .finalise = config_finalise_spheres,
+                            .memory = config_memory_spheres},
+};
+const size_t config_nmodels = sizeof config_models / sizeof config_models[0];
+
+const model_spec *config_model(const hsbd_config *cfg) {
+    const unsigned m = (unsigned)cfg->system.model;
+    return m < config_nmodels ? &config_models[m] : NULL;
+}
+
 void *config_slot(hsbd_config *cfg, const key_spec *k) {
     return (char *)cfg + k->offset;
 }
@@ -315,26 +337,8 @@ void config_section_list(char *buf, size_t len) {
 }
 
 int config_key_read(const hsbd_config *cfg, const key_spec *k) {
-    return (k->models & (1u << cfg->system.model)) != 0;
-}
-
-int config_is_default(const hsbd_config *cfg, const char *section, const char *key) {
-    return !strncmp(cfg->origin[config_key_index(config_find_key(section, key))], "default", 7);
-}
-
-const char *config_origin_of(const hsbd_config *cfg, const char *section, const char *key) {
-    const char *o = cfg->origin[config_key_index(config_find_key(section, key))];
-    return !strncmp(o, "default", 7) && cfg->file[0] ? cfg->file : o;
-}
-
-void config_set_origin(hsbd_config *cfg, const char *section, const char *key, const char *origin) {
-    snprintf(cfg->origin[config_key_index(config_find_key(section, key))], HSBD_ORIGIN_MAX, "%s",
-             origin);
-}
-
-const char *hsbd_config_origin(const hsbd_config *cfg, const char *section, const char *key) {
-    const key_spec *k = config_find_key(section, key);
-    return k ? cfg->origin[config_key_index(k)] : "";
+    const model_spec *model = config_model(cfg);
+    return model && (k->models & model->keys) != 0;
 }
 
 /* ---- names near a misspelt one ------------------------------------------------------ */

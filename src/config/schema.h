@@ -1,8 +1,10 @@
 /* The configuration room's private interface: the schema table (one row per key: section,
- * name, the models that read it, type, range, default, doc) and the helpers its files
- * share. schema.c holds the table, parse.c reads values, INI lines and --set, dialect.c
- * the authors' section-less files, finalise.c the checks across keys per model, memory.c
- * the run's memory estimate, emit.c --help, docs/config.md and the tables' headers. */
+ * name, the models that read it, type, range, default, doc), the table of models, and the
+ * helpers its files share. schema.c holds the tables, origin.c where each key got its
+ * value, parse.c reads values, INI lines and --set, dialect.c the authors' section-less
+ * files, finalise.c the checks every model shares and finalise_<model>.c each model's own,
+ * memory.c the run's memory estimate, emit.c --help, docs/config.md and the tables'
+ * headers. */
 #ifndef HSBD_CONFIG_SCHEMA_H
 #define HSBD_CONFIG_SCHEMA_H
 
@@ -60,13 +62,23 @@ const char *config_suggest(const char *section, const char *key, char *buf, size
 void config_format_range(const key_spec *k, char *buf, size_t len);
 /* Does the configuration's model read this key? */
 int config_key_read(const hsbd_config *cfg, const key_spec *k);
-/* Is a key at its default (set by no file or --set)? */
+
+/* ---- origin.c: where each key got its value ------------------------------------------ */
+
+/* Is a key at its default, or at one derived from other keys (set by no file or --set)? */
 int config_is_default(const hsbd_config *cfg, const char *section, const char *key);
 /* Where a key got its value, for messages: for a key at its default, the configuration
  * file (when there is one), so that every message names the file. */
 const char *config_origin_of(const hsbd_config *cfg, const char *section, const char *key);
+/* A key's origin as hsbd_config_origin() gives it. */
+const char *config_origin_text(const hsbd_config *cfg, const key_spec *k);
+/* Records a key read from line `line` of the file `path`. */
+void config_origin_from_file(hsbd_config *cfg, const key_spec *k, const char *path, long line);
+/* Records a key set by hsbd_config_set with its origin ("command line (--set)"). */
+void config_origin_from_set(hsbd_config *cfg, const key_spec *k, const char *origin);
 /* Records where a derived value came from ("default (L/2)"). */
-void config_set_origin(hsbd_config *cfg, const char *section, const char *key, const char *origin);
+void config_origin_derived(hsbd_config *cfg, const char *section, const char *key,
+                           const char *note);
 
 /* ---- parse.c: values ---------------------------------------------------------------- */
 
@@ -111,6 +123,57 @@ const authors_key *config_find_authors_key(const char *name);
 int config_authors_assign(ini_state *st, const char *name, const char *value);
 /* What the authors' program fixes that their files do not say (field, kT). */
 void config_authors_finish(hsbd_config *cfg);
+
+/* ---- finalise.c: what the models' checks share ------------------------------------- */
+
+/* a / b is a whole number (relative tolerance 1e-9) */
+int config_divides(double b, double a);
+/* Split a list on spaces and commas into at most `max` words; returns the count, or
+ * max + 1 when there are more. */
+size_t config_split_list(char *text, char **words, size_t max);
+/* One numeric species list (count, sigma, D or coupling): as many finite entries as names,
+ * each in [min, inf) (open at min when `open`), whole numbers when `whole`. */
+int config_parse_species_numbers(hsbd_config *cfg, const char *key, const char *text, double min,
+                                 int open, int whole, double *out, hsbd_error *err);
+/* The [species] lists: names, counts summing to system.N, lengths and D. */
+int config_parse_species(hsbd_config *cfg, hsbd_error *err);
+/* system.boundary: one word (rods: dim 1) or one per axis, each periodic or walls, into
+ * walls[a]. */
+int config_parse_boundary(hsbd_config *cfg, int dim, int *walls, hsbd_error *err);
+/* Checks of the run, sampling and output keys shared by every model (and their derived
+ * defaults). */
+int config_check_run_keys(hsbd_config *cfg, hsbd_error *err);
+
+/* ---- the models: what differs between them ------------------------------------------ */
+
+/* One part of a run's memory estimate and the key that makes it large. */
+typedef struct memory_part {
+    double bytes;
+    const char *section, *key, *what;
+} memory_part;
+
+typedef struct model_spec {
+    const char *name;     /* system.model's value */
+    unsigned keys;        /* RODS or SPHERES: the keys of the schema the model reads */
+    int point_particles;  /* species.sigma may be 0 (rods); else > 0 */
+    int immobile_species; /* species.D may be 0 (spheres); else > 0 */
+    /* its checks across keys and derived defaults (finalise_<model>.c) */
+    int (*finalise)(hsbd_config *cfg, hsbd_error *err);
+    /* its run's estimated memory (memory.c) in at most 8 parts, their count returned; the
+     * particles' part first, and only it when `particles_only` */
+    size_t (*memory)(const hsbd_config *cfg, int particles_only, memory_part *parts);
+} model_spec;
+
+/* schema.c: one row per enum hsbd_model */
+extern const model_spec config_models[];
+extern const size_t config_nmodels;
+/* The configuration's model; NULL when system.model is none of enum hsbd_model. */
+const model_spec *config_model(const hsbd_config *cfg);
+
+int config_finalise_rods(hsbd_config *cfg, hsbd_error *err);
+int config_finalise_spheres(hsbd_config *cfg, hsbd_error *err);
+size_t config_memory_rods(const hsbd_config *cfg, int particles_only, memory_part *parts);
+size_t config_memory_spheres(const hsbd_config *cfg, int particles_only, memory_part *parts);
 
 /* ---- memory.c ---------------------------------------------------------------------- */
 

@@ -3,7 +3,7 @@
 #include "fuzz.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    static hsbd_config config; /* reused: a fresh 150 kB allocation per input is slow */
+    static hsbd_config config; /* reused: a fresh 24 kB allocation per input is slow */
     hsbd_config *cfg = &config;
     char *text = malloc(size + 1);
     if (!text) abort();
