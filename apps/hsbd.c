@@ -21,6 +21,7 @@
 #include "hsbd/run.h"
 #include "hsbd/theory.h"
 #include "hsbd/validate.h"
+#include "rundir/rundir.h"
 #include "hsbd_version.h"
 
 #ifdef HSBD_HAVE_MPI
@@ -309,7 +310,7 @@ static uint64_t text_key(const char *text) {
  * links, . and ..; a part not there yet through its nearest existing parent). */
 static uint64_t dir_key(const char *dir) {
     char resolved[PATH_MAX];
-    return text_key(hsbd_path_resolve(dir, resolved) == 0 ? resolved : dir);
+    return text_key(realpath(dir, resolved) ? resolved : dir);
 }
 
 /* Each rank's key, gathered over MPI_COMM_WORLD (a collective, waited for asleep); NULL
@@ -483,7 +484,7 @@ static void share_rank_threads(const ranks *r, int working) {
 static int run_ensemble_or_single(const ranks *ranks_of_run, hsbd_config *cfg,
                                   hsbd_run_options *opt, int quiet, hsbd_error *err) {
     const ranks r = *ranks_of_run;
-    const size_t replicas = hsbd_ensemble_size(cfg, r.size);
+    const size_t replicas = rundir_ensemble_size(cfg, r.size);
     int rc = HSBD_OK;
     if (replicas == 1) { /* ranks given the same directory leave it to the lowest */
         int others;
@@ -494,20 +495,18 @@ static int run_ensemble_or_single(const ranks *ranks_of_run, hsbd_config *cfg,
         if (first != r.rank) opt->progress = 0; /* no "results in" from it */
     } else {
         if (r.rank > 0) opt->progress = 0;
-        share_rank_threads(&r, (size_t)r.rank < replicas);          /* a collective */
-        hsbd_ensemble_claim claim = {.lock = -1, .aside_lock = -1}; /* rank 0's */
-        if (r.rank == 0) rc = hsbd_ensemble_prepare(cfg, opt->force, &claim, err);
+        share_rank_threads(&r, (size_t)r.rank < replicas); /* a collective */
+        rundir_ensemble claim = {.lock = -1};              /* rank 0's */
+        if (r.rank == 0) rc = rundir_ensemble_begin(cfg, &claim, err);
         rc = ranks_agree(&r, rc, err);
         if (rc == HSBD_OK) { /* on every rank or on none: each meets the second agreement */
-            rc = hsbd_ensemble_run(cfg, opt, replicas, r.rank, r.size, err);
+            rc = rundir_ensemble_run(cfg, opt, replicas, r.rank, r.size, err);
             rc = ranks_agree(&r, rc, err);
         }
-        if (rc == HSBD_OK && r.rank == 0) rc = hsbd_ensemble_merge(cfg, replicas, err);
-        /* the directory's lock released; an earlier ensemble this run set aside removed,
-         * or back after a failure */
+        /* merged, or the directory made for nothing removed; its lock released */
         if (r.rank == 0) {
             const int status = rc == HSBD_ESILENT ? err->status : rc;
-            const int done = hsbd_ensemble_finish(cfg, status, &claim, err);
+            const int done = rundir_ensemble_end(cfg, status, &claim, err);
             if (rc != HSBD_ESILENT || done != status) rc = done;
         }
     }
@@ -575,7 +574,7 @@ static int cmd_merge(const ranks *r, int argc, char **argv) {
         const int first = first_rank_for(r, out, &others);
         say_others_wait("merge", r, others, out);
         hsbd_error err = {0}; /* a rank that did no work has no message */
-        const int rc = first == r->rank ? hsbd_merge(out, dirs, ndirs, force, &err) : HSBD_OK;
+        const int rc = first == r->rank ? rundir_merge(out, dirs, ndirs, force, &err) : HSBD_OK;
         code = ranks_outcome(r, rc, &err);
     }
     free(dirs);
@@ -738,8 +737,7 @@ static uint64_t config_key(const hsbd_config *cfg) {
         *same = *cfg;
         same->run.threads = 0;
         char resolved[PATH_MAX];
-        if (hsbd_path_resolve(cfg->output.dir, resolved) == 0 &&
-            strlen(resolved) < sizeof same->output.dir)
+        if (realpath(cfg->output.dir, resolved) && strlen(resolved) < sizeof same->output.dir)
             memcpy(same->output.dir, resolved, strlen(resolved) + 1);
         hsbd_config_write_json(same, f, 0);
         fclose(f);
@@ -791,7 +789,7 @@ static int cmd_run(const ranks *r, int argc, char **argv) {
      * given one directory */
     if (code == 0)
         code = ranks_same_config(r, &q.cfg,
-                                 ranks_lowest(r, hsbd_ensemble_size(&q.cfg, r->size) > 1) >= 0);
+                                 ranks_lowest(r, rundir_ensemble_size(&q.cfg, r->size) > 1) >= 0);
     if (code == 0) {
         hsbd_error err = {0}; /* a rank that did no work has no message */
         catch_stop_signals();
