@@ -175,15 +175,10 @@ static int load_replica(replica *s, hsbd_error *err) {
     const char *done = summary_value(s, "completed");
     if (rc != HSBD_OK) return rc;
     if (flat == -1) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-    if (flat == -2)
+    if (flat == -2 || s->index == LONG_MIN)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "merge: '%s/summary.json' gives run.replica as something other "
-                              "than a whole number: the file was edited or damaged",
-                              s->dir);
-    if (s->index == LONG_MIN)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "merge: '%s/summary.json' has no parameters with run.replica: not "
-                              "a run of this hsbd",
+                              "merge: '%s/summary.json' gives no run.replica as a whole number in "
+                              "its parameters: not a run of this hsbd, or edited or damaged",
                               s->dir);
     if (!done || strncmp(done, "true", 4))
         return hsbd_error_set(err, HSBD_EINPUT,
@@ -403,23 +398,6 @@ static int table_columns(table *t, size_t n, hsbd_error *err) {
     return HSBD_OK;
 }
 
-/* A size distribution is whole: its fractions add up to 1 (rows lost at its end would pass
- * every other test; the table's 10 digits leave sums within 1e-9 of 1). */
-static int whole_distribution(const table *t, const char *name, const replica *src, size_t n,
-                              hsbd_error *err) {
-    for (size_t k = 0; k < n && t->ncol == 2; ++k) {
-        double sum = 0;
-        for (size_t i = 0; i < t->rows; ++i)
-            sum += t->val[(k * t->rows + i) * t->ncol + 1];
-        if (!(fabs(sum - 1) <= 1e-6))
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "merge: the fractions of '%s/%s' add up to %.10g, not 1: the "
-                                  "table is not whole",
-                                  src[k].dir, name, sum);
-    }
-    return HSBD_OK;
-}
-
 /* Table `name` of every replica into t: the same rows in all (the parameters agree), but
  * size distributions, padded with zeros where a replica saw no cluster that large. */
 static int load_table(const char *name, const replica *src, size_t n, table *t, hsbd_error *err) {
@@ -438,7 +416,7 @@ static int load_table(const char *name, const replica *src, size_t n, table *t, 
         for (size_t i = 0; i < rows && rc == HSBD_OK; ++i)
             rc = parse_row(t, name, src[k].dir, k, i, err);
     }
-    return rc == HSBD_OK && padded ? whole_distribution(t, name, src, n, err) : rc;
+    return rc;
 }
 
 /* the abscissa of row i */
@@ -650,10 +628,10 @@ static void free_names(char **names, size_t n) {
     free(names);
 }
 
-/* The entries of dir that keep() takes (1) or skips (0), sorted by name; one it refuses
- * (-1, err set) ends the list. */
+/* The entries of dir that keep() takes (1) or skips (0), sorted by name (as "dir/name" with
+ * paths); one it refuses (-1, err set) ends the list. */
 static int list_entries(const char *dir, int (*keep)(const char *, const char *, hsbd_error *),
-                        char ***names, size_t *n, hsbd_error *err) {
+                        int paths, char ***names, size_t *n, hsbd_error *err) {
     DIR *d = opendir(dir);
     size_t cap = 0;
     *names = NULL, *n = 0;
@@ -665,8 +643,11 @@ static int list_entries(const char *dir, int (*keep)(const char *, const char *,
         if (take < 0) rc = err->status;
         if (take <= 0) continue;
         char **more = *n < cap ? *names : realloc(*names, (cap = 2 * cap + 16) * sizeof *more);
+        const size_t len = strlen(dir) + strlen(e->d_name) + 2;
         if (more) *names = more;
-        if (!more || !((*names)[*n] = strdup(e->d_name)))
+        if (more && ((*names)[*n] = malloc(len)))
+            snprintf((*names)[*n], len, "%s%s%s", paths ? dir : "", paths ? "/" : "", e->d_name);
+        if (!more || !(*names)[*n])
             rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
         else
             ++*n;
@@ -698,11 +679,11 @@ static int table_entry(const char *dir, const char *name, hsbd_error *err) {
  * otherwise drop out of the merge unnoticed). */
 static int common_tables(const replica *src, size_t n, char ***names, size_t *count,
                          hsbd_error *err) {
-    int rc = list_entries(src[0].dir, table_entry, names, count, err);
+    int rc = list_entries(src[0].dir, table_entry, 0, names, count, err);
     for (size_t k = 1; k < n && rc == HSBD_OK; ++k) {
         char **other;
         size_t m, i = 0;
-        if ((rc = list_entries(src[k].dir, table_entry, &other, &m, err)) != HSBD_OK) break;
+        if ((rc = list_entries(src[k].dir, table_entry, 0, &other, &m, err)) != HSBD_OK) break;
         while (i < *count && i < m && !strcmp((*names)[i], other[i]))
             ++i;
         if (i < *count || i < m) {
@@ -772,20 +753,14 @@ static int check_out(const char *out, const char *const *dirs, size_t ndirs, int
 }
 
 /* The replicas of the ensemble in out (sorted by index): all of 0 .. R-1 when they give
- * run.replicas = R (R = 0, as many as mpirun had ranks: those there, without a gap). */
+ * run.replicas = R, else (R = 0: as many as mpirun had ranks) 0 .. the highest there. */
 static int whole_ensemble(const char *out, const replica *src, size_t n, hsbd_error *err) {
-    const long planned = src[0].planned;
-    long missing = -1; /* the first index missing from 0 .. R-1 */
-    for (size_t k = 0; k < (planned > 0 ? (size_t)planned : n) && missing < 0; ++k)
-        if (k >= n || src[k].index != (long)k) missing = (long)k;
-    if (missing >= 0 && planned <= 0)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "merge: the ensemble in '%s' lacks replica %ld (it holds replicas "
-                              "up to %ld); run it alone first: hsbd run CONFIG --replica %ld "
-                              "--out %s/replica-%ld",
-                              out, missing, src[n - 1].index, missing, out, missing);
-    if (missing < 0 && (planned <= 0 || (long)n == planned)) return HSBD_OK;
-    if (missing < 0)
+    const long planned = src[0].planned > 0 ? src[0].planned : src[n - 1].index + 1;
+    long missing = 0; /* the first index missing from 0 .. R-1 */
+    while (missing < planned && (size_t)missing < n && src[missing].index == missing)
+        ++missing;
+    if (missing == planned && (long)n == planned) return HSBD_OK;
+    if (missing == planned)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: '%s' holds replica %ld, beyond the ensemble's run.replicas "
                               "= %ld",
@@ -794,7 +769,7 @@ static int whole_ensemble(const char *out, const replica *src, size_t n, hsbd_er
                           "merge: the ensemble in '%s' lacks replica %ld of its %ld (it never "
                           "began); run it alone first: hsbd run CONFIG --replica %ld --set "
                           "run.replicas=%ld --out %s/replica-%ld",
-                          out, missing, planned, missing, planned, out, missing);
+                          out, missing, planned, missing, src[0].planned, out, missing);
 }
 
 /* The merged files into out (made first when prepare), each committed on its own; when one
@@ -889,19 +864,14 @@ static int replica_dir_entry(const char *dir, const char *name, hsbd_error *err)
 }
 
 /* The checks of an ensemble's directory before its replicas merge into it. */
-static int ensemble_dir(const char *dir, char **names, size_t n, hsbd_error *err) {
-    if (n == 0)
+static int ensemble_dir(const char *dir, size_t n, hsbd_error *err) {
+    if (n < 2)
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "merge: only OUT given, and '%s' holds no replica-K directories of "
-                              "an ensemble; allowed: hsbd merge OUT DIR DIR... (at least two "
-                              "replicas), or hsbd merge DIR for the ensemble in DIR",
-                              dir);
-    if (n == 1)
-        return hsbd_error_set(err, HSBD_EINPUT,
-                              "merge: the ensemble in '%s' holds one replica (%s/%s); run the "
-                              "others alone first (hsbd run CONFIG --replica K --out %s/replica-K, "
-                              "with the ensemble's run.replicas)",
-                              dir, dir, names[0], dir);
+                              "merge: only OUT given, and '%s' holds %zu replica-K directories of "
+                              "an ensemble; allowed: hsbd merge DIR for an ensemble of at least "
+                              "two replicas (run the others alone first: hsbd run CONFIG "
+                              "--replica K --out %s/replica-K), or hsbd merge OUT DIR DIR...",
+                              dir, n, dir);
     if (rundir_holds_run(dir))
         return hsbd_error_set(err, HSBD_EINPUT,
                               "merge: '%s' holds the results of a run of its own (a checkpoint "
@@ -915,17 +885,9 @@ static int ensemble_dir(const char *dir, char **names, size_t n, hsbd_error *err
 int rundir_merge_ensemble(const char *dir, hsbd_error *err) {
     char **names;
     size_t n;
-    int rc = list_entries(dir, replica_dir_entry, &names, &n, err);
-    if (rc == HSBD_OK) rc = ensemble_dir(dir, names, n, err);
-    char(*paths)[HSBD_PATH_MAX + 300] = rc == HSBD_OK ? calloc(n, sizeof *paths) : NULL;
-    const char **dirs = rc == HSBD_OK ? calloc(n, sizeof *dirs) : NULL;
-    if (rc == HSBD_OK && (!paths || !dirs)) rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-    for (size_t k = 0; rc == HSBD_OK && k < n; ++k) {
-        snprintf(paths[k], sizeof paths[k], "%s/%s", dir, names[k]);
-        dirs[k] = paths[k];
-    }
-    if (rc == HSBD_OK) rc = merge_into(dir, dirs, n, 0, 0, err);
-    free(paths), free(dirs);
+    int rc = list_entries(dir, replica_dir_entry, 1, &names, &n, err);
+    if (rc == HSBD_OK) rc = ensemble_dir(dir, n, err);
+    if (rc == HSBD_OK) rc = merge_into(dir, (const char *const *)names, n, 0, 0, err);
     free_names(names, n);
     return rc;
 }
