@@ -1,6 +1,6 @@
 /* hsbd: the command line. Commands: run, resume, merge (apps/cmd_run.c), bench, theory,
  * validate, config-doc, version; each takes --help. Here: the dispatch, GNU-style
- * --name=value options, the help, and the helpers the commands share (cli.h). */
+ * --name=value options, the help, and what the commands share (cli.h). */
 #include "cli.h"
 
 #include <ctype.h>
