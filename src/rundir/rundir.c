@@ -1,11 +1,9 @@
 /* One run directory (see rundir.h): its lock, what it holds, and its preparation. */
-#define _XOPEN_SOURCE 700 /* realpath */
 #include "rundir/rundir.h"
 
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -134,8 +132,9 @@ static int open_lock_file(const char *dir, rundir_use use, hsbd_error *err) {
 
 int rundir_claim(const char *dir, rundir_use use, int *fd, hsbd_error *err) {
     *fd = -1;
+    struct stat st;
     int made;
-    if (!dir[0] || (use == RUNDIR_WRITE_NEW && rundir_make(dir, &made) != 0))
+    if (!dir[0] || (use == RUNDIR_WRITE_NEW && stat(dir, &st) != 0 && rundir_make(dir, &made)))
         return HSBD_OK; /* the directory's own checks say why */
     const int f = open_lock_file(dir, use, err);
     if (f == -2) return err->status;
@@ -160,7 +159,7 @@ int rundir_make(const char *dir, int *made) {
     char buf[HSBD_PATH_MAX];
     snprintf(buf, sizeof buf, "%s", dir);
     *made = 0;
-    for (char *p = buf + 1;; ++p) {
+    for (char *p = buf + !!buf[0];; ++p) {
         if (*p && *p != '/') continue;
         const char end = *p;
         *p = '\0';
