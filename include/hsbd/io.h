@@ -1,5 +1,5 @@
-/* Files: atomic outputs (temporary name, then rename), run directories, input positions,
- * extended-XYZ frames (written as trajectories, read back as initial states). */
+/* Files: atomic outputs (temporary name, then rename), input positions, extended-XYZ
+ * frames (written as trajectories, read back as initial states). */
 #ifndef HSBD_IO_H
 #define HSBD_IO_H
 
@@ -38,19 +38,6 @@ HSBD_API int hsbd_outfile_can_reopen(const char *dir, const char *name, int64_t 
 HSBD_API int hsbd_outfile_commit(hsbd_outfile *o, hsbd_error *err);
 /* Close and delete the temporary file. */
 HSBD_API void hsbd_outfile_discard(hsbd_outfile *o);
-
-/* Create the run directory (and parents) and prove it writable (a probe file written,
- * synced and removed); HSBD_EINPUT naming the directory otherwise. An existing non-empty
- * directory is refused unless force is set; with force, an earlier run's files are
- * removed first, and a directory holding anything else is refused. */
-HSBD_API int hsbd_run_dir_prepare(const char *dir, int force, hsbd_error *err);
-/* The same without any clearing: the directory (and parents) made if missing, proved
- * writable (e.g. the validation's directory of runs). */
-HSBD_API int hsbd_dir_create(const char *dir, hsbd_error *err);
-/* path resolved (symbolic links, . and ..) into out (PATH_MAX bytes); a path that does not
- * exist yet is its nearest existing parent resolved with the rest appended. 0, or -1 when
- * it cannot be resolved or is too long. */
-HSBD_API int hsbd_path_resolve(const char *path, char *out);
 
 /* init.positions of a finalized rods configuration: system.N positions, one per line
  * (blank lines and '#' comment lines allowed); for a mixture each line is 'x name' and

@@ -15,9 +15,9 @@
 #include "core/threads.h"
 #include "hsbd/observe.h"
 #include "hsbd_version.h"
-#include "io/files.h"
 #include "io/tables.h"
 #include "run/checkpoint.h"
+#include "rundir/rundir.h"
 
 int run_add_op(run *r, const char *name, uint64_t every, run_action act, void *ctx,
                hsbd_error *err) {
@@ -379,8 +379,8 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
     /* everything that can refuse the input happens before the directory is touched */
     int rc = run_build(&r, err);
     int lock = -1; /* claimed before its checks: no other run writes there meanwhile */
-    if (rc == HSBD_OK) rc = run_dir_claim(cfg->output.dir, RUN_DIR_WRITE_NEW, &lock, err);
-    if (rc == HSBD_OK) rc = hsbd_run_dir_prepare(cfg->output.dir, opt->force, err);
+    if (rc == HSBD_OK) rc = rundir_claim(cfg->output.dir, RUNDIR_WRITE_NEW, &lock, err);
+    if (rc == HSBD_OK) rc = rundir_prepare(cfg->output.dir, opt->force, err);
     if (rc == HSBD_OK) rc = open_streams(&r, err);
     if (rc == HSBD_OK) run_warn_start(&r);
     if (rc == HSBD_OK) {
@@ -390,7 +390,7 @@ int hsbd_run(const hsbd_config *cfg, const hsbd_run_options *opt, hsbd_error *er
         rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     release(&r);
-    run_dir_release(lock);
+    rundir_release(lock);
     return rc;
 }
 
@@ -694,12 +694,12 @@ static void why_no_checkpoint(const char *dir, hsbd_error *err) {
     int probe;
     hsbd_error busy;
     hsbd_error_clear(&busy);
-    if (run_dir_claim(dir, RUN_DIR_CHECK, &probe, &busy) != HSBD_OK) {
+    if (rundir_claim(dir, RUNDIR_CHECK, &probe, &busy) != HSBD_OK) {
         hsbd_error_set(err, busy.status, "resume: %s (it has no checkpoint yet)", busy.message);
         return;
     }
-    run_dir_release(probe);
-    if (run_dir_holds_replicas(dir))
+    rundir_release(probe);
+    if (rundir_holds_replicas(dir))
         hsbd_error_set(err, HSBD_EINPUT,
                        "resume: '%s' is an ensemble's directory, whose replicas hold the "
                        "checkpoints: continue each that stopped (hsbd resume %s/replica-K), "
@@ -725,17 +725,16 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
     resumed_source rs = {0};
     int lock = -1; /* a second resume of the same run is refused, not raced (a directory
                     * without checkpoints gets no lock file: the load refuses it) */
-    int rc =
-        run_dir_holds_checkpoint(dir) ? run_dir_claim(dir, RUN_DIR_WRITE, &lock, err) : HSBD_OK;
+    int rc = rundir_holds_checkpoint(dir) ? rundir_claim(dir, RUNDIR_WRITE, &lock, err) : HSBD_OK;
     const int had_checkpoint = lock >= 0;
     if (rc == HSBD_OK) rc = load_checkpoint(&r, cfg, &rs, dir, sets, nsets, err);
-    if (rc == HSBD_EINPUT && !had_checkpoint && !run_dir_holds_checkpoint(dir))
+    if (rc == HSBD_EINPUT && !had_checkpoint && !rundir_holds_checkpoint(dir))
         why_no_checkpoint(dir, err);
     /* a run's first checkpoint may have landed between the test above and the load: a run
      * still going holds the directory, so the claim refuses this resume; one that ended in
      * between may have written newer checkpoints, so the newest is read again */
     if (rc == HSBD_OK && lock < 0) {
-        rc = run_dir_claim(dir, RUN_DIR_WRITE, &lock, err);
+        rc = rundir_claim(dir, RUNDIR_WRITE, &lock, err);
         unload(&r, cfg, &rs);
         r = (run){.opt = opt};
         rs = (resumed_source){0};
@@ -767,7 +766,7 @@ int hsbd_resume(const char *dir, const char *const *sets, size_t nsets, const hs
         rc = finish(&r, run_loop(&r, UINT64_MAX, err), err);
     }
     unload(&r, cfg, &rs);
-    run_dir_release(lock);
+    rundir_release(lock);
     return rc;
 }
 

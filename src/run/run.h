@@ -242,12 +242,8 @@ int run_advance(run *r, uint64_t steps, hsbd_error *err);
  * model then adds its own. */
 void run_write_summary_head(const run *r, FILE *f, const char *stop_reason);
 
-/* Ensembles (src/run/ensemble.c, merge.c): the noise key of this run (system.seed mixed
- * with run.replica), replica k's directory under an ensemble's, and the merge of the
- * replicas' run directories into out (prepared first, after every check, when asked). */
+/* The noise key of this run: system.seed mixed with run.replica (src/run/replica.c; the
+ * ensembles themselves are src/rundir/). */
 uint64_t run_noise_seed(const hsbd_config *cfg);
-int run_replica_dir(const char *dir, size_t k, char *out, size_t len, hsbd_error *err);
-int run_merge_into(const char *out, const char *const *dirs, size_t ndirs, int prepare, int force,
-                   hsbd_error *err);
 
 #endif

@@ -21,6 +21,7 @@
 #include "core/progress.h"
 #include "core/threads.h"
 #include "hsbd/validate.h"
+#include "rundir/rundir.h"
 #include "validate/report.h"
 
 enum family { FAMILY_PERCUS, FAMILY_STICKY, FAMILY_TONKS, FAMILY_SINGLE_FILE, FAMILY_SPHERES };
@@ -1028,7 +1029,7 @@ int hsbd_validate(const hsbd_validate_options *opt, FILE *report, hsbd_error *er
     for (size_t i = 0; opt->list && i < n; ++i)
         fprintf(report, "%s\n", cases[i].name);
     if (opt->list) return HSBD_OK;
-    if (hsbd_dir_create(opt->out_dir, err) != HSBD_OK) return err->status;
+    if (rundir_create(opt->out_dir, err) != HSBD_OK) return err->status;
     if (run_all(opt, cases, n))
         return hsbd_error_set(err, HSBD_ENUMERIC, "validate: a simulation failed (see above)");
     hsbd_outfile tsv, md;
