@@ -133,7 +133,8 @@ typedef struct hsbd_config {
         int64_t replicas, replica;
         /* threads of one run (0: the cores the process may use) */
         int64_t threads;
-        int events; /* spheres: hsbd_spheres_event_order */
+        int events;     /* spheres: hsbd_spheres_event_order */
+        int field_step; /* enum hsbd_field_step of hsbd/field.h */
     } run;
     struct {
         double bin_width, contact_width, period;

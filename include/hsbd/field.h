@@ -53,6 +53,18 @@ typedef struct hsbd_field {
     hsbd_field_term term[HSBD_MAX_FIELD_TERMS];
 } hsbd_field;
 
+/* How an integrator takes the field's force into a step (the parameter field_step of
+ * hsbd_rods_params and hsbd_spheres_params). Zero, Euler, is the step of programs written
+ * before the choice existed; the CLI's default is run.field_step (docs/config.md).
+ * Heun's stationary density is right to O(dt^2) where Euler's is off by O(dt)
+ * (docs/algorithms.md, "The time step in a field"). */
+enum hsbd_field_step {
+    HSBD_FIELD_STEP_EULER = 0, /* the force at the step's start, F(x) dt (Antonov Eq. 10) */
+    HSBD_FIELD_STEP_HEUN = 1   /* the mean of F(x) at the start (time t) and F(x_p) at the
+                                  end point x_p of a free Euler predictor with the step's own
+                                  noise (time t + dt): one force evaluation more per step */
+};
+
 /* U(x) = (U0/2) cos(2 pi (x - s) / lambda), Antonov Eq. (21) shifted by s (0 from the
  * constructor; a travelling wave moves it); force (pi U0/lambda) sin(2 pi (x - s)/lambda). */
 HSBD_API hsbd_field_term hsbd_field_cosine(double amplitude_u0, double wavelength);

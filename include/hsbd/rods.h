@@ -62,6 +62,10 @@ typedef struct hsbd_rods_params {
      * regression, the fragmentation statistics); <= 1: one. The results do not depend on it
      * (docs/scaling.md) */
     int threads;
+    /* enum hsbd_field_step: how the field's force enters the free end points (0: Euler;
+     * Heun: the field at the start and at a free predictor's end point, averaged; the pair
+     * forces stay at the step's start either way) */
+    int field_step;
 } hsbd_rods_params;
 
 /* What happened inside one step (filled only when asked for: it costs a pass). */

@@ -81,12 +81,15 @@ typedef struct hsbd_spheres_params {
      * any drift (the Skorokhod reflection, docs/theory.md). */
     int walls[3];
     /* External field along axis field_axis (NULL: none; the caller keeps it alive): the
-     * drift v_i = (D_i / kT) coupling_i F(x_i) with F at the start-of-step position.
-     * coupling_i from particle_coupling (N values) or species_coupling (nspecies values)
-     * or 1. Particles with D_i = 0 do not move. */
+     * drift v_i = (D_i / kT) coupling_i F with F at the start-of-step position x_i (Euler)
+     * or the mean of that and F at a free predictor's end point (Heun), field_step (enum
+     * hsbd_field_step of hsbd/field.h; 0: Euler). coupling_i from particle_coupling (N
+     * values) or species_coupling (nspecies values) or 1. Particles with D_i = 0 do not
+     * move. */
     const hsbd_field *field;
     int field_axis;
     const double *species_coupling, *particle_coupling;
+    int field_step;
     /* threads for the step's loops over all particles (noise, the start-of-step scan, the
      * final move) and for the first pass of the event groups (slabs of the box; the global
      * calendar runs on one); <= 1: one. The results do not depend on it (docs/spheres.md,

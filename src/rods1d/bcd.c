@@ -102,6 +102,8 @@ static int check_params(const hsbd_rods_params *par, hsbd_error *err) {
                               par->n, total, par->length);
     if (!(par->diffusion > 0) || !(par->kT > 0) || !(par->dt > 0) || !isfinite(par->dt))
         return hsbd_error_set(err, HSBD_EINPUT, "rods: need D > 0, kT > 0, dt > 0");
+    if (par->field_step != HSBD_FIELD_STEP_EULER && par->field_step != HSBD_FIELD_STEP_HEUN)
+        return hsbd_error_set(err, HSBD_EINPUT, "rods: unknown field step %d", par->field_step);
     const double range = hsbd_pair_range(&par->pair);
     if (par->pair.nterms > 0 &&
         (!par->hard_core || par->nspecies > 1 || !(range <= 0.5 * par->length)))
@@ -391,8 +393,43 @@ static void species_step_factors(hsbd_rods *r) {
     }
 }
 
+/* The fields a step reads: at its start and, for Heun's predictor, at its end (a driven
+ * field's parameters at t and t + dt; a static field is the same both times). */
+typedef struct step_fields {
+    const hsbd_field *start, *end; /* end: NULL for Euler */
+} step_fields;
+
+/* mu_i dt and sqrt(2 D_i dt) of rod i0 + j: its species', or the one species' */
+static inline double rod_mu_dt(const hsbd_rods *r, const int *sp, size_t j, double mu_dt) {
+    return sp ? r->sp_mu_dt[sp[j]] : mu_dt;
+}
+static inline double rod_noise(const hsbd_rods *r, const int *sp, size_t j, double noise) {
+    return sp ? r->sp_noise[sp[j]] : noise;
+}
+
+/* Heun's field force of m rods (docs/algorithms.md, "The time step in a field"): the free
+ * predictor x_p = x + mu (f + f_pair) dt + sqrt(2 D dt) g with the step's own normals g,
+ * then f <- (f + F_end(x_p)) / 2 in place (force, energy / length). A force equal at both
+ * ends gives back f to the bit, so a constant field steps as with Euler. */
+static void heun_field_force(const hsbd_rods *r, const hsbd_field *end, size_t i0, size_t m,
+                             const double *restrict x, const double *restrict g,
+                             double *restrict f) {
+    const double mu_dt = r->mobility * r->par.dt;
+    const double noise = sqrt(2.0 * r->par.diffusion * r->par.dt);
+    const int *sp = r->species ? r->species + i0 : NULL;
+    double xp[STEP_CHUNK], fp[STEP_CHUNK];
+    for (size_t j = 0; j < m; ++j) {
+        const double pair = r->fpair ? r->fpair[i0 + j] : 0.0;
+        xp[j] =
+            x[j] + rod_mu_dt(r, sp, j, mu_dt) * (f[j] + pair) + rod_noise(r, sp, j, noise) * g[j];
+    }
+    hsbd_field_force(end, m, xp, fp);
+    for (size_t j = 0; j < m; ++j)
+        f[j] = 0.5 * (f[j] + fp[j]); /* trapezoid of the force over the step, Heun */
+}
+
 /* The free end points of rods i0 .. i0 + STEP_CHUNK - 1 (see compute_endpoints). */
-static void endpoints_chunk(const hsbd_rods *r, const hsbd_field *field, size_t i0) {
+static void endpoints_chunk(const hsbd_rods *r, step_fields fields, size_t i0) {
     const size_t n = r->par.n, m = n - i0 < STEP_CHUNK ? n - i0 : STEP_CHUNK;
     const double mu_dt = r->mobility * r->par.dt;
     const double noise = sqrt(2.0 * r->par.diffusion * r->par.dt);
@@ -404,7 +441,8 @@ static void endpoints_chunk(const hsbd_rods *r, const hsbd_field *field, size_t 
     if (has_field || has_pair) {
         for (size_t j = 0; j < m; ++j)
             x[j] = z[j] + r->offset[i0 + j];
-        hsbd_field_force(field, m, x, f);
+        hsbd_field_force(fields.start, m, x, f);
+        if (has_field && fields.end) heun_field_force(r, fields.end, i0, m, x, g, f);
         if (has_pair)
             for (size_t j = 0; j < m; ++j)
                 f[j] += r->fpair[i0 + j];
@@ -425,9 +463,10 @@ static void endpoints_chunk(const hsbd_rods *r, const hsbd_field *field, size_t 
 }
 
 /* y_i = z_i + mu_i dt F_i + sqrt(2 D_i dt) N_i: the free end point of Eq. (10), i.e.
- * z_i + mu_i F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28).
- * Chunks of rods are independent (each rod's noise is its own Philox counter): threads
- * share them out without changing a bit; one thread enters no parallel region. */
+ * z_i + mu_i F_i dt with the total force of Eq. (11) (field plus pair forces, Eq. 28); the
+ * field's part is Euler's F(x_i) or Heun's mean (heun_field_force). Chunks of rods are
+ * independent (each rod's noise is its own Philox counter): threads share them out
+ * without changing a bit; one thread enters no parallel region. */
 static void compute_endpoints(hsbd_rods *r) {
     const size_t n = r->par.n;
     const int threads = step_threads(r, n);
@@ -436,16 +475,20 @@ static void compute_endpoints(hsbd_rods *r) {
     else if (r->fpair)
         compute_pair_forces(r);
     if (r->species) species_step_factors(r);
-    hsbd_field now; /* a driven field at the step's start, frozen over the step */
-    const hsbd_field *field = hsbd_field_at(&r->par.field, r->time, &now);
+    hsbd_field now, next; /* a driven field at the step's start (and end), frozen in between */
+    const step_fields fields = {.start = hsbd_field_at(&r->par.field, r->time, &now),
+                                .end =
+                                    r->par.field_step == HSBD_FIELD_STEP_HEUN
+                                        ? hsbd_field_at(&r->par.field, r->time + r->par.dt, &next)
+                                        : NULL};
     if (threads > 1) {
         const long nchunks = (long)((n + STEP_CHUNK - 1) / STEP_CHUNK);
 #pragma omp parallel for schedule(static) num_threads(threads)
         for (long c = 0; c < nchunks; ++c)
-            endpoints_chunk(r, field, (size_t)c * STEP_CHUNK);
+            endpoints_chunk(r, fields, (size_t)c * STEP_CHUNK);
     } else {
         for (size_t i0 = 0; i0 < n; i0 += STEP_CHUNK)
-            endpoints_chunk(r, field, i0);
+            endpoints_chunk(r, fields, i0);
     }
 }
 

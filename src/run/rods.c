@@ -75,6 +75,7 @@ static hsbd_rods_params rods_params_from(const hsbd_config *cfg) {
         .boundary =
             cfg->system.boundary == HSBD_BOUNDARY_WALLS ? HSBD_RODS_WALLS : HSBD_RODS_PERIODIC,
         .threads = run_threads(cfg),
+        .field_step = cfg->run.field_step,
     };
     return p;
 }

@@ -130,6 +130,7 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .field_axis = cfg->field.axis,
                              .particle_coupling = m->coupling,
                              .event_order = (hsbd_spheres_event_order)cfg->run.events,
+                             .field_step = cfg->run.field_step,
                              .threads = run_threads(cfg)};
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a],

@@ -136,6 +136,7 @@ struct hsbd_spheres {
     size_t wall_log_len, wall_log_cap;
     double *drift_mu;          /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
     double *field_x, *field_f; /* N: coordinates along the field axis, forces */
+    double *field_fp;          /* N: Heun's forces at the predictor's end points, or NULL */
     sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
     sph_exact_scale virial_scale, wall_scale; /* the quanta of those sums */
     hsbd_spheres_stats stats;
