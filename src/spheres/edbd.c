@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "hsbd/rng.h"
+#include "spheres/active.h"
 #include "spheres/events.h"
 #include "spheres/global.h"
 #include "spheres/groups.h"
@@ -177,6 +178,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->field_x);
     free(s->field_f);
     free(s->field_fp);
+    sph_active_free(s);
     hsbd_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
     sph_groups_free(s->groups);
@@ -286,6 +288,12 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->diffusion_max = dmax;
     s->virial_scale = sph_exact_scale_for(s->sigma_max * s->sigma_max / dmax); /* a time */
     s->wall_scale = sph_exact_scale_for(s->sigma_max / dmax);
+    s->swim_scale = sph_exact_scale_for(params->kT * s->sigma_max * s->sigma_max / dmax);
+    if (sph_active_check(params, s->diffusion, err) != HSBD_OK) {
+        hsbd_spheres_free(s);
+        return NULL;
+    }
+    if (sph_active_alloc(s)) goto oom;
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
     const double reach = s->sigma_max + 2 * s->shell;
     for (int a = 0; a < s->dim; ++a) {
@@ -475,6 +483,7 @@ static void draw_velocities(hsbd_spheres *s) {
         }
     }
     if (s->par.field) add_field_drift(s);
+    if (s->active) sph_add_propulsion(s);
     if (s->any_walls) add_wall_pushes(s);
 }
 
@@ -643,8 +652,10 @@ int hsbd_spheres_step(hsbd_spheres *s) {
     draw_velocities(s);
     if (s->par.hard_core) {
         keep_start_positions(s);
+        if (s->active) sph_keep_free_velocities(s);
         if (run_events(s)) return fail_step(s, &stats_at_start);
         s->stats.virial += sph_exact_value(s->virial_scale, s->step_virial);
+        if (s->active) sph_add_swim_collisional(s);
     }
     if (s->sort_enabled) s->sort_clock += s->diffusion_max * s->dt;
     finish_step(s);
@@ -652,6 +663,7 @@ int hsbd_spheres_step(hsbd_spheres *s) {
         keep_between_walls(s);
         commit_wall_step(s);
     }
+    if (s->active) sph_rotate(s); /* the orientations of the step's end (its counter) */
     s->step++;
     s->stats.steps++;
     s->time += s->dt;
@@ -675,7 +687,10 @@ hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s) {
                            .dt = s->dt,
                            .time = s->time,
                            .step = s->step,
-                           .hard_core = s->par.hard_core};
+                           .hard_core = s->par.hard_core,
+                           .orientation = s->orient,
+                           .v0 = s->v0,
+                           .rotational_diffusion = s->rot_d};
     for (int a = 0; a < 3; ++a)
         v.box[a] = s->length[a];
     return v;
