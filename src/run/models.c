@@ -17,6 +17,9 @@ static const run_observer_ops *const spheres_observers[] = {&run_observe_gr,
                                                             &run_observe_msd,
                                                             &run_observe_trajectory,
                                                             &run_observe_sk,
+                                                            &run_observe_orientation,
+                                                            &run_observe_active,
+                                                            &run_observe_local_density,
                                                             NULL};
 
 typedef struct run_model_spec {

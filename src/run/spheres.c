@@ -111,6 +111,13 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     }
     if (build_field_couplings(cfg, m, sigma, err) != HSBD_OK)
         return free(x), free(sigma), err->status;
+    double *v0 = NULL, *rotational = NULL; /* [active]: per particle */
+    if (cfg->active.on) {
+        if (!(v0 = malloc(2 * n * sizeof *v0)))
+            return free(x), free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        rotational = v0 + n;
+        hsbd_config_active(cfg, m->species, sigma, diffusion, v0, rotational);
+    }
     hsbd_spheres_params p = {.n = n,
                              .dimension = (int)cfg->system.dimension,
                              .sigma = cfg->system.sigma,
@@ -131,12 +138,15 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .particle_coupling = m->coupling,
                              .event_order = (hsbd_spheres_event_order)cfg->run.events,
                              .field_step = cfg->run.field_step,
-                             .threads = run_threads(cfg)};
+                             .threads = run_threads(cfg),
+                             .particle_v0 = v0,
+                             .particle_rotational_diffusion = rotational};
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a],
         p.walls[a] = cfg->system.walls[a];
     m->sys = hsbd_spheres_alloc(&p, err);
     free(sigma);
+    free(v0);
     if (!m->sys) {
         free(x);
         char why[sizeof err->message];
@@ -230,7 +240,8 @@ static void spheres_frame(const run *r, hsbd_frame *f) {
                       .species = v.species,
                       .nspecies = cfg->species.n,
                       .names = cfg->species.n ? cfg->species.name : NULL,
-                      .one_name = HSBD_XYZ_ONE_SPECIES};
+                      .one_name = HSBD_XYZ_ONE_SPECIES,
+                      .orientation = v.orientation};
 }
 
 /* ---- results ---- */
