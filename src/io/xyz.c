@@ -8,11 +8,15 @@
 
 #include "core/input.h"
 #include "hsbd/io.h"
+#include "io/orientation.h"
 
 /* rods: positions on x, their radius, the exact unwrapped position; disks and spheres:
- * positions, radius, image counters (OVITO and ASE read both) */
+ * positions, radius, image counters (OVITO and ASE read both); active ones also their
+ * orientation, as OVITO's Orientation quaternion (x y z w: the rotation of the body's x
+ * axis onto e) and as the unit vector e in OVITO's dipole column (drawn as arrows) */
 void hsbd_xyz_write(FILE *f, const hsbd_frame *fr) {
     const int rods = fr->dimension == 1, three = fr->dimension == 3;
+    const char *active = fr->orientation ? ":orientation:R:4:dipoles:R:3" : "";
     fprintf(f, "%zu\n", fr->n);
     if (rods)
         fprintf(f,
@@ -22,10 +26,10 @@ void hsbd_xyz_write(FILE *f, const hsbd_frame *fr) {
     else
         fprintf(f,
                 "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"%c %c %c\" Time=%.17g Step=%llu "
-                "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
+                "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1%s\n",
                 fr->box[0], fr->box[1], three ? fr->box[2] : 1.0, fr->periodic[0] ? 'T' : 'F',
                 fr->periodic[1] ? 'T' : 'F', three && fr->periodic[2] ? 'T' : 'F', fr->time,
-                (unsigned long long)fr->step);
+                (unsigned long long)fr->step, active);
     for (size_t i = 0; i < fr->n; ++i) {
         const char *name = fr->names && fr->species ? fr->names[fr->species[i]] : fr->one_name;
         const double *x = fr->x + 3 * i;
@@ -33,9 +37,17 @@ void hsbd_xyz_write(FILE *f, const hsbd_frame *fr) {
             fprintf(f, "%s %.10g 0 0 %.10g %.15g %zu\n", name, x[0], 0.5 * fr->diameter[i],
                     fr->unwrapped[i], i + 1);
         else
-            fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n", name, x[0], x[1], x[2],
+            fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu", name, x[0], x[1], x[2],
                     0.5 * fr->diameter[i], (long long)fr->image[3 * i],
                     (long long)fr->image[3 * i + 1], (long long)fr->image[3 * i + 2], i + 1);
+        if (fr->orientation && !rods) {
+            const double *e = fr->orientation + 3 * i;
+            double q[4];
+            hsbd_orientation_quaternion(e, q);
+            fprintf(f, " %.10g %.10g %.10g %.10g %.10g %.10g %.10g", q[1], q[2], q[3], q[0], e[0],
+                    e[1], e[2]);
+        }
+        if (!rods) fputc('\n', f);
     }
 }
 
