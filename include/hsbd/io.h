@@ -81,6 +81,14 @@ HSBD_API int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_exp
 HSBD_API int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
                                      hsbd_error *err);
 
+/* Active particles: the orientations (3 N unit vectors, z = 0 in 2D) of the frame in
+ * init.positions when its Properties=... has an orientation:R:4 column (a quaternion x y z
+ * w, as hsbd writes it: e = q (1, 0, 0) q*; in 2D its part in the plane), *found = 1; else
+ * *found = 0 and e is untouched. For a file hsbd_xyz_read_positions accepted; HSBD_EINPUT
+ * with the file and line for a quaternion that is not one. */
+HSBD_API int hsbd_xyz_read_orientations(const hsbd_config *cfg, double *e, int *found,
+                                        hsbd_error *err);
+
 /* ---- GSD trajectories (src/io/gsd.c; docs/trajectories.md) ---- */
 
 /* Rods in a GSD file: a 2D box of length L along x and this height along y, the rods at

@@ -329,3 +329,79 @@ int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, dou
         sigma[i] *= 2; /* the file holds radii */
     return rc;
 }
+
+/* ---- orientations (active particles) ---------------------------------------------------- */
+
+/* The first column of `name` with `count` real values in Properties=... of the comment
+ * line (columns counted from 0, the species' name being column 0), or -1. */
+static long properties_column(const char *comment, const char *name, long count) {
+    const char *p = strstr(comment, "Properties=");
+    if (!p) return -1;
+    p += strlen("Properties=");
+    long column = 0;
+    while (*p && !is_space(*p)) {
+        char field[3][64];
+        for (int k = 0; k < 3; ++k) { /* name:type:count */
+            size_t len = 0;
+            while (*p && *p != ':' && !is_space(*p) && len < sizeof field[k] - 1)
+                field[k][len++] = *p++;
+            field[k][len] = '\0';
+            if (*p == ':') ++p;
+        }
+        const long n = strtol(field[2], NULL, 10);
+        if (n < 1 || n > 64) return -1;
+        if (!strcmp(field[0], name) && field[1][0] == 'R' && n == count) return column;
+        column += n;
+    }
+    return -1;
+}
+
+int hsbd_xyz_read_orientations(const hsbd_config *cfg, double *e, int *found, hsbd_error *err) {
+    hsbd_error_clear(err);
+    *found = 0;
+    const char *path = cfg->init.positions;
+    const size_t n = (size_t)cfg->system.n;
+    FILE *f = hsbd_input_open(path, "init.positions file", err);
+    if (!f) return err->status;
+    hsbd_lines in;
+    hsbd_lines_init(&in, f, path);
+    int rc = HSBD_OK;
+    long column = -1;
+    for (int line = 0; line < 2 && rc == HSBD_OK; ++line) /* the count, the comment */
+        if (hsbd_lines_next(&in, err) <= 0)
+            rc = err->status ? err->status
+                             : hsbd_error_set(err, HSBD_EINPUT, "%s: no XYZ frame", path);
+    if (rc == HSBD_OK) column = properties_column(in.text, "orientation", 4);
+    for (size_t i = 0; rc == HSBD_OK && column > 0 && i < n; ++i) {
+        if (hsbd_lines_next(&in, err) <= 0) {
+            rc = err->status
+                     ? err->status
+                     : hsbd_error_set(err, HSBD_EINPUT, "%s: fewer than %zu particles", path, n);
+            break;
+        }
+        char *w[80];
+        const size_t nw = split_words(in.text, w, 80);
+        double q[4]; /* the file's x y z w (OVITO's order) into w x y z */
+        int ok = nw >= (size_t)column + 4;
+        for (int k = 0; ok && k < 4; ++k)
+            ok = word_number(w[column + k], &q[(k + 1) % 4]);
+        double *ei = e + 3 * i;
+        ok = ok && hsbd_orientation_of_quaternion(q, ei);
+        if (ok && cfg->system.dimension == 2) { /* disks turn in the plane */
+            const double norm = hypot(ei[0], ei[1]);
+            ok = norm > 1e-6;
+            if (ok) ei[0] /= norm, ei[1] /= norm, ei[2] = 0;
+        }
+        if (!ok)
+            rc =
+                hsbd_error_set(err, HSBD_EINPUT,
+                               "%s:%ld: the orientation (columns %ld-%ld, quaternion x y z w) "
+                               "is not four finite numbers of a rotation%s",
+                               path, in.number, column + 1, column + 4,
+                               cfg->system.dimension == 2 ? " about z (system.dimension = 2)" : "");
+    }
+    hsbd_lines_free(&in);
+    fclose(f);
+    *found = rc == HSBD_OK && column > 0;
+    return rc;
+}

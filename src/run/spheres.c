@@ -83,6 +83,18 @@ static int build_field_couplings(const hsbd_config *cfg, spheres_model *m, const
     return HSBD_OK;
 }
 
+/* Active particles: the orientations of init.positions, when it has them (else they stay
+ * random). */
+static int read_orientations(const hsbd_config *cfg, spheres_model *m, hsbd_error *err) {
+    double *e = malloc(3 * (size_t)cfg->system.n * sizeof *e);
+    if (!e) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int found = 0;
+    int rc = hsbd_xyz_read_orientations(cfg, e, &found, err);
+    if (rc == HSBD_OK && found) rc = hsbd_spheres_set_orientations(m->sys, e, err);
+    free(e);
+    return rc;
+}
+
 static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     const size_t n = (size_t)cfg->system.n;
@@ -156,8 +168,10 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
             hsbd_config_origin(cfg, "system", cfg->system.box_text[0] ? "box" : "packing_fraction"),
             why, hsbd_config_origin(cfg, "system", "shell"));
     }
-    const int rc = r->resuming ? HSBD_OK : place_particles(r, m, x, err);
+    int rc = r->resuming ? HSBD_OK : place_particles(r, m, x, err);
     free(x);
+    if (rc == HSBD_OK && !r->resuming && cfg->active.on && cfg->init.positions[0])
+        rc = read_orientations(cfg, m, err);
     return rc;
 }
 
