@@ -221,6 +221,77 @@ static void test_wall_pressure(int dim) {
     hsbd_spheres_free(s);
 }
 
+/* ---- a dense active fluid: contact statistics against dt ---- */
+
+typedef struct contact_stats {
+    double ratio, ratio_err, pc, pc_err; /* swim_speed_ratio, collisional pressure */
+} contact_stats;
+
+/* 2D hard ABPs (phi 0.4, Pe = v0 sigma / D = 20, D_r = 3), N 400, after 0.5 time units from
+ * random insertion: <e_i . dr_i/dt> / v0 and the collisional pressure kT <sum sigma n . F>
+ * / (d V kT), errors from 5 time blocks */
+static contact_stats dense_active(double dt, double t_total) {
+    const size_t n = 400;
+    const double phi = 0.4, v0 = 20, dr = 3, side = sqrt((double)n * PI / 4 / phi);
+    double *v0s = malloc(n * sizeof *v0s), *drs = malloc(n * sizeof *drs);
+    for (size_t i = 0; i < n; ++i)
+        v0s[i] = v0, drs[i] = dr;
+    hsbd_spheres_params p = {.n = n,
+                             .dimension = 2,
+                             .box = {side, side, 0},
+                             .sigma = 1,
+                             .diffusion = 1,
+                             .kT = 1,
+                             .dt = dt,
+                             .seed = 78,
+                             .hard_core = 1,
+                             .particle_v0 = v0s,
+                             .particle_rotational_diffusion = drs};
+    hsbd_error err;
+    hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+    free(v0s), free(drs);
+    contact_stats out = {NAN, NAN, NAN, NAN};
+    CHECK(s && hsbd_spheres_init_random(s, &err) == HSBD_OK, "dense: %s", err.message);
+    if (!s) return out;
+    int failed = 0;
+    for (uint64_t k = 0; k < (uint64_t)llround(0.5 / dt); ++k)
+        failed |= hsbd_spheres_step(s) != HSBD_OK;
+    hsbd_spheres_reset_stats(s);
+    const uint64_t every = (uint64_t)llround(0.02 / dt), steps = (uint64_t)llround(t_total / dt);
+    hsbd_blocks *b = hsbd_blocks_alloc(2, 5, steps / every);
+    double last[2] = {0, 0};
+    for (uint64_t k = 1; k <= steps; ++k) {
+        failed |= hsbd_spheres_step(s) != HSBD_OK;
+        if (k % every) continue;
+        const hsbd_spheres_stats st = hsbd_spheres_get_stats(s);
+        double *acc = hsbd_blocks_acc(b);
+        acc[0] += st.swim_collisional - last[0], acc[1] += st.virial - last[1];
+        last[0] = st.swim_collisional, last[1] = st.virial;
+        hsbd_blocks_end_sample(b);
+    }
+    CHECK(!failed, "dense: a step failed");
+    double mean[2], e[2];
+    hsbd_blocks_result(b, mean, e);
+    const double interval = every * dt, weight = n * v0 * v0 / dr; /* sum_i w_i v0_i, d - 1 = 1 */
+    out.ratio = 1 + mean[0] / (interval * weight), out.ratio_err = e[0] / (interval * weight);
+    out.pc = mean[1] / (interval * 2 * side * side), out.pc_err = e[1] / (interval * 2 * side * side);
+    hsbd_blocks_free(b);
+    hsbd_spheres_free(s);
+    return out;
+}
+
+static void test_dense_convergence(void) {
+    static const double dts[] = {8e-4, 4e-4, 2e-4};
+    contact_stats c[3];
+    for (int k = 0; k < 3; ++k) {
+        c[k] = dense_active(dts[k], sampled_time(5));
+        printf("dense active disks (phi 0.4, Pe 20), dt %g: swim speed ratio %.4f +- %.4f, "
+               "collisional pressure %.4f +- %.4f\n",
+               dts[k], c[k].ratio, c[k].ratio_err, c[k].pc, c[k].pc_err);
+    }
+    (void)c;
+}
+
 static double cpu_seconds(void) {
     return (double)clock() / CLOCKS_PER_SEC;
 }
@@ -238,6 +309,8 @@ int main(void) {
         printf("  (%dD: laws %.1f s, walls %.1f s of CPU time)\n", dim, t1 - t0,
                cpu_seconds() - t1);
     }
-    (void)PI;
+    const double t0 = cpu_seconds();
+    test_dense_convergence();
+    printf("  (dense: %.1f s of CPU time)\n", cpu_seconds() - t0);
     return test_finish("test_active_physics");
 }
