@@ -45,7 +45,7 @@ html_theme_options = {"description": "Brownian dynamics of hard bodies, the hard
                       "fixed_sidebar": True, "page_width": "1100px", "sidebar_width": "250px"}
 html_sidebars = {"**": ["about.html", "navigation.html", "searchbox.html"]}
 
-API_BEGIN, API_END = "<!-- api:begin -->", "<!-- api:end -->"
+API_BEGIN, API_END = "<!-- api:begin", "<!-- api:end -->"
 
 
 def api_without_module(app, docname, source):
