@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Plot a run of active Brownian disks or spheres (PNG).
 
-usage: tools/plot_active.py RUN_DIR [--out FILE.png]
+usage: tools/plot_active.py RUN_DIR [--out FILE.png] [--dpi N]
 
 Reads summary.json, the last frame of trajectory.xyz (or trajectory.gsd), msd.tsv,
 orientation.tsv and local_density.tsv of RUN_DIR (whichever it has) and writes
@@ -97,6 +97,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("run_dir")
     ap.add_argument("--out", help="PNG file (default RUN_DIR/plot.png)")
+    ap.add_argument("--dpi", type=int, default=110, help="resolution (default 110)")
     a = ap.parse_args()
     try:
         with open(os.path.join(a.run_dir, "summary.json")) as f:
@@ -181,7 +182,7 @@ def main():
         ax[2].set_title("MSD and orientation correlation")
     out = a.out or os.path.join(a.run_dir, "plot.png")
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=a.dpi)
     print(f"plot_active: {out}")
 
 
