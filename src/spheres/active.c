@@ -101,6 +101,7 @@ int sph_active_alloc(hsbd_spheres *s) {
     memcpy(s->rot_d, p->particle_rotational_diffusion, n * sizeof *s->rot_d);
     for (size_t i = 0; i < n; ++i) { /* the user's order: the engine has not sorted yet */
         const double d = s->diffusion[i], k = (s->dim - 1) * s->rot_d[i];
+        if (s->v0[i] > s->v0_max) s->v0_max = s->v0[i];
         s->swim_weight[i] = k > 0 && d > 0 ? s->v0[i] * p->kT / (k * d) : 0.0; /* v0 / (mu k) */
     }
     s->par.particle_v0 = s->v0; /* the copies */

@@ -21,7 +21,10 @@ void sph_active_free(hsbd_spheres *s);
 /* Uniformly random orientations from the seed's stream (by the user's index). */
 void sph_random_orientations(hsbd_spheres *s);
 
-/* The propulsion velocity v0 e of internal particle i (zero for a passive one). */
+/* The propulsion velocity v0 e of internal particle i (zero for a passive one): each
+ * particle's own drift, as a pair rule for relative drifts needs it. Such a rule is
+ * wanted whenever s->v0_max > 0, and its pushes belong after sph_keep_free_velocities
+ * (the swim sum counts every displacement the pairs cause). */
 static inline void sph_propulsion(const hsbd_spheres *s, int32_t i, double g[3]) {
     const size_t u = (size_t)s->label[i];
     const double v0 = s->active && s->propel ? s->v0[u] : 0.0;

@@ -140,6 +140,8 @@ struct hsbd_spheres {
     /* active particles (active.c), in the user's order; all NULL when none is active */
     int active;          /* the parameters gave v0 and D_r */
     int propel;          /* 0 while the compression runs: no propulsion, no rotation */
+    double v0_max;       /* the largest v0: > 0, pairs of active particles have relative
+                          * drifts (what a pair rule for relative drifts needs to know) */
     double *orient;      /* 3 N unit vectors (z = 0 in 2D) */
     double *v0, *rot_d;  /* N each: propulsion speed, rotational diffusion coefficient */
     double *swim_weight; /* N: v0 kT / ((d - 1) D D_r), 0 where D_r = 0 */
