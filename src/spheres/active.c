@@ -14,9 +14,10 @@
  *   rejection: the Gaussian rotation vector phi = sqrt(2 tau) zeta (zeta standard normal in
  *   3D, the naive small-angle step) has y = |phi| / 2 of density ~ y^2 exp(-y^2 / tau) and
  *   a uniform axis phi / |phi|; accepting it with probability sin(y) / y leaves exactly
- *   p(y) (acceptance 1 - tau / 4 + O(tau^2)). No normalisation after a kick: the rotation is
- *   exact and the renormalisation afterwards removes round-off only.
- * Draws: the first proposal of every particle comes from one bulk draw per step (normals of
+ *   p(y) (acceptance 1 - tau / 4 + O(tau^2)). Beyond tau = 20 the orientation is uniform
+ *   on the sphere to far below a double's resolution and is drawn so. No normalisation after a
+ * kick: the rotation is exact and the renormalisation afterwards removes round-off only. Draws: the
+ * first proposal of every particle comes from one bulk draw per step (normals of
  * HSBD_STREAM_ROTATION, 3 per particle in 3D, 1 in 2D, and uniforms of
  * HSBD_STREAM_ROTATION_ACCEPT, both by the user's index at counter = step); proposal q >= 1
  * of a particle (a rejection, or the next substep) uses counter step + q 2^44. So a
@@ -187,8 +188,24 @@ static void proposal(const hsbd_spheres *s, size_t i, uint64_t q, double zeta[3]
     hsbd_rng_uniforms(s->par.seed, HSBD_STREAM_ROTATION_ACCEPT, counter, i, 1, u);
 }
 
+/* Beyond this D_r dt the orientation forgets where it was: <P_l> = e^(-l(l+1) tau) <
+ * e^-40, far below a double's resolution, so it is drawn uniformly on the sphere. */
+#define ROTATION_TAU_UNIFORM 20.0
+
 /* Brownian motion of e on the unit sphere over tau = D_r dt, exactly (file comment). */
 static void rotate_3d(const hsbd_spheres *s, size_t i, double tau) {
+    if (tau > ROTATION_TAU_UNIFORM) { /* the first proposal's direction: uniform */
+        double *e = s->orient + 3 * i;
+        for (uint64_t q = 0;; ++q) {
+            double zeta[3], u;
+            proposal(s, i, q, zeta, &u);
+            const double norm = sqrt(zeta[0] * zeta[0] + zeta[1] * zeta[1] + zeta[2] * zeta[2]);
+            if (!(norm > 1e-100)) continue;
+            for (int a = 0; a < 3; ++a)
+                e[a] = zeta[a] / norm;
+            return;
+        }
+    }
     const int substeps = tau > SPH_ROTATION_TAU_MAX ? (int)ceil(tau / SPH_ROTATION_TAU_MAX) : 1;
     const double amp = sqrt(2 * tau / substeps); /* the rotation vector's rms per axis */
     uint64_t q = 0;

@@ -1,8 +1,8 @@
 /* Active Brownian disks and spheres against exact results, fixed seeds; every check
  * |sim - theory| <= 4 error bars unless said otherwise.
  *   - The rotational step, one step of many independent particles (hard_core = off) at
- *     tau = D_r dt from 0.01 to 3 (3D: substeps above 0.2): the averages of P_l(e(t).e(t+dt))
- *     for l = 1, 2, 3 against exp(-l (l + 1) tau) in 3D, of cos(l dtheta) against
+ *     tau = D_r dt from 0.01 to 30 (3D: substeps above 0.2, uniform above 20): the averages of
+ * P_l(e(t).e(t+dt)) for l = 1, 2, 3 against exp(-l (l + 1) tau) in 3D, of cos(l dtheta) against
  *     exp(-l^2 tau) in 2D. The samples are independent (one rotation each), so the error bar
  *     is their standard deviation over sqrt(count). A step that normalised a Gaussian kick
  *     instead (e + sqrt(2 tau) xi_perp, normalised) gives <e.e'> = E[(1 + 4 tau X)^(-1/2)],
@@ -320,7 +320,7 @@ static double cpu_seconds(void) {
 }
 
 int main(void) {
-    static const double taus[] = {0.01, 0.1, 0.5, 3.0};
+    static const double taus[] = {0.01, 0.1, 0.5, 3.0, 30.0};
     for (int dim = 2; dim <= 3; ++dim)
         for (size_t k = 0; k < sizeof taus / sizeof *taus; ++k)
             test_rotation_step(dim, taus[k]);
