@@ -281,6 +281,15 @@ void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
     fprintf(f, "},\n");
 }
 
+void run_write_summary(run *r, FILE *f, const char *stop_reason) {
+    run_write_summary_head(r, f, stop_reason);
+    r->model.write_summary(r, f);
+    run_observers_write_summary(r, f);
+    fprintf(f, "  \"parameters\": ");
+    hsbd_config_write_json(r->cfg, f, 2);
+    fprintf(f, "\n}\n");
+}
+
 /* Final tables, streams and summary.json. Every file is committed on its own: one that
  * fails to write (a full disk) leaves the others and is named in the message. */
 static int finish(run *r, int run_rc, hsbd_error *err) {
@@ -305,12 +314,7 @@ static int finish(run *r, int run_rc, hsbd_error *err) {
         hsbd_outfile o;
         rc = hsbd_outfile_open(&o, r->cfg->output.dir, "summary.json", &werr);
         if (rc == HSBD_OK) {
-            run_write_summary_head(r, o.f, reason);
-            r->model.write_summary(r, o.f);
-            run_observers_write_summary(r, o.f);
-            fprintf(o.f, "  \"parameters\": ");
-            hsbd_config_write_json(r->cfg, o.f, 2);
-            fprintf(o.f, "\n}\n");
+            run_write_summary(r, o.f, reason);
             rc = hsbd_outfile_commit(&o, &werr);
         }
     }
@@ -574,8 +578,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
                             "allowed: run.t_total >= %g (a run is continued or extended, never "
                             "cut)",
                             cfg->run.t_total, planned_t, planned_t);
-    if (rc == HSBD_OK &&
-        strcmp(src.model, run_model_name(cfg)))
+    if (rc == HSBD_OK && strcmp(src.model, run_model_name(cfg)))
         rc = hsbd_error_set(err, HSBD_EINPUT, "%s: a checkpoint of model %s", ck.path, src.model);
     if (rc == HSBD_OK) rc = check_inputs(&src, err);
     if (rc == HSBD_OK) {
