@@ -130,6 +130,6 @@ def __getattr__(name):
     # hsbd.plot, the plotting module (callable: hsbd.plot(DIR)), imported when first used
     # so that `import hsbd` needs no matplotlib and `python3 -m hsbd.plot` runs it fresh
     if name == "plot":
-        from . import plot
-        return plot
+        import importlib
+        return importlib.import_module(".plot", __name__)
     raise AttributeError(f"module 'hsbd' has no attribute {name!r}")

@@ -13,7 +13,7 @@ from collections.abc import Mapping
 import numpy as np
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.+\-]*$")
-_PARAMETER = re.compile(r"^([a-z_]+\.[a-z_0-9]+) = ?(.*)$")
+_PARAMETER = re.compile(r"^([a-z_]+\.[A-Za-z_0-9]+) = ?(.*)$")
 
 
 def _column_names(line):
@@ -88,6 +88,8 @@ class Run(Mapping):
 
     def __init__(self, path):
         self.path = os.fspath(path)
+        if os.path.isfile(self.path):
+            raise NotADirectoryError(f"{self.path}: a file; hsbd.load reads a run directory")
         if not os.path.isdir(self.path):
             raise FileNotFoundError(f"{self.path}: no such run directory")
         names = sorted(os.listdir(self.path))
