@@ -10,8 +10,8 @@ One PNG per run directory (default DIR/plot.png), whatever the run:
   the drift, trap and current results in the title;
 - disks and spheres: g(r) per species pair with its contact value and the equation of
   state's; the density profile along each axis with walls or the field, per species, with
-  the density at contact with each wall (from the wall's impulses); the MSD per species
-  with 2dDt and the long-time 2dD_L t; F_s(k, t).
+  the density at contact with each wall (from the wall's impulses); S(k) when sampled;
+  the MSD per species with 2dDt and the long-time 2dD_L t; F_s(k, t).
 
 ``hsbd.plot`` is this module and can be called: ``hsbd.plot(DIR)`` is
 ``hsbd.plot.plot(DIR)``. Needs matplotlib (Debian's python3-matplotlib); draws without
@@ -298,7 +298,8 @@ def _spheres(run, fig):
             if axis not in seen:
                 seen.add(axis)
                 profiles.append((axis, run[name]))
-    panels = (["gr"] if "gr" in run else []) + [f"density {a}" for a, _ in profiles] + \
+    panels = (["gr"] if "gr" in run else []) + (["sk"] if "sk" in run else []) + \
+             [f"density {a}" for a, _ in profiles] + \
              (["msd"] if "msd" in run else []) + (["fs"] if "fs" in run else [])
     ax = dict(zip(panels, _axes(fig, len(panels))))
     body = "disks" if dim == 2 else "spheres"
@@ -344,6 +345,15 @@ def _spheres(run, fig):
                    "the contact distances sigma_ij", transform=g.transAxes, ha="right",
                    fontsize=7)
         g.legend(fontsize=7, ncol=1 if ns == 1 else 2)
+
+    if "sk" in ax:
+        k, sk = ax["sk"], run["sk"]
+        k.errorbar(sk["k"], sk["S"], sk["S_err"], fmt="o-", ms=3, lw=0.8, label="S(k)")
+        k.axhline(1.0, color="0.6", lw=0.6, label="ideal gas")
+        k.set_xlabel(r"k  [$\sigma^{-1}$]")
+        k.set_ylabel("S(k)")
+        k.set_title("static structure factor", fontsize=9)
+        k.legend(fontsize=7)
 
     box = [float(v) for v in (s.get("box") or p.nums("system.box"))]
     for axis, table in profiles:
@@ -427,7 +437,7 @@ def _spheres(run, fig):
 # ---- figures ---------------------------------------------------------------------------
 
 def _axes(fig, n):
-    cols = min(3, max(1, n))
+    cols = 2 if n == 4 else min(3, max(1, n))
     rows = math.ceil(max(1, n) / cols)
     fig.set_size_inches(5.4 * cols, 4.4 * rows + 0.6)
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
