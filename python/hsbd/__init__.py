@@ -58,6 +58,8 @@ class Simulation(_hsbd.Simulation):
     """
 
     def __init__(self, config=None, /, **sections):
+        """config: a configuration file's path, a dict of keys, or None (the defaults);
+        sections: dicts of keys by section, applied after config (run={"t_total": 5})."""
         super().__init__(config, **sections)
 
     def run(self, t=None):
