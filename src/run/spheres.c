@@ -129,12 +129,13 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
             if (r->start_species) memcpy(m->species, r->start_species, n * sizeof *m->species);
             if (r->start_sigma) memcpy(sigma, r->start_sigma, n * sizeof *sigma);
             for (size_t i = 0; i < n; ++i)
-                if (m->species[i] < 0 || (size_t)m->species[i] >= m->ns || !(sigma[i] > 0))
-                    return free(x), free(sigma),
-                           hsbd_error_set(err, HSBD_EINPUT,
-                                          "the positions given: particle %zu has species %d "
-                                          "(allowed 0 .. %zu) and diameter %g (allowed > 0)",
-                                          i, m->species[i], m->ns - 1, sigma[i]);
+                if (m->species[i] < 0 || (size_t)m->species[i] >= m->ns || !(sigma[i] > 0)) {
+                    hsbd_error_set(err, HSBD_EINPUT,
+                                   "the positions given: particle %zu has species %d (allowed "
+                                   "0 .. %zu) and diameter %g (allowed > 0)",
+                                   i, m->species[i], m->ns - 1, sigma[i]);
+                    return free(x), free(sigma), err->status;
+                }
         } else if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK) {
             return free(x), free(sigma), err->status;
         }

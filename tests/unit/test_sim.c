@@ -2,9 +2,9 @@
  * - hsbd_sim_alloc_from: a simulation started from the initial state of another (its
  *   positions, species, diameters) runs bit for bit as that one does (rods of a mixture
  *   between walls, polydisperse disks in a periodic box, spheres between walls); on a ring
- *   the rods are put in line order from the wrapped positions; positions that
- *   overlap, leave the walls or change a mixture's composition are refused with
- *   HSBD_EINPUT and a message that says so, and nothing else is built.
+ *   the rods are put in line order from the wrapped positions; positions that overlap,
+ *   leave the walls, change a mixture's composition or give a diameter of 0 are refused
+ *   with HSBD_EINPUT and a message that says so, and nothing else is built.
  * - the density profiles of spheres between walls (parts.slab): one along the walls axis
  *   only, holding every particle (the profile integrates to N over the slab's volume).
  * - hsbd_sim_summary: the text of summary.json so far, with "completed" once done and
@@ -92,9 +92,9 @@ static void same_trajectory(const char *what, const char *const *sets, uint64_t 
 }
 
 static void refused(const char *what, const hsbd_config *cfg, const double *x, const int *species,
-                    const char *words) {
+                    const double *sigma, const char *words) {
     hsbd_error err;
-    hsbd_sim *s = hsbd_sim_alloc_from(cfg, x, species, NULL, &err);
+    hsbd_sim *s = hsbd_sim_alloc_from(cfg, x, species, sigma, &err);
     CHECK(!s && err.status == HSBD_EINPUT && strstr(err.message, words),
           "%s: refused with '%s' (got status %d, '%s')", what, words, err.status, err.message);
     hsbd_sim_free(s);
@@ -175,18 +175,20 @@ int main(void) {
     for (size_t i = 0; i < 40; ++i)
         x[3 * i] += 1;
     x[3] = x[0] + 0.2;
-    refused("rods overlap", &rc, x, species, "overlap");
+    refused("rods overlap", &rc, x, species, NULL, "overlap");
     x[3] = 2.5;
     species[0] = 1;
-    refused("rods: a species' count changed", &rc, x, species, "species.count");
+    refused("rods: a species' count changed", &rc, x, species, NULL, "species.count");
     hsbd_sim *s = hsbd_sim_alloc(&sc, &err);
     CHECK(s, "%s", err.message);
     if (s) {
         state st = state_of(s);
         st.x[3 * 7 + 2] = 0.3; /* below sigma/2 from the wall at z = 0 */
-        refused("spheres outside the walls", &sc, st.x, st.species, "outside the walls");
+        refused("spheres outside the walls", &sc, st.x, st.species, NULL, "outside the walls");
         st.x[3 * 7 + 2] = 4.5, st.species[0] = 1 - st.species[0];
-        refused("spheres: a species' count changed", &sc, st.x, st.species, "counts");
+        refused("spheres: a species' count changed", &sc, st.x, st.species, NULL, "counts");
+        st.species[0] = 1 - st.species[0], st.sigma[3] = 0;
+        refused("spheres: a diameter of 0", &sc, st.x, st.species, st.sigma, "diameter 0");
         state_free(&st);
 
         /* profiles along the walls axis only, every particle in them; the summary */
