@@ -129,20 +129,21 @@ static int check_sticky_step(run *r, rods_model *m, const hsbd_rods_params *par,
     return HSBD_OK;
 }
 
-/* The Euler step of the field and of the continuous pair force (the sticky term apart:
- * Eq. 33 above) against their time scales, 1 / (mu max|U''|) and 1 / (2 mu max|V''|) (the
- * gap of two rods diffuses with both mobilities): estimates in the summary, warnings
- * beyond 1 %. */
+/* The step of the field (run.field_step) and the Euler step of the continuous pair force
+ * (the sticky term apart: Eq. 33 above) against their time scales, 1 / (mu max|U''|) and
+ * 1 / (2 mu max|V''|) (the gap of two rods diffuses with both mobilities): estimates in the
+ * summary, warnings beyond 1 %. */
 static void check_field_step(run *r, rods_model *m, const hsbd_rods_params *par) {
     const hsbd_config *cfg = r->cfg;
     const double mu = mobility_max(cfg), dt = cfg->run.dt;
+    const int heun = cfg->run.field_step == HSBD_FIELD_STEP_HEUN;
     char msg[HSBD_WARNING_LEN];
     m->field_error = m->pair_error = NAN;
     if (par->field.nterms) {
         const double k = mu * hsbd_field_max_curvature(&par->field);
-        m->field_error = run_euler_density_error(k, dt);
-        if (run_euler_warning(k, dt, "field", "stationary density", "dt mu max|U''| / 4", msg,
-                              sizeof msg))
+        m->field_error = run_step_density_error(heun, k, dt);
+        if (run_step_warning(heun, k, dt, "field", "stationary density", "mu max|U''|", msg,
+                             sizeof msg))
             run_warn(r, "%s", msg);
     }
     hsbd_pair smooth = {0}; /* the continuous terms */
@@ -152,9 +153,9 @@ static void check_field_step(run *r, rods_model *m, const hsbd_rods_params *par)
         const double k = 2 * mu *
                          hsbd_pair_max_curvature(&smooth, cfg->system.sigma,
                                                  fmax(hsbd_pair_range(&smooth), cfg->system.sigma));
-        m->pair_error = run_euler_density_error(k, dt);
-        if (run_euler_warning(k, dt, "pair force", "pair distribution", "dt 2 mu max|V''| / 4", msg,
-                              sizeof msg))
+        m->pair_error = run_step_density_error(0, k, dt);
+        if (run_step_warning(0, k, dt, "pair force", "pair distribution", "2 mu max|V''|", msg,
+                             sizeof msg))
             run_warn(r, "%s", msg);
     }
 }
@@ -353,8 +354,8 @@ static void rods_write_summary(run *r, FILE *f) {
                      r->wall_prod > 0 ? n * (double)r->steps_done / r->wall_prod : NAN, 1);
     fprintf(f, "  \"vectorised_math\": %s,\n", hsbd_vmath_vectorised() ? "true" : "false");
     hsbd_json_number(f, "sticky_step_ratio", m->sticky_ratio, 1);
-    hsbd_json_number(f, "euler_field_error", m->field_error, 1);
-    hsbd_json_number(f, "euler_pair_error", m->pair_error, 1);
+    hsbd_json_number(f, "field_step_error", m->field_error, 1);
+    hsbd_json_number(f, "pair_step_error", m->pair_error, 1);
     run_write_warnings(r, f, NULL, 0);
     hsbd_json_number(f, "final_time", hsbd_rods_get_view(m->rods).time, 1);
 }

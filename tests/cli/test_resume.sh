@@ -25,6 +25,8 @@ set -u
 HSBD=${1:?usage: test_resume.sh path/to/hsbd [model]}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
 ONLY=${2:-}
+# interruptions per case (HSBD_RESUME_KILLS; the sanitizer build sets 2)
+KILLS=${HSBD_RESUME_KILLS:-5}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 cd "$T"
@@ -99,13 +101,13 @@ run_killed() { # run_killed NAME CONFIG SETTINGS... : stopped at random moments,
     local name=$1 cfg=$2 wall=$3
     shift 3
     "$HSBD" run "$cfg" "$@" --quiet --out "$name" 2>/dev/null &
-    local pid=$! kills=0 k
-    for k in 1 2 3 4 5; do
+    local pid=$! kills=0 k term=$((KILLS < 3 ? KILLS : 3))
+    for k in $(seq "$KILLS"); do
         # a moment in the first ~60 % of the run's wall time
         local ms=$((RANDOM % (wall * 6 / 10 + 1) + 30))
         sleep "$(awk -v ms="$ms" 'BEGIN { print ms / 1000 }')"
         if kill -0 $pid 2>/dev/null; then
-            kill -s "$([ $k = 3 ] && echo TERM || echo KILL)" $pid 2>/dev/null && kills=$((kills + 1))
+            kill -s "$([ "$k" = "$term" ] && echo TERM || echo KILL)" $pid 2>/dev/null && kills=$((kills + 1))
         fi
         wait $pid 2>/dev/null
         [ -e "$name/checkpoint.hsbd" ] || [ -e "$name/checkpoint.prev.hsbd" ] || {
