@@ -128,6 +128,14 @@ class Simulation(_hsbd.Simulation):
                 f"{self.stage}, steps {self.steps}, t = {self.time:g}>")
 
 
+# The C type's methods and properties are the class's own (help() and the API reference
+# list them with the class's).
+for _name, _member in vars(_hsbd.Simulation).items():
+    if not _name.startswith("_") and _name not in vars(Simulation):
+        setattr(Simulation, _name, _member)
+del _name, _member
+
+
 def __getattr__(name):
     # hsbd.plot, the plotting module (callable: hsbd.plot(DIR)), imported when first used
     # so that `import hsbd` needs no matplotlib and `python3 -m hsbd.plot` runs it fresh
