@@ -1,6 +1,7 @@
 """What the plotting tools share: reading hsbd's tables ('#' header lines, of which
-'# section.key = value' give the run's parameters, then a line of column names, then rows
-of numbers) and writing a figure atomically."""
+'# section.key = value' give the run's parameters and the last, '# ' and tab-separated
+names, the columns; then rows of numbers; older tables had the names without '#') and
+writing a figure atomically."""
 import os
 from collections import namedtuple
 
@@ -18,6 +19,8 @@ def read_table(path):
                 if " = " in line:
                     k, v = line[1:].split(" = ", 1)
                     params[k.strip()] = v.strip()
+                elif "\t" in line and not rows:
+                    names = line[1:].split()
                 continue
             if not rows and names is None and line[:1].isalpha():
                 names = line.split()
