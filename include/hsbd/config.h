@@ -157,7 +157,9 @@ typedef struct hsbd_config {
     } output;
     struct {
         char positions[HSBD_PATH_MAX];
-        int method; /* enum hsbd_init_method */
+        int method;    /* enum hsbd_init_method */
+        int64_t frame; /* of a GSD file (-1: the last) */
+        int gsd;       /* init.positions is a GSD file (set by hsbd_config_finalize) */
     } init;
     hsbd_origins origins;     /* where each schema key got its value */
     char file[HSBD_PATH_MAX]; /* the configuration file read, if any */

@@ -277,7 +277,12 @@ const key_spec config_schema[] = {
     {"init", "positions", ALL_MODELS, K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
      "file with initial positions; rods: one per line ('#' comments), default an exact "
      "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "
-     "[z] per particle, as hsbd writes it)"},
+     "[z] per particle, as hsbd writes it; its count and Lattice give system.N and the box); "
+     "either model: a GSD file (HOOMD schema, as hsbd, HOOMD-blue or gsd write it), whose "
+     "frame gives N, the box, the species (its types) and diameters; a key that restates "
+     "them must agree (docs/trajectories.md)"},
+    {"init", "frame", ALL_MODELS, K_INT, OFF(init.frame), -1, 1e15, 0, "-1", 0,
+     "the frame of a GSD init.positions file to start from (0: the first; -1: the last)"},
     {"init", "method", SPHERES, K_ENUM, OFF(init.method), 0, 0, 0, "auto",
      "auto|random|lattice|compress",
      "spheres without init.positions: random sequential insertion (up to phi 0.30 in 3D, 0.45 "

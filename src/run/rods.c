@@ -195,7 +195,8 @@ static int arrange_species(const hsbd_config *cfg, rods_model *m, hsbd_rods_para
 static int read_initial_positions(const hsbd_config *cfg, rods_model *m, double *x,
                                   hsbd_error *err) {
     const size_t n = (size_t)cfg->system.n;
-    int rc = hsbd_read_positions(cfg, x, m->species, err);
+    int rc = cfg->init.gsd ? hsbd_gsd_read_positions(cfg, x, m->species, err)
+                           : hsbd_read_positions(cfg, x, m->species, err);
     for (size_t k = 0; k < cfg->species.n && rc == HSBD_OK; ++k) {
         int64_t c = 0;
         for (size_t i = 0; i < n; ++i)
@@ -231,6 +232,11 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
     if (rc == HSBD_OK) m->rods = hsbd_rods_alloc(&par, err);
     if (rc == HSBD_OK && !m->rods) rc = err->status;
     if (rc == HSBD_OK && x) rc = hsbd_rods_set_positions(m->rods, x, err);
+    if (rc == HSBD_EINPUT && x && cfg->init.gsd) { /* a text file was checked as it was read */
+        char why[sizeof err->message];
+        snprintf(why, sizeof why, "%s", err->message);
+        hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
+    }
     if (rc == HSBD_OK && !x) hsbd_rods_init_equilibrium(m->rods);
     if (rc == HSBD_OK && x && cfg->sample.blocking == HSBD_BLOCKS_REPLICAS) {
         /* line order, so that setting them again keeps a mixture's species in place */

@@ -97,6 +97,11 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     if (cfg->init.positions[0]) { /* resuming too: the file gives the sizes and species */
         x = malloc(3 * n * sizeof *x);
         if (!x) return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    }
+    if (x && cfg->init.gsd) { /* the species, sizes and D came with hsbd_config_particles */
+        if (hsbd_gsd_read_positions(cfg, x, NULL, err) != HSBD_OK)
+            return free(x), free(sigma), err->status;
+    } else if (x) {
         if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK)
             return free(x), free(sigma), err->status;
         for (size_t i = 0; i < n; ++i) { /* the file's species (and diameters) */
