@@ -151,6 +151,7 @@ typedef struct hsbd_config {
         char dir[HSBD_PATH_MAX];
         int trajectory;
         double trajectory_every;
+        double log_every;        /* log.tsv: time between its lines (0: none) */
         int checkpoints;         /* write checkpoints (resumable runs) */
         double checkpoint_every; /* simulated time between them (0: by wall time) */
         double checkpoint_wall;  /* wall-clock seconds between them (the first: a tenth) */

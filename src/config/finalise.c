@@ -336,6 +336,16 @@ int config_check_run_keys(hsbd_config *cfg, hsbd_error *err) {
             replicas ? "a replica's time run.t_total/sample.blocks" : "run.t_total", lag_limit);
     if (cfg->output.trajectory_every == 0) /* the default never refuses a short run */
         cfg->output.trajectory_every = fmax(cfg->run.t_total / 100, cfg->run.dt);
+    if (isnan(cfg->output.log_every)) { /* derived like trajectory_every: never refuses */
+        cfg->output.log_every = fmax(cfg->run.t_total / 1000, cfg->run.dt);
+        config_origin_derived(cfg, "output", "log_every", "default (run.t_total/1000)");
+    }
+    if (cfg->output.log_every > 0 && cfg->output.log_every < cfg->run.dt)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: output.log_every = %g is shorter than run.dt = %g; allowed: 0 "
+                              "(no log.tsv) or log_every >= dt",
+                              config_origin_of(cfg, "output", "log_every"), cfg->output.log_every,
+                              cfg->run.dt);
     if (cfg->output.trajectory_every < cfg->run.dt)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: output.trajectory_every = %g is shorter than run.dt = %g",

@@ -261,6 +261,11 @@ const key_spec config_schema[] = {
      "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD; gsd: GSD, HOOMD schema)"},
     {"output", "trajectory_every", ALL_MODELS, K_DOUBLE, OFF(output.trajectory_every), 0, INF,
      OPEN_MAX, "0", 0, "time between trajectory frames (0: t_total/100, at least run.dt)"},
+    {"output", "log_every", ALL_MODELS, K_DOUBLE, OFF(output.log_every), 0, INF, OPEN_MAX, "", 0,
+     "time between the lines of log.tsv, a time series of the production's quantities (rods: "
+     "the particle current, the mean cluster size, the walls' contact densities; spheres: "
+     "collisions per particle-step, the virial pressure, the walls' pressures); default "
+     "run.t_total/1000, at least run.dt; 0: no log.tsv"},
     {"output", "checkpoints", ALL_MODELS, K_BOOL, OFF(output.checkpoints), 0, 1, NO_HEADER, "on", 0,
      "write checkpoints into the run directory (checkpoint.hsbd, the one before it kept as "
      "checkpoint.prev.hsbd), so that 'hsbd resume DIR' continues an interrupted run bit for "

@@ -21,6 +21,7 @@ hsbd_sim *hsbd_sim_alloc(const hsbd_config *cfg, hsbd_error *err) {
     s->cfg.output.trajectory = HSBD_TRAJ_NONE;
     s->cfg.output.checkpoints = 0;
     s->cfg.sample.current_every = 0;
+    s->cfg.output.log_every = 0; /* no files: no stream */
     s->r = (run){.cfg = &s->cfg, .opt = &s->opt};
     const int rc = run_build(&s->r, err);
     if (rc != HSBD_OK) {
