@@ -6,7 +6,8 @@ hsbd start runs whose N, box, species and diameters come from the file.
   orientations) starts a run that restates nothing: its parameters are the file's, and
   its first trajectory frame (D = 1e-12: the particles barely move) holds the file's
   particles, types and radii, moved from HOOMD's centred box into hsbd's [0, L).
-  init.frame = 0 picks the other frame.
+  init.frame = 0 picks the other frame. The same file in GSD 1's layout (HOOMD-blue 2's:
+  a name in each 64 bytes of the name list) reads the same.
 - A polydisperse 2D frame (one type, diameters 0.8 .. 1.2, Lz = 1 as HOOMD writes 2D
   boxes) keeps each particle's diameter; its packing fraction is theirs.
 - hsbd's own GSD output (a rods mixture on a ring, disks between walls) restarts a run
@@ -17,6 +18,7 @@ Usage: test_gsd_input.py path/to/hsbd
 """
 import json
 import os
+import struct
 import subprocess
 import sys
 import tempfile
@@ -125,6 +127,18 @@ with tempfile.TemporaryDirectory() as tmp:
     rc, err = run("spheres.ini", "mix0", "init.frame=0", "system.D=1e-12")
     check(rc == 0 and np.abs(first_frame("mix0")[1] - (grid + 6)).max() < 1e-5,
           f"init.frame = 0: {err}")
+    with open("mix.gsd", "rb") as f:  # GSD 1.0: version 1.0, the names in 64-byte slots
+        data = bytearray(f.read())
+    names_at, slots = struct.unpack("<QQ", data[24:40])
+    names = [n for n in bytes(data[names_at:names_at + 64 * slots]).split(b"\0") if n]
+    data[names_at:names_at + 64 * slots] = b"".join(n.ljust(64, b"\0") for n in names).ljust(
+        64 * slots, b"\0")
+    data[44:48] = struct.pack("<I", 1 << 16)
+    with open("mix1.gsd", "wb") as f:
+        f.write(data)
+    rc, err = run("spheres.ini", "mix1", "init.positions=mix1.gsd", "system.D=1e-12")
+    check(rc == 0 and np.abs(first_frame("mix1")[1] - (shifted + 6)).max() < 1e-5,
+          f"the GSD 1 layout: {err}")
     # restated values: the same (to float32) runs, with the configuration's exact value
     rc, err = run("spheres.ini", "mix-restated", "system.N=216", "system.box=12",
                   "species.names=A,B", "species.count=108,108", "species.sigma=1,1.4",
