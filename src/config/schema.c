@@ -262,6 +262,11 @@ const key_spec config_schema[] = {
      "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD; gsd: GSD, HOOMD schema)"},
     {"output", "trajectory_every", ALL_MODELS, K_DOUBLE, OFF(output.trajectory_every), 0, INF,
      OPEN_MAX, "0", 0, "time between trajectory frames (0: t_total/100, at least run.dt)"},
+    {"output", "log_every", ALL_MODELS, K_DOUBLE, OFF(output.log_every), 0, INF, OPEN_MAX, "", 0,
+     "time between the lines of log.tsv, a time series of the production's quantities (rods: "
+     "the particle current, the mean cluster size, the walls' contact densities; spheres: "
+     "collisions per particle-step, the virial pressure, the walls' pressures); default "
+     "run.t_total/1000, at least run.dt; 0: no log.tsv"},
     {"output", "checkpoints", ALL_MODELS, K_BOOL, OFF(output.checkpoints), 0, 1, NO_HEADER, "on", 0,
      "write checkpoints into the run directory (checkpoint.hsbd, the one before it kept as "
      "checkpoint.prev.hsbd), so that 'hsbd resume DIR' continues an interrupted run bit for "
@@ -278,7 +283,12 @@ const key_spec config_schema[] = {
     {"init", "positions", ALL_MODELS, K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
      "file with initial positions; rods: one per line ('#' comments), default an exact "
      "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "
-     "[z] per particle, as hsbd writes it)"},
+     "[z] per particle, as hsbd writes it; its count and Lattice give system.N and the box); "
+     "either model: a GSD file (HOOMD schema, as hsbd, HOOMD-blue or gsd write it), whose "
+     "frame gives N, the box, the species (its types) and diameters; a key that restates "
+     "them must agree (docs/trajectories.md)"},
+    {"init", "frame", ALL_MODELS, K_INT, OFF(init.frame), -1, 1e15, 0, "-1", 0,
+     "the frame of a GSD init.positions file to start from (0: the first; -1: the last)"},
     {"init", "method", SPHERES, K_ENUM, OFF(init.method), 0, 0, 0, "auto",
      "auto|random|lattice|compress",
      "spheres without init.positions: random sequential insertion (up to phi 0.30 in 3D, 0.45 "

@@ -204,7 +204,8 @@ static int initial_positions(const run *r, rods_model *m, double *x, hsbd_error 
         if (r->start_species && m->species)
             memcpy(m->species, r->start_species, n * sizeof *m->species);
     } else {
-        rc = hsbd_read_positions(cfg, x, m->species, err);
+        rc = cfg->init.gsd ? hsbd_gsd_read_positions(cfg, x, m->species, err)
+                           : hsbd_read_positions(cfg, x, m->species, err);
     }
     const char *source = r->start_x ? "the positions given" : cfg->init.positions;
     for (size_t k = 0; k < cfg->species.n && rc == HSBD_OK; ++k) {
@@ -241,6 +242,11 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
     if (rc == HSBD_OK) m->rods = hsbd_rods_alloc(&par, err);
     if (rc == HSBD_OK && !m->rods) rc = err->status;
     if (rc == HSBD_OK && x) rc = hsbd_rods_set_positions(m->rods, x, err);
+    if (rc == HSBD_EINPUT && x && cfg->init.gsd) { /* a text file was checked as it was read */
+        char why[sizeof err->message];
+        snprintf(why, sizeof why, "%s", err->message);
+        hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
+    }
     if (rc == HSBD_OK && !x) hsbd_rods_init_equilibrium(m->rods);
     if (rc == HSBD_OK && x && cfg->sample.blocking == HSBD_BLOCKS_REPLICAS) {
         /* line order, so that setting them again keeps a mixture's species in place */

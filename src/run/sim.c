@@ -23,6 +23,7 @@ static hsbd_sim *sim_build(const hsbd_config *cfg, const double *x, const int *s
     s->cfg.output.trajectory = HSBD_TRAJ_NONE;
     s->cfg.output.checkpoints = 0;
     s->cfg.sample.current_every = 0;
+    s->cfg.output.log_every = 0; /* no files: no stream */
     s->r = (run){.cfg = &s->cfg,
                  .opt = &s->opt,
                  .start_x = x,

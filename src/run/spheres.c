@@ -136,10 +136,13 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                                    i, m->species[i], m->ns - 1, sigma[i]);
                     return free(x), free(sigma), err->status;
                 }
+        } else if (cfg->init.gsd) { /* species, sizes and D came with hsbd_config_particles */
+            if (hsbd_gsd_read_positions(cfg, x, NULL, err) != HSBD_OK)
+                return free(x), free(sigma), err->status;
         } else if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK) {
             return free(x), free(sigma), err->status;
         }
-        for (size_t i = 0; i < n; ++i) { /* the file's species (and diameters) */
+        for (size_t i = 0; i < n && !cfg->init.gsd; ++i) { /* the file's species (sizes) */
             const size_t k = (size_t)m->species[i];
             const double sk = cfg->species.n ? cfg->species.sigma[k] : cfg->system.sigma;
             if (!(cfg->species.polydispersity > 0)) sigma[i] = sk;
