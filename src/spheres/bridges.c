@@ -21,8 +21,14 @@ double sph_bridge_push(const hsbd_spheres *s, double g0, double g1, double d_dt,
 }
 
 double sph_pair_skin(const hsbd_spheres *s, double dt) {
-    /* two gaps >= skin give g0 g1 >= SPH_BRIDGE_REACH (D_i + D_j) dt for any pair */
-    return s->pair_bridges ? sqrt(SPH_BRIDGE_REACH * 2 * s->diffusion_max * dt) : 0;
+    if (!s->pair_bridges) return 0;
+    /* two gaps >= skin reach contact with probability below exp(-skin^2 / ((D_i + D_j) dt))
+     * <= exp(-SPH_SKIN_REACH) for any pair */
+    double skin = sqrt(SPH_SKIN_REACH * 2 * s->diffusion_max * dt);
+    for (int a = 0; a < s->dim; ++a) /* what a small periodic box has room for */
+        if (!s->walls[a])
+            skin = fmin(skin, fmax(0.0, 0.5 * s->box[a] - s->sigma_max - 2 * s->shell));
+    return skin;
 }
 
 /* The uniform of pair (lo, hi), user labels lo < hi < 2^31: the Philox counter words are

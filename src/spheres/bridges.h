@@ -21,10 +21,14 @@
 double sph_bridge_push(const hsbd_spheres *s, double g0, double g1, double d_dt, uint32_t stream,
                        uint64_t index);
 
-/* The skin that the neighbour rows need for the exact pair rule at time step dt (0 when
- * the rule is off): a pair whose shells lie this much farther apart than sigma_ij + 2
- * shell starts and, unless a straight path leaves its shell, ends its step more than the
- * skin apart, where its bridge cannot reach contact. */
+/* The neighbour rows' skin for the exact pair rule: a pair whose shells lie more than the
+ * skin beyond sigma_ij + 2 shell apart starts and, unless a straight path leaves its
+ * shell, ends its step more than the skin apart, where its bridge reaches contact with
+ * probability below exp(-SPH_SKIN_REACH) = 2e-9. */
+#define SPH_SKIN_REACH 20.0
+
+/* That skin at time step dt, sqrt(2 SPH_SKIN_REACH D_max dt), or what a small periodic box
+ * leaves room for (half of it at least sigma_max + 2 shell + skin); 0 when the rule is off. */
 double sph_pair_skin(const hsbd_spheres *s, double dt);
 
 /* The exact pair rule's pushes of a step (s->pair_bridges): every neighbour pair's gap

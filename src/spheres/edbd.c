@@ -338,9 +338,9 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         if (params->hard_core && !s->walls[a] && !(s->box[a] >= 2 * reach)) {
             hsbd_error_set(err, HSBD_EINPUT,
                            "spheres: box[%d] = %g is shorter than twice the interaction range "
-                           "plus skin, 2 (sigma_max + 2 shell + pair skin) = %g (sigma_max %g, "
-                           "shell %g, pair skin %g); allowed: a larger box or more particles",
-                           a, s->box[a], 2 * reach, s->sigma_max, s->shell, s->pair_skin);
+                           "plus skin, 2 (sigma_max + 2 shell) = %g (sigma_max %g, shell %g); "
+                           "allowed: a larger box or more particles",
+                           a, s->box[a], 2 * reach, s->sigma_max, s->shell);
             hsbd_spheres_free(s);
             return NULL;
         }
