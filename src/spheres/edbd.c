@@ -168,8 +168,10 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free_hit_parts(s->hit_parts, s->hit_nparts);
     free_hit_parts(s->exit_parts, s->exit_nparts);
     for (size_t k = 0; k < s->push_nparts; ++k)
-        free(s->push_parts[k].p);
+        free(s->push_parts[k].p), free(s->push_parts[k].near);
     free(s->push_parts);
+    free(s->push_delta);
+    free(s->push_partners);
     free(s->normals);
     free(s->label);
     free(s->cell_rank);
@@ -442,9 +444,10 @@ static void add_wall_pushes(hsbd_spheres *s) {
                              high * (high - dx) >= SPH_BRIDGE_REACH * d * dt))
                 continue; /* the common case: neither bridge can reach its wall */
             const uint64_t index = 2 * (3 * (uint64_t)s->label[i] + (uint64_t)a);
-            const double up = sph_bridge_push(s, low, low + dx, d * dt, s->bridge_stream, index);
-            const double down =
-                sph_bridge_push(s, high, high - dx, d * dt, s->bridge_stream, index + 1);
+            const double up = sph_bridge_push(s, low, low + dx, d * dt, SPH_BRIDGE_REACH,
+                                              s->bridge_stream, index);
+            const double down = sph_bridge_push(s, high, high - dx, d * dt, SPH_BRIDGE_REACH,
+                                                s->bridge_stream, index + 1);
             if (up == 0 && down == 0) continue;
             *v += (up - down) / dt;
             sph_exact_sum *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
@@ -491,7 +494,7 @@ static void draw_velocities(hsbd_spheres *s) {
         }
     }
     if (s->par.field) add_field_drift(s);
-    if (s->any_walls) add_wall_pushes(s);
+    if (s->any_walls && !s->pair_bridges) add_wall_pushes(s); /* else with the pairs' */
 }
 
 /* A start-of-step event: into the calendar, or into the groups' hit list. Returns 0, or

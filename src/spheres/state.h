@@ -59,17 +59,19 @@ static inline double sph_exact_value(sph_exact_scale scale, sph_exact_sum sum) {
     return (double)sum * scale.from_quanta;
 }
 
-/* The pair pushes of a step (bridges.c), one buffer per thread: particle i (engine's
- * index) moves by d, pushed off the partner of user label `partner`. */
-typedef struct sph_push {
-    int32_t i, partner;
-    double d[3];
-} sph_push;
+/* A pair whose bridge reached contact in a step (bridges.c): the engine's particles i, j,
+ * their user labels lo < hi (the canonical order), the bridge's push along the unit end
+ * separation n (j - i), and the pair's impulse / kT so far. One buffer per thread. */
+typedef struct sph_pair_push {
+    int32_t i, j;
+    uint32_t lo, hi;
+    double push, n[3], impulse;
+} sph_pair_push;
 typedef struct sph_pushes {
-    sph_push *p;
+    sph_pair_push *p;
     size_t len, cap;
-    uint64_t pairs;       /* pairs pushed */
-    sph_exact_sum virial; /* their share of the virial */
+    int32_t *near; /* a row's pairs within the screen */
+    uint32_t near_cap;
 } sph_pushes;
 
 /* A wall event of a step: particle, wall 2 axis + side, displacement / D, the group
@@ -157,6 +159,8 @@ struct hsbd_spheres {
     double pair_skin;
     sph_pushes *push_parts; /* one per thread */
     size_t push_nparts;
+    double *push_delta;        /* 3 N: a step's displacements by the pushes (zero between) */
+    uint8_t *push_partners;    /* N: pushed pairs of each particle in a step, up to 2 */
     sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
     sph_exact_sum push_virial; /* this step's pair pushes' share of it */
     sph_exact_scale virial_scale, wall_scale; /* the quanta of those sums */
