@@ -16,34 +16,11 @@
 #include <string.h>
 
 #include "../test_util.h"
+#include "sphere_checks.h"
 #include "hsbd/field.h"
 #include "hsbd/spheres.h"
 
 static const double PI = 3.14159265358979323846;
-
-/* Smallest gap over all pairs (minimum image along periodic axes) and walls, relative to
- * the diameters, by brute force. */
-static double brute_min_gap(const hsbd_spheres_view *v) {
-    double worst = INFINITY;
-    for (size_t i = 0; i < v->n; ++i) {
-        for (int a = 0; a < v->dimension; ++a)
-            if (v->walls[a]) {
-                const double x = v->x[3 * i + a], half = 0.5 * v->sigma[i];
-                worst = fmin(worst, fmin(x - half, v->box[a] - half - x) / v->sigma[i]);
-            }
-        for (size_t j = i + 1; j < v->n; ++j) {
-            double r2 = 0;
-            for (int a = 0; a < v->dimension; ++a) {
-                double d = v->x[3 * j + a] - v->x[3 * i + a];
-                if (!v->walls[a]) d -= v->box[a] * round(d / v->box[a]);
-                r2 += d * d;
-            }
-            const double sij = 0.5 * (v->sigma[i] + v->sigma[j]);
-            worst = fmin(worst, (sqrt(r2) - sij) / sij);
-        }
-    }
-    return worst;
-}
 
 /* Steps every engine of s[0 .. count) `steps` times from the same initial state (a lattice
  * for one species, random insertion for mixtures); with `gaps`, the smallest gap of the
