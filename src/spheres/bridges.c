@@ -193,7 +193,9 @@ static int coupled(const hsbd_spheres *s, const sph_pair_push *p) {
  * front, in an order fixed by the labels) are relaxed in turn, sweeping forwards and
  * backwards, until no gap changes by more than 10^-3 sqrt(2 D_max dt) in a sweep (at most
  * SPH_PUSH_SWEEPS sweeps: a particle pushed from two sides by immobile ones has no
- * solution). What the pushes leave of an overlap, the events take as a collision. */
+ * solution); a sweep passes over the pairs neither of whose particles moved since the
+ * pair's last update (it is still solved). What the pushes leave of an overlap, the events
+ * take as a collision. */
 enum { SPH_PUSH_SWEEPS = 200 };
 static void solve_pushes(hsbd_spheres *s, sph_pushes *all) {
     for (size_t k = 0; k < all->len; ++k) { /* partners: 0, 1, 2 = several */
@@ -211,11 +213,18 @@ static void solve_pushes(hsbd_spheres *s, sph_pushes *all) {
         all->p[k] = t;
     }
     const double tol = 1e-3 * sqrt(2 * s->diffusion_max * s->dt);
+    uint8_t *moved = s->push_moved; /* the last sweep that moved a particle (0 before) */
     for (int sweep = 1; sweep < SPH_PUSH_SWEEPS && m; ++sweep) {
-        double worst = 0;
-        for (size_t q = 0; q < m; ++q)
-            worst = fmax(worst, relax_pair(s, &all->p[sweep % 2 ? m - 1 - q : q]));
-        if (!(worst > tol)) break;
+        int changed = 0;
+        for (size_t q = 0; q < m; ++q) {
+            sph_pair_push *p = &all->p[sweep % 2 ? m - 1 - q : q];
+            if (!((p->i >= 0 && moved[p->i] + 1 >= sweep) || moved[p->j] + 1 >= sweep)) continue;
+            if (!(relax_pair(s, p) > tol)) continue;
+            if (p->i >= 0) moved[p->i] = (uint8_t)sweep;
+            moved[p->j] = (uint8_t)sweep;
+            changed = 1;
+        }
+        if (!changed) break;
     }
 }
 
@@ -231,7 +240,8 @@ int sph_pair_pushes(hsbd_spheres *s) {
     }
     if (!s->push_delta) s->push_delta = calloc(3 * s->n, sizeof *s->push_delta);
     if (!s->push_partners) s->push_partners = calloc(s->n, sizeof *s->push_partners);
-    if (!s->push_delta || !s->push_partners) return -1;
+    if (!s->push_moved) s->push_moved = calloc(s->n, sizeof *s->push_moved);
+    if (!s->push_delta || !s->push_partners || !s->push_moved) return -1;
     int failed = 0;
 #pragma omp parallel for schedule(static, 1) num_threads(threads) if (threads > 1)                 \
     reduction(|                                                                                    \
@@ -276,7 +286,7 @@ int sph_pair_pushes(hsbd_spheres *s) {
             for (int a = 0; a < s->dim; ++a)
                 v[a] += d[a] / dt;
             d[0] = d[1] = d[2] = 0;
-            s->push_partners[q] = 0;
+            s->push_partners[q] = s->push_moved[q] = 0;
         }
     }
     s->stats.pair_pushes += pairs;

@@ -172,6 +172,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->push_parts);
     free(s->push_delta);
     free(s->push_partners);
+    free(s->push_moved);
     free(s->normals);
     free(s->label);
     free(s->cell_rank);

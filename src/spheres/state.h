@@ -161,6 +161,7 @@ struct hsbd_spheres {
     size_t push_nparts;
     double *push_delta;        /* 3 N: a step's displacements by the pushes (zero between) */
     uint8_t *push_partners;    /* N: pushed pairs of each particle in a step, up to 2 */
+    uint8_t *push_moved;       /* N: the last sweep of the joint solve that moved it */
     sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
     sph_exact_sum push_virial; /* this step's pair pushes' share of it */
     sph_exact_scale virial_scale, wall_scale; /* the quanta of those sums */
