@@ -135,6 +135,7 @@ typedef struct hsbd_config {
         int64_t threads;
         int events;     /* spheres: hsbd_spheres_event_order */
         int field_step; /* enum hsbd_field_step of hsbd/field.h */
+        int pair_rule;  /* spheres: enum hsbd_pair_rule of hsbd/spheres.h */
     } run;
     struct {
         double bin_width, contact_width, period;

@@ -195,6 +195,15 @@ const key_spec config_schema[] = {
      "less CPU than Euler for a 0.1 % profile; euler: the force at the step's start, off by "
      "O(dt), about dt mu max|U''| / 4 (the papers' step); pair forces stay at the step's "
      "start (docs/algorithms.md)"},
+    {"run", "pair_rule", SPHERES, K_ENUM, OFF(run.pair_rule), 0, 0, 0, "exact", "exact|mirror",
+     "spheres: how a pair collides when the two particles' drifts differ (a field with "
+     "per-species couplings or a force that varies in space, immobile obstacles in a "
+     "field). exact: the pair's normal gap, a Brownian motion with diffusion D_i + D_j and "
+     "their relative drift, reflected exactly at contact in the flat-contact limit (the "
+     "push shared in proportion to D_i and D_j), then elastic collisions for what remains; "
+     "mirror: elastic collisions of the fictive velocities with the drifts in them, exact "
+     "only without relative drift. Without relative drifts both give the same bits "
+     "(docs/spheres.md, pair collisions under a relative drift)"},
     {"run", "events", SPHERES, K_ENUM, OFF(run.events), 0, 0, 0, "auto", "auto|global|groups",
      "spheres: how a step's events run: one time-ordered calendar for the whole box (global), "
      "group by group (groups: cache-friendly for large N, and on threads; a step whose "

@@ -174,6 +174,7 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .particle_coupling = m->coupling,
                              .event_order = (hsbd_spheres_event_order)cfg->run.events,
                              .field_step = cfg->run.field_step,
+                             .pair_rule = cfg->run.pair_rule,
                              .threads = run_threads(cfg)};
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a],
@@ -332,6 +333,9 @@ static void spheres_write_summary(run *r, FILE *f) {
                        hsbd_scheme_check_warnings(&check, warnings, 3));
     hsbd_json_number(f, "shell_updates_per_particle_step",
                      steps > 0 ? (double)st.shell_updates / (n * steps) : NAN, 1);
+    /* pairs pushed apart by the exact pair rule's bridges (run.pair_rule) */
+    hsbd_json_number(f, "pair_pushes_per_particle_step",
+                     steps > 0 ? (double)st.pair_pushes / (n * steps) : NAN, 1);
     int finite;
     hsbd_json_number(f, "min_gap", hsbd_spheres_min_gap(m->sys, &finite), 1);
 }

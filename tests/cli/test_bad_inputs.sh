@@ -309,6 +309,8 @@ bad_case species-no-names "spnonames.ini:15:" "species.count is set but species.
 mix 'fraction = 0.5 0.5' 'names = A B' 'sigma = 0.5 0.5' 'D = 1 1' >spfrac.ini
 bad_case species-fraction-rods "spfrac.ini:15:" "species.fraction applies to system.model = spheres only" -- run spfrac.ini
 bad_case spheres-key-for-rods "system.dimension applies to system.model = spheres only" -- run good.ini --set system.dimension=2
+bad_case pair-rule-for-rods "run.pair_rule applies to system.model = spheres only" -- run good.ini --set run.pair_rule=mirror
+sph pair-rule-name "run.pair_rule" "one of exact|mirror" -- run sph.ini --set run.pair_rule=bounce
 
 # ---- rods: init.positions ----
 pos() { bad_case "$@"; } # pos NAME texts -- run good.ini --set init.positions=FILE
