@@ -58,10 +58,10 @@ static uint64_t get_le(const unsigned char *p, int bytes) {
     return v;
 }
 
-/* bytes of one element of a GSD type (1 uint8 ... 10 double), 0: unknown */
+/* bytes of one element of a GSD type (1 uint8 ... 10 double, 11 character), 0: unknown */
 static size_t type_size(int type) {
-    static const size_t size[] = {0, 1, 2, 4, 8, 1, 2, 4, 8, 4, 8};
-    return type >= 1 && type <= 10 ? size[type] : 0;
+    static const size_t size[] = {0, 1, 2, 4, 8, 1, 2, 4, 8, 4, 8, 1};
+    return type >= 1 && type <= 11 ? size[type] : 0;
 }
 
 static int damaged(reader *r, const char *why) {
@@ -155,7 +155,7 @@ static const entry *chunk_of(const reader *r, int chunk, uint64_t frame) {
 static int read_numbers(reader *r, const entry *e, uint64_t rows, uint32_t m, double **out) {
     const size_t size = type_size(e->type);
     char why[160];
-    if (!size || (rows && e->n != rows) || e->m != m || e->n == 0) {
+    if (!size || (rows && e->n != rows) || e->m != m || e->n == 0 || m == 0) {
         snprintf(why, sizeof why,
                  "%s of frame %llu has %llu x %u values of type %d; expected %llu x %u numbers",
                  chunk_name[e->chunk], (unsigned long long)e->frame, (unsigned long long)e->n, e->m,
@@ -182,7 +182,7 @@ static int read_numbers(reader *r, const entry *e, uint64_t rows, uint32_t m, do
             v = f;
         } else if (e->type == 10) {
             memcpy(&v, &u, sizeof v);
-        } else if (e->type >= 5) { /* signed: sign-extend */
+        } else if (e->type >= 5 && e->type <= 8) { /* signed: sign-extend */
             const int shift = 64 - 8 * (int)size;
             v = (double)((int64_t)(u << shift) >> shift);
         } else {
@@ -197,8 +197,8 @@ static int read_numbers(reader *r, const entry *e, uint64_t rows, uint32_t m, do
 /* particles/types: rows of characters, each a name padded with NULs */
 static int read_types(reader *r, const entry *e, hsbd_gsd_snapshot *s) {
     double *c = NULL;
-    if (e->type != 1 && e->type != 5)
-        return damaged(r, "particles/types is not of characters (int8 or uint8)");
+    if (e->type != 1 && e->type != 5 && e->type != 11)
+        return damaged(r, "particles/types is not of characters (int8, uint8 or character)");
     int rc = read_numbers(r, e, 0, e->m, &c);
     if (rc == HSBD_OK && !(s->types = calloc((size_t)e->n, sizeof *s->types)))
         rc = hsbd_error_set(r->err, HSBD_ENOMEM, "%s: out of memory", r->name);
