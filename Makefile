@@ -5,7 +5,7 @@ ASAN      ?= build-asan
 FUZZ      ?= build-fuzz
 # seconds each fuzz target runs in `make fuzz`
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS ?= config set positions xyz table checkpoint
+FUZZ_TARGETS ?= config set positions xyz gsd table checkpoint
 CMAKE_ARGS ?=
 
 .PHONY: all deps build asan demo check docs bench validate fuzz format clean

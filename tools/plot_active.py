@@ -36,9 +36,15 @@ def table(path):
     if not os.path.exists(path):
         return None
     with open(path) as f:
-        lines = [ln for ln in f if not ln.startswith("#")]
-    names = lines[0].split()
-    data = np.array([[float(v) for v in ln.split()] for ln in lines[1:] if ln.strip()])
+        lines = f.read().splitlines()
+    # the column names: the last '#' line before the data (older tables: the first line
+    # without '#')
+    body = [ln for ln in lines if ln.strip() and not ln.startswith("#")]
+    if body and not body[0].split()[0].replace(".", "").replace("-", "").replace("e", "").isdigit():
+        names, body = body[0].split(), body[1:]
+    else:
+        names = [ln for ln in lines if ln.startswith("#")][-1].lstrip("#").split()
+    data = np.array([[float(v) for v in ln.split()] for ln in body])
     return {n: data[:, k] for k, n in enumerate(names)} if len(data) else None
 
 

@@ -39,6 +39,21 @@ typedef enum hsbd_spheres_event_order {
  * last bits (shells far below the default: docs/spheres.md). */
 #define HSBD_SPHERES_GROUPS_MIN_N_THREADS 65536
 
+/* How a pair collides when the two particles' drifts differ (a field with per-particle
+ * couplings or a force that varies in space, immobile obstacles in a field; docs/spheres.md,
+ * "Pair collisions under a relative drift"). */
+typedef enum hsbd_pair_rule {
+    /* The pair's normal gap, a Brownian motion with diffusion D_i + D_j and the pair's
+     * relative drift, reflected exactly at contact (Skorokhod, the flat-contact limit of
+     * Scala Eq. 9), the push shared in proportion to D_i and D_j; the collisions that
+     * remain on the pushed straight paths (curvature, several partners) elastic. A system
+     * in which no two drifts can differ steps as with HSBD_PAIR_MIRROR, bit for bit. */
+    HSBD_PAIR_EXACT = 0,
+    /* Elastic collisions of the fictive velocities, drifts included (Scala Sec. III): the
+     * image method, exact in the flat-contact limit only without relative drift. */
+    HSBD_PAIR_MIRROR = 1
+} hsbd_pair_rule;
+
 typedef struct hsbd_spheres_params {
     size_t n;         /* number of particles N */
     int dimension;    /* 2 (disks) or 3 (spheres) */
@@ -90,6 +105,7 @@ typedef struct hsbd_spheres_params {
     int field_axis;
     const double *species_coupling, *particle_coupling;
     int field_step;
+    int pair_rule; /* enum hsbd_pair_rule (0: exact) */
     /* threads for the step's loops over all particles (noise, the start-of-step scan, the
      * final move) and for the first pass of the event groups (slabs of the box; the global
      * calendar runs on one); <= 1: one. The results do not depend on it (docs/spheres.md,
@@ -112,11 +128,13 @@ typedef struct hsbd_spheres_stats {
     uint64_t steps, collisions, shell_updates, stale_events;
     /* groups that met another group already moved, and ran again from the step's start */
     uint64_t group_reruns;
-    /* sum over collisions of sigma_ij n . (impulse on j) / kT, in the units of length^2:
+    /* sum over collisions and pair pushes of sigma_ij n . (impulse on j) / kT, in the units
+     * of length^2:
      * its mean per unit time gives the collisional virial (docs/spheres.md) */
     double virial;
     uint64_t wall_collisions; /* wall events in the calendar (not the bridge pushes) */
     uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */
+    uint64_t pair_pushes;     /* pairs pushed apart by their bridge (HSBD_PAIR_EXACT) */
     /* active particles with D_r > 0: the sum over steps and particles of w_i e_i . (the
      * displacement collisions gave i in the step), w_i = v0_i kT / ((d - 1) D_i D_r,i)
      * (energy x time / length): its mean per unit time over d V is the collisional part of

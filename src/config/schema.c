@@ -205,6 +205,15 @@ const key_spec config_schema[] = {
      "less CPU than Euler for a 0.1 % profile; euler: the force at the step's start, off by "
      "O(dt), about dt mu max|U''| / 4 (the papers' step); pair forces stay at the step's "
      "start (docs/algorithms.md)"},
+    {"run", "pair_rule", SPHERES, K_ENUM, OFF(run.pair_rule), 0, 0, 0, "exact", "exact|mirror",
+     "spheres: how a pair collides when the two particles' drifts differ (a field with "
+     "per-species couplings or a force that varies in space, immobile obstacles in a "
+     "field). exact: the pair's normal gap, a Brownian motion with diffusion D_i + D_j and "
+     "their relative drift, reflected exactly at contact in the flat-contact limit (the "
+     "push shared in proportion to D_i and D_j), then elastic collisions for what remains; "
+     "mirror: elastic collisions of the fictive velocities with the drifts in them, exact "
+     "only without relative drift. Without relative drifts both give the same bits "
+     "(docs/spheres.md, pair collisions under a relative drift)"},
     {"run", "events", SPHERES, K_ENUM, OFF(run.events), 0, 0, 0, "auto", "auto|global|groups",
      "spheres: how a step's events run: one time-ordered calendar for the whole box (global), "
      "group by group (groups: cache-friendly for large N, and on threads; a step whose "
@@ -282,6 +291,11 @@ const key_spec config_schema[] = {
      "trajectory format (xyz: extended XYZ, read by OVITO/ASE/VMD; gsd: GSD, HOOMD schema)"},
     {"output", "trajectory_every", ALL_MODELS, K_DOUBLE, OFF(output.trajectory_every), 0, INF,
      OPEN_MAX, "0", 0, "time between trajectory frames (0: t_total/100, at least run.dt)"},
+    {"output", "log_every", ALL_MODELS, K_DOUBLE, OFF(output.log_every), 0, INF, OPEN_MAX, "", 0,
+     "time between the lines of log.tsv, a time series of the production's quantities (rods: "
+     "the particle current, the mean cluster size, the walls' contact densities; spheres: "
+     "collisions per particle-step, the virial pressure, the walls' pressures); default "
+     "run.t_total/1000, at least run.dt; 0: no log.tsv"},
     {"output", "checkpoints", ALL_MODELS, K_BOOL, OFF(output.checkpoints), 0, 1, NO_HEADER, "on", 0,
      "write checkpoints into the run directory (checkpoint.hsbd, the one before it kept as "
      "checkpoint.prev.hsbd), so that 'hsbd resume DIR' continues an interrupted run bit for "
@@ -298,7 +312,12 @@ const key_spec config_schema[] = {
     {"init", "positions", ALL_MODELS, K_STRING, OFF(init.positions), 0, 0, 0, "", 0,
      "file with initial positions; rods: one per line ('#' comments), default an exact "
      "equilibrium sample of the field-free ring; spheres: extended XYZ (species name and x y "
-     "[z] per particle, as hsbd writes it)"},
+     "[z] per particle, as hsbd writes it; its count and Lattice give system.N and the box); "
+     "either model: a GSD file (HOOMD schema, as hsbd, HOOMD-blue or gsd write it), whose "
+     "frame gives N, the box, the species (its types) and diameters; a key that restates "
+     "them must agree (docs/trajectories.md)"},
+    {"init", "frame", ALL_MODELS, K_INT, OFF(init.frame), -1, 1e15, 0, "-1", 0,
+     "the frame of a GSD init.positions file to start from (0: the first; -1: the last)"},
     {"init", "method", SPHERES, K_ENUM, OFF(init.method), 0, 0, 0, "auto",
      "auto|random|lattice|compress",
      "spheres without init.positions: random sequential insertion (up to phi 0.30 in 3D, 0.45 "

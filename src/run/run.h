@@ -155,8 +155,12 @@ struct run {
     uint64_t equil_done;     /* equilibration steps over all replicas */
     size_t replicas_started; /* sample.blocking = replicas: blocks begun */
     double wall_equil, wall_prod, cpu_equil, cpu_prod;
-    uint64_t resumes;    /* times this run was continued from a checkpoint */
-    int resuming;        /* built to load a checkpoint: no initial state is made */
+    uint64_t resumes; /* times this run was continued from a checkpoint */
+    int resuming;     /* built to load a checkpoint: no initial state is made */
+    /* hsbd_sim_alloc_from: the caller's initial state in place of init.positions and
+     * init.method (positions N x 3; species and diameters per particle, or NULL) */
+    const double *start_x, *start_sigma;
+    const int *start_species;
     int newest_unusable; /* resumed from checkpoint.prev.hsbd: the newest is not to be kept */
     int completed;
     int started; /* the dynamics began: stream files are kept for a resume */
@@ -242,6 +246,9 @@ int run_advance(run *r, uint64_t steps, hsbd_error *err);
 /* The common fields of summary.json (program, version, completion, steps, timings); the
  * model then adds its own. */
 void run_write_summary_head(const run *r, FILE *f, const char *stop_reason);
+/* The whole of summary.json: the head, the model's and the observers' lines, the
+ * parameters. */
+void run_write_summary(run *r, FILE *f, const char *stop_reason);
 
 /* The noise key of this run: system.seed mixed with run.replica (src/run/replica.c; the
  * ensembles themselves are src/rundir/). */

@@ -36,6 +36,7 @@ static int is_run_output(const char *name) {
                                         "density_y.tsv",
                                         "density_z.tsv",
                                         "sk.tsv",
+                                        "log.tsv",
                                         "orientation.tsv",
                                         "local_density.tsv",
                                         RUNDIR_LOCK_FILE};

@@ -59,6 +59,21 @@ static inline double sph_exact_value(sph_exact_scale scale, sph_exact_sum sum) {
     return (double)sum * scale.from_quanta;
 }
 
+/* A pair whose bridge reached contact in a step (bridges.c): the engine's particles i, j,
+ * their user labels lo < hi (the canonical order), the bridge's push along the unit end
+ * separation n (j - i), and the pair's impulse / kT so far. One buffer per thread. */
+typedef struct sph_pair_push {
+    int32_t i, j;
+    uint32_t lo, hi;
+    double push, n[3], impulse;
+} sph_pair_push;
+typedef struct sph_pushes {
+    sph_pair_push *p;
+    size_t len, cap;
+    int32_t *near; /* a row's pairs within the screen */
+    uint32_t near_cap;
+} sph_pushes;
+
 /* A wall event of a step: particle, wall 2 axis + side, displacement / D, the group
  * that ran it (-1: the global calendar). */
 
@@ -147,7 +162,18 @@ struct hsbd_spheres {
     double *swim_weight; /* N: v0 kT / ((d - 1) D D_r), 0 where D_r = 0 */
     double *rot_normals, *rot_uniforms; /* a step's rotational draws: 3 N (2D: N), N */
     double *v_free; /* 3 N, internal order: the velocities before any event (hard core) */
+    /* the exact pair rule (bridges.c, docs/spheres.md "Pair collisions under a relative
+     * drift"): on when the rule is exact and two drifts can differ; the skin widens the
+     * neighbour rows so that every pair whose bridge can reach contact is in them */
+    int pair_bridges;
+    double pair_skin;
+    sph_pushes *push_parts; /* one per thread */
+    size_t push_nparts;
+    double *push_delta;        /* 3 N: a step's displacements by the pushes (zero between) */
+    uint8_t *push_partners;    /* N: pushed pairs of each particle in a step, up to 2 */
+    uint8_t *push_moved;       /* N: the last sweep of the joint solve that moved it */
     sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
+    sph_exact_sum push_virial; /* this step's pair pushes' share of it */
     sph_exact_scale virial_scale, wall_scale, swim_scale; /* the quanta of those sums */
     hsbd_spheres_stats stats;
 };
@@ -159,6 +185,12 @@ static inline void sph_min_image(const hsbd_spheres *s, const double *a, const d
                                  double *r) {
     for (int k = 0; k < 3; ++k)
         r[k] = hsbd_wrap_delta(a[k] - b[k], s->box[k]);
+}
+
+/* How far beyond sigma_ij two shell centres may be for i and j to be neighbours: the two
+ * shells, plus the exact pair rule's skin (0 without it). */
+static inline double sph_shell_reach(const hsbd_spheres *s) {
+    return 2 * s->shell + s->pair_skin;
 }
 
 static inline double sph_contact_distance(const hsbd_spheres *s, int32_t i, int32_t j) {
@@ -212,9 +244,10 @@ enum { SPH_MAX_SLABS = 64 };
 static inline int sph_slabs(const hsbd_spheres *s, int *axis) {
     *axis = sph_slab_axis(s);
     if (*axis < 0 || s->any_walls || !s->par.hard_core) return 0;
-    /* a neighbour pair's reach at the start of a step, sigma_max + 4 shell; slabs three
-     * reaches wide cut few groups, one reach is the least */
-    const double reach = 1.01 * (s->sigma_max + 4 * s->shell), length = s->box[*axis];
+    /* a neighbour pair's reach at the start of a step, sigma_max + 4 shell (+ the pair
+     * rule's skin); slabs three reaches wide cut few groups, one reach is the least */
+    const double reach = 1.01 * (s->sigma_max + 4 * s->shell + s->pair_skin);
+    const double length = s->box[*axis];
     int n = 2 * (int)floor(length / (2 * 3 * reach));
     if (n < 4) n = 2 * (int)floor(length / (2 * reach));
     return n < 4 ? 0 : n < SPH_MAX_SLABS ? n : SPH_MAX_SLABS;

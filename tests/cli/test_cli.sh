@@ -283,8 +283,8 @@ same=1
 for f in density.tsv contact.tsv msd.tsv clusters.tsv; do cmp -s "r1/$f" "r2/$f" || same=0; done
 if [ $same -eq 1 ]; then ok; else bad "same seed gave different tables"; fi
 if ! cmp -s r1/density.tsv r3/density.tsv; then ok; else bad "seed has no effect"; fi
-if grep -q '^# system.seed = 7$' r1/density.tsv && grep -q '^x	rho	rho_err$' r1/density.tsv &&
-    grep -q '^x	rho2	rho2_err	rho2_theorem	rho2_theorem_err	rho2_window	rho2_window_err	rho2_extrap	rho2_extrap_err$' r1/contact.tsv; then ok; else bad "table header"; fi
+if grep -q '^# system.seed = 7$' r1/density.tsv && grep -q '^# x	rho	rho_err$' r1/density.tsv &&
+    grep -q '^# x	rho2	rho2_err	rho2_theorem	rho2_theorem_err	rho2_window	rho2_window_err	rho2_extrap	rho2_extrap_err$' r1/contact.tsv; then ok; else bad "table header"; fi
 # the default rho2 column is the extrapolated estimator under reflect (the default rule)
 if awk '!/^#/ && !/^x/ { if ($2 != $8 || $3 != $9) bad = 1 } END { exit bad }' r1/contact.tsv; then ok; else bad "rho2 is not rho2_extrap under reflect"; fi
 if ls r1/*.part >/dev/null 2>&1; then bad "temporary files left"; else ok; fi
