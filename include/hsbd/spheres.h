@@ -136,7 +136,8 @@ typedef struct hsbd_spheres_stats {
     uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */
     uint64_t pair_pushes;     /* pairs pushed apart by their bridge (HSBD_PAIR_EXACT) */
     /* active particles with D_r > 0: the sum over steps and particles of w_i e_i . (the
-     * displacement collisions gave i in the step), w_i = v0_i kT / ((d - 1) D_i D_r,i)
+     * displacement collisions and pair pushes gave i in the step; under the exact pair rule
+     * also the walls' pushes), w_i = v0_i kT / ((d - 1) D_i D_r,i)
      * (energy x time / length): its mean per unit time over d V is the collisional part of
      * the swim pressure, P_swim = (1 / d V) sum_i w_i (v0_i + <e_i . v_i,collisions>)
      * (docs/active.md) */

@@ -110,7 +110,8 @@ static int read_orientations(const hsbd_config *cfg, spheres_model *m, hsbd_erro
     double *e = malloc(3 * (size_t)cfg->system.n * sizeof *e);
     if (!e) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
     int found = 0;
-    int rc = hsbd_xyz_read_orientations(cfg, e, &found, err);
+    int rc = cfg->init.gsd ? hsbd_gsd_read_orientations(cfg, e, &found, err)
+                           : hsbd_xyz_read_orientations(cfg, e, &found, err);
     if (rc == HSBD_OK && found) rc = hsbd_spheres_set_orientations(m->sys, e, err);
     free(e);
     return rc;

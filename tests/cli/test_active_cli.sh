@@ -5,8 +5,8 @@
 #     ideal value rho v0^2 / (d (d-1) mu D_r) exactly (no collisions: swim_speed_ratio 1,
 #     pressure_collisional 0), D_r defaults to 3 D / sigma^2, orientation.tsv starts at 1
 #     and decays, local_density.tsv integrates to 1.
-#   - Orientations from init.positions: a frame written by hsbd and read back gives the
-#     same orientations (straight swimmers that do not turn: D_r = 0, v0 = 0).
+#   - Orientations from init.positions: a frame written by hsbd (XYZ and GSD) and read back
+#     gives the same orientations (straight swimmers that do not turn: D_r = 0, v0 = 0).
 #   - A passive run writes no orientation.tsv and no orientation columns.
 #   - The two examples run (shortened) and tools/plot_active.py plots them, and a GSD run;
 #     it refuses a passive run.
@@ -69,6 +69,18 @@ tail -n 302 first/trajectory.xyz >last.xyz
 if paste <(tail -n 300 last.xyz) <(tail -n 300 again/trajectory.xyz) |
     awk '{ for (k = 10; k <= 16; ++k) if ((($k) - ($(k + 16))) ^ 2 > 1e-18) bad = 1 } END { exit bad || NR != 300 }'
 then ok; else bad "orientations read from init.positions differ from the file's (beyond its 10 digits)"; fi
+# the same from a GSD frame (float32 quaternions: equal within their rounding)
+"$HSBD" run abp.ini --quiet --out gfirst --set output.trajectory=gsd --set output.trajectory_every=0.5 \
+    --set run.t_total=1 --set sample.blocks=2 2>err || bad "GSD trajectory run: $(cat err)"
+"$HSBD" run abp.ini --quiet --out gagain --set init.positions=gfirst/trajectory.gsd --set active.v0=0 \
+    --set active.rotational_D=0 --set run.t_equil=0 --set run.t_total=0.05 --set sample.blocks=2 \
+    --set output.trajectory=gsd --set output.trajectory_every=0.05 2>err || bad "GSD read back: $(cat err)"
+if /usr/bin/python3 -c "
+import sys, gsd.hoomd, numpy as np
+a = gsd.hoomd.open('gfirst/trajectory.gsd', 'rb')[-1].particles.orientation
+b = gsd.hoomd.open('gagain/trajectory.gsd', 'rb')[-1].particles.orientation
+sys.exit(not (a is not None and b is not None and np.max(np.abs(a - b)) < 1e-6))"; then ok
+else bad "orientations read from a GSD init.positions differ from the file's"; fi
 # a file without orientations: random ones, the run goes on
 grep -o '^S [^ ]* [^ ]* [^ ]*' last.xyz >plain.body
 { echo 300; echo 'Lattice="40 0 0 0 40 0 0 0 1"'; cat plain.body; } >plain.xyz
