@@ -124,7 +124,8 @@ typedef struct hsbd_spheres_stats {
     double virial;
     uint64_t wall_collisions; /* wall events in the calendar (not the bridge pushes) */
     uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */
-    uint64_t pair_pushes;     /* pairs pushed apart by their bridge (HSBD_PAIR_EXACT) */
+    /* pairs whose free end gap the exact pair rule changed (HSBD_PAIR_EXACT) */
+    uint64_t pair_corrections;
 } hsbd_spheres_stats;
 
 /* Read-only view of the state for observers. Unwrapped position of particle i along axis

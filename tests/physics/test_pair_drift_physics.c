@@ -140,7 +140,7 @@ static pair_result run_pair(const pair_case *pc) {
             if (di == 0) out.obstacle_moved |= xi[0] != si[0] || xi[1] != si[1] || xi[2] != si[2];
         }
         const hsbd_spheres_stats st = hsbd_spheres_get_stats(s);
-        out.pushes += st.pair_pushes;
+        out.pushes += st.pair_corrections;
         out.collisions += st.collisions;
         hsbd_spheres_free(s);
     }
