@@ -64,9 +64,11 @@ double sph_exact_gap(double y, double x0, double c, double d, double dt) {
     const double target = upper ? mirror.S : mirror.F;
     double g =
         ky < 1 ? -expm1(ky) * normal_cdf(by) : normal_cdf(by) - exp_times(ky, normal_cdf(by));
-    if (!(fabs(g) > 1e-16)) return y; /* the laws agree there to the last digits */
+    const double scale = fmin(s, d / fabs(c)), ay = (y - mu) / s;
+    /* the gap would move by about g / F_m'(y): nothing below the solution's own accuracy */
+    const double mirror_density = INV_SQRT_2PI * (exp(-0.5 * ay * ay) + exp(-0.5 * by * by)) / s;
+    if (!(fabs(g) > 1e-9 * scale * mirror_density)) return y;
     double lo = g > 0 ? 0 : y, hi = g > 0 ? y : INFINITY, x = y;
-    const double scale = fmin(s, d / fabs(c));
     /* far apart: start from the quantile of the drift's exponential law, F = 1 - e^(c x / d) */
     if (c < 0 && g > 0.01) {
         const double guess = -d / c * (upper ? -log(target) : -log1p(-target));
