@@ -5,10 +5,10 @@ ASAN      ?= build-asan
 FUZZ      ?= build-fuzz
 # seconds each fuzz target runs in `make fuzz`
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS ?= config set positions xyz table checkpoint
+FUZZ_TARGETS ?= config set positions xyz gsd table checkpoint
 CMAKE_ARGS ?=
 
-.PHONY: all deps build asan demo check bench validate fuzz format clean
+.PHONY: all deps build asan demo check docs bench validate fuzz format clean
 
 all: build
 
@@ -39,6 +39,14 @@ demo: build
 check: build asan
 	@ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 	@ctest --test-dir $(ASAN) --output-on-failure -j $(JOBS)
+
+# The documentation site (Sphinx with MyST, Debian's packages) from docs/ into
+# $(BUILD)/docs/html; the Python API page imports the module of $(BUILD)/python. Any
+# warning or broken internal link fails it, as it fails test_docs in make check.
+docs: build
+	@HSBD_PYTHONPATH=$(abspath $(BUILD))/python /usr/bin/python3 -m sphinx -W -n -E --keep-going -q -b html \
+	    -d $(BUILD)/docs/.doctrees docs $(BUILD)/docs/html
+	@echo "documentation: $(BUILD)/docs/html/index.html"
 
 bench: build
 	@bench/run $(BUILD)/hsbd

@@ -152,13 +152,16 @@ typedef struct hsbd_config {
         char dir[HSBD_PATH_MAX];
         int trajectory;
         double trajectory_every;
+        double log_every;        /* log.tsv: time between its lines (0: none) */
         int checkpoints;         /* write checkpoints (resumable runs) */
         double checkpoint_every; /* simulated time between them (0: by wall time) */
         double checkpoint_wall;  /* wall-clock seconds between them (the first: a tenth) */
     } output;
     struct {
         char positions[HSBD_PATH_MAX];
-        int method; /* enum hsbd_init_method */
+        int method;    /* enum hsbd_init_method */
+        int64_t frame; /* of a GSD file (-1: the last) */
+        int gsd;       /* init.positions is a GSD file (set by hsbd_config_finalize) */
     } init;
     hsbd_origins origins;     /* where each schema key got its value */
     char file[HSBD_PATH_MAX]; /* the configuration file read, if any */

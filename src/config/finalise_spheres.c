@@ -318,6 +318,7 @@ int config_finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
 
 int hsbd_config_particles(const hsbd_config *cfg, int *species, double *sigma, double *diffusion,
                           hsbd_error *err) {
+    if (cfg->init.gsd) return config_input_particles(cfg, species, sigma, diffusion, err);
     const size_t n = (size_t)cfg->system.n;
     double *mean = malloc(n * sizeof *mean);
     if (!mean) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory for N = %zu", n);

@@ -81,9 +81,8 @@ static long particle_lines_left(hsbd_lines *in, hsbd_error *err) {
     return got < 0 ? -1 : lines;
 }
 
-/* line 1: the particle count, a whole number alone on its line, equal to system.N (when
- * not: the particle lines counted, to say which of the two is off) */
-static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+/* line 1: the particle count, a whole number alone on its line */
+static int parse_count(hsbd_lines *in, size_t *count, hsbd_error *err) {
     const int got = hsbd_lines_next(in, err);
     if (got < 0) return err->status;
     if (got == 0)
@@ -93,17 +92,25 @@ static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err)
                               in->name);
     char *w[2];
     const size_t nw = split_words(in->text, w, 2);
-    size_t count = 0;
+    *count = 0;
     int ok = nw == 1 && w[0][0] >= '0' && w[0][0] <= '9' && strlen(w[0]) <= 18;
     for (const char *c = ok ? w[0] : ""; ok && *c; ++c) {
         ok = *c >= '0' && *c <= '9';
-        count = 10 * count + (size_t)(*c - '0');
+        *count = 10 * *count + (size_t)(*c - '0');
     }
     if (!ok)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s:1: expected the number of particles (a whole number alone on "
                               "the line) at the start of an XYZ frame",
                               in->name);
+    return HSBD_OK;
+}
+
+/* line 1: the count, equal to system.N (when not: the particle lines counted, to say which
+ * of the two is off) */
+static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+    size_t count;
+    if (parse_count(in, &count, err) != HSBD_OK) return err->status;
     if (count == e->n) return HSBD_OK;
     const long lines = particle_lines_left(in, err);
     if (lines < 0) return err->status;
@@ -117,13 +124,13 @@ static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err)
                           count, e->n);
 }
 
-/* Lattice="a1 a2 a3 b1 b2 b3 c1 c2 c3" on the comment line, when present: a diagonal box
- * equal to the configuration's (the third vector of a 2D frame is not a length). */
-static int check_lattice(const hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+/* Lattice="a1 a2 a3 b1 b2 b3 c1 c2 c3" on the comment line: *has (0 without one) and its
+ * nine numbers */
+static int parse_lattice(const hsbd_lines *in, double m[9], int *has, hsbd_error *err) {
     const char *p = strstr(in->text, "Lattice=\"");
+    *has = p != NULL;
     if (!p) return HSBD_OK;
     p += strlen("Lattice=\"");
-    double m[9];
     for (int k = 0; k < 9; ++k) {
         while (is_space(*p))
             ++p;
@@ -141,6 +148,15 @@ static int check_lattice(const hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_er
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s:2: Lattice=\"...\" needs 9 finite numbers and a closing '\"'",
                               in->name);
+    return HSBD_OK;
+}
+
+/* the Lattice, when present: a diagonal box equal to the configuration's (the third vector
+ * of a 2D frame is not a length) */
+static int check_lattice(const hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+    double m[9];
+    int has;
+    if (parse_lattice(in, m, &has, err) != HSBD_OK || !has) return err->status;
     int same = 1;
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) {
@@ -291,6 +307,44 @@ int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, d
                                 "%s: the file has %zu particles of species %s, species.count / "
                                 "fraction asks for %lld",
                                 name, have[k], e->names[k], (long long)e->count[k]);
+    hsbd_lines_free(&in);
+    return rc;
+}
+
+int hsbd_xyz_read_head(FILE *f, const char *name, size_t *n, double box[3], int *has_box,
+                       hsbd_error *err) {
+    hsbd_error_clear(err);
+    hsbd_lines in;
+    hsbd_lines_init(&in, f, name);
+    double m[9];
+    int rc = parse_count(&in, n, err);
+    const int got = rc == HSBD_OK ? hsbd_lines_next(&in, err) : 0;
+    if (rc == HSBD_OK && got < 0) rc = err->status;
+    if (rc == HSBD_OK && got == 0)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "%s:1: the file ends after the count; expected a comment line "
+                            "(Lattice=...) and %zu particles",
+                            name, *n);
+    *has_box = 0;
+    if (rc == HSBD_OK && got > 0) rc = parse_lattice(&in, m, has_box, err);
+    for (int a = 0; rc == HSBD_OK && *has_box && a < 3; ++a) {
+        box[a] = m[4 * a];
+        if (!(box[a] > 0) || m[3 * a + (a + 1) % 3] != 0 || m[3 * a + (a + 2) % 3] != 0)
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s:2: the frame's Lattice is not an axis-aligned box of lengths "
+                                "> 0; allowed: Lattice=\"Lx 0 0 0 Ly 0 0 0 Lz\"",
+                                name);
+    }
+    long lines = 0; /* fewer particle lines than the count: the count is wrong */
+    for (int more = got; rc == HSBD_OK && more > 0 && (size_t)lines < *n;) {
+        more = hsbd_lines_next(&in, err);
+        if (more < 0) rc = err->status;
+        lines += more > 0 && !blank(in.text);
+    }
+    if (rc == HSBD_OK && (size_t)lines < *n)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "%s:1: the count line says %zu, the file has %ld particle lines", name,
+                            *n, lines);
     hsbd_lines_free(&in);
     return rc;
 }

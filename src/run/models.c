@@ -4,20 +4,21 @@
 
 #include "run/observers.h"
 
-static const run_observer_ops *const rods_observers[] = {
-    &run_observe_profile,    &run_observe_phases,
-    &run_observe_msd,        &run_observe_clusters,
-    &run_observe_contacts,   &run_observe_drift,
-    &run_observe_trap,       &run_observe_current,
-    &run_observe_trajectory, NULL};
+static const run_observer_ops *const rods_observers[] = {&run_observe_profile,
+                                                         &run_observe_phases,
+                                                         &run_observe_msd,
+                                                         &run_observe_clusters,
+                                                         &run_observe_contacts,
+                                                         &run_observe_drift,
+                                                         &run_observe_trap,
+                                                         &run_observe_current,
+                                                         &run_observe_trajectory,
+                                                         &run_observe_log,
+                                                         NULL};
 
-static const run_observer_ops *const spheres_observers[] = {&run_observe_gr,
-                                                            &run_observe_virial,
-                                                            &run_observe_walls,
-                                                            &run_observe_msd,
-                                                            &run_observe_trajectory,
-                                                            &run_observe_sk,
-                                                            NULL};
+static const run_observer_ops *const spheres_observers[] = {
+    &run_observe_gr,         &run_observe_virial, &run_observe_walls, &run_observe_msd,
+    &run_observe_trajectory, &run_observe_sk,     &run_observe_log,   NULL};
 
 typedef struct run_model_spec {
     const char *name;

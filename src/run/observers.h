@@ -21,5 +21,6 @@ extern const run_observer_ops run_observe_sk;     /* the static structure factor
 /* both models */
 extern const run_observer_ops run_observe_msd;        /* MSD, F_s, D_L */
 extern const run_observer_ops run_observe_trajectory; /* XYZ or GSD frames */
+extern const run_observer_ops run_observe_log;        /* log.tsv, a time series */
 
 #endif

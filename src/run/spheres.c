@@ -27,7 +27,10 @@ static int place_particles(const run *r, spheres_model *m, double *x, hsbd_error
         rc = hsbd_spheres_set_positions(m->sys, x, err);
         if (rc != HSBD_OK) {
             snprintf(why, sizeof why, "%s", err->message);
-            hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
+            if (r->start_x)
+                hsbd_error_set(err, rc, "the positions given: %s", why);
+            else
+                hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
         }
         return rc;
     }
@@ -43,16 +46,22 @@ static int place_particles(const run *r, spheres_model *m, double *x, hsbd_error
     return rc;
 }
 
-/* Particles of an XYZ input must lie between the walls: the file's line of the first
- * that does not (line i + 3 of particle i). */
-static int check_positions_walls(const hsbd_config *cfg, const double *x, const double *sigma,
-                                 hsbd_error *err) {
+/* Particles of an XYZ input (or the caller's positions: given = 1) must lie between the
+ * walls: the file's line of the first that does not (line i + 3 of particle i). */
+static int check_positions_walls(const hsbd_config *cfg, int given, const double *x,
+                                 const double *sigma, hsbd_error *err) {
     for (size_t i = 0; i < (size_t)cfg->system.n; ++i)
         for (int a = 0; a < (int)cfg->system.dimension; ++a) {
             const double half = 0.5 * sigma[i], top = cfg->system.box[a] - half, tol = 1e-9;
             if (!cfg->system.walls[a] || (x[3 * i + a] >= half * (1 - tol) &&
                                           x[3 * i + a] <= top + tol * cfg->system.box[a]))
                 continue;
+            if (given)
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "the positions given: particle %zu at %c = %.9g is outside "
+                                      "the walls (system.boundary); allowed: sigma/2 = %.9g <= %c "
+                                      "<= box - sigma/2 = %.9g",
+                                      i, "xyz"[a], x[3 * i + a], half, "xyz"[a], top);
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "%s:%zu: particle %zu at %c = %.9g is outside the walls "
                                   "(system.boundary); allowed: sigma/2 = %.9g <= %c <= box - "
@@ -83,6 +92,18 @@ static int build_field_couplings(const hsbd_config *cfg, spheres_model *m, const
     return HSBD_OK;
 }
 
+/* the same number of particles of each species (0 .. ns - 1) in a as in b */
+static int same_composition(const int *a, const int *b, size_t n, size_t ns) {
+    int64_t count[HSBD_MAX_SPECIES] = {0};
+    for (size_t i = 0; i < n; ++i) {
+        if (b[i] < 0 || (size_t)b[i] >= ns) return 0;
+        ++count[a[i]], --count[b[i]];
+    }
+    for (size_t k = 0; k < ns; ++k)
+        if (count[k]) return 0;
+    return 1;
+}
+
 static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     const size_t n = (size_t)cfg->system.n;
@@ -94,19 +115,41 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     /* species in blocks (initial states place particles randomly), sizes and D */
     if (hsbd_config_particles(cfg, m->species, sigma, diffusion, err) != HSBD_OK)
         return free(sigma), err->status;
-    if (cfg->init.positions[0]) { /* resuming too: the file gives the sizes and species */
+    if (r->start_x || cfg->init.positions[0]) { /* resuming too: the file gives the sizes
+                                                 * and species */
         x = malloc(3 * n * sizeof *x);
         if (!x) return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-        if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK)
+        if (r->start_x) { /* the caller's, else as configured */
+            memcpy(x, r->start_x, 3 * n * sizeof *x);
+            if (r->start_species && !same_composition(m->species, r->start_species, n, m->ns))
+                return free(x), free(sigma),
+                       hsbd_error_set(err, HSBD_EINPUT,
+                                      "the positions given: the species' counts differ from "
+                                      "the configuration's (species.fraction)");
+            if (r->start_species) memcpy(m->species, r->start_species, n * sizeof *m->species);
+            if (r->start_sigma) memcpy(sigma, r->start_sigma, n * sizeof *sigma);
+            for (size_t i = 0; i < n; ++i)
+                if (m->species[i] < 0 || (size_t)m->species[i] >= m->ns || !(sigma[i] > 0)) {
+                    hsbd_error_set(err, HSBD_EINPUT,
+                                   "the positions given: particle %zu has species %d (allowed "
+                                   "0 .. %zu) and diameter %g (allowed > 0)",
+                                   i, m->species[i], m->ns - 1, sigma[i]);
+                    return free(x), free(sigma), err->status;
+                }
+        } else if (cfg->init.gsd) { /* species, sizes and D came with hsbd_config_particles */
+            if (hsbd_gsd_read_positions(cfg, x, NULL, err) != HSBD_OK)
+                return free(x), free(sigma), err->status;
+        } else if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK) {
             return free(x), free(sigma), err->status;
-        for (size_t i = 0; i < n; ++i) { /* the file's species (and diameters) */
+        }
+        for (size_t i = 0; i < n && !cfg->init.gsd; ++i) { /* the file's species (sizes) */
             const size_t k = (size_t)m->species[i];
             const double sk = cfg->species.n ? cfg->species.sigma[k] : cfg->system.sigma;
             if (!(cfg->species.polydispersity > 0)) sigma[i] = sk;
             diffusion[i] = cfg->species.n ? cfg->species.diffusion[k] : cfg->system.diffusion;
             if (cfg->species.d_law == HSBD_D_STOKES_EINSTEIN) diffusion[i] *= sk / sigma[i];
         }
-        if (check_positions_walls(cfg, x, sigma, err) != HSBD_OK)
+        if (check_positions_walls(cfg, r->start_x != NULL, x, sigma, err) != HSBD_OK)
             return free(x), free(sigma), err->status;
     }
     if (build_field_couplings(cfg, m, sigma, err) != HSBD_OK)

@@ -249,8 +249,8 @@ if "$HSBD" merge again; then same_merged "a finished ensemble merged again" agai
 else bad "merge DIR of a finished ensemble"; fi
 # the merged blocks tables name each column by its replica
 "$HSBD" merge rods-merged20 rods-r2 rods-r0 || bad "merge of replicas 2 and 0"
-if grep -q "^x	replica_0	replica_2$" rods-merged20/density_blocks.tsv; then ok
-else bad "blocks columns: $(grep -v '^#' rods-merged20/density_blocks.tsv | head -1)"; fi
+if grep -q "^# x	replica_0	replica_2$" rods-merged20/density_blocks.tsv; then ok
+else bad "blocks columns: $(grep "^# x" rods-merged20/density_blocks.tsv)"; fi
 mkdir no-replicas && "$HSBD" merge no-replicas 2>err.txt
 if [ $? -eq 2 ] && grep -q "holds 0 replica-K directories" err.txt; then ok
 else bad "merge DIR without replicas: $(cat err.txt)"; fi
