@@ -43,11 +43,12 @@ typedef enum hsbd_spheres_event_order {
  * couplings or a force that varies in space, immobile obstacles in a field; docs/spheres.md,
  * "Pair collisions under a relative drift"). */
 typedef enum hsbd_pair_rule {
-    /* The pair's normal gap, a Brownian motion with diffusion D_i + D_j and the pair's
-     * relative drift, reflected exactly at contact (Skorokhod, the flat-contact limit of
-     * Scala Eq. 9), the push shared in proportion to D_i and D_j; the collisions that
-     * remain on the pushed straight paths (curvature, several partners) elastic. A system
-     * in which no two drifts can differ steps as with HSBD_PAIR_MIRROR, bit for bit. */
+    /* A pair whose drifts differ keeps the mirror rule's events, but its free end gap Y
+     * first becomes sign(Y) X, X the gap at which the law of the pair's normal gap reflected
+     * with its relative drift (Scala Eq. 9, in the pair's Brownian centre-of-mass frame) has
+     * the quantile that the mirror's law of |Y| has at |Y|; the change is shared in
+     * proportion to D_i and D_j. Eq. 9 exactly for a pair alone in the flat-contact limit;
+     * a pair without relative drift is not touched (the same bits as HSBD_PAIR_MIRROR). */
     HSBD_PAIR_EXACT = 0,
     /* Elastic collisions of the fictive velocities, drifts included (Scala Sec. III): the
      * image method, exact in the flat-contact limit only without relative drift. */
@@ -124,7 +125,8 @@ typedef struct hsbd_spheres_stats {
     double virial;
     uint64_t wall_collisions; /* wall events in the calendar (not the bridge pushes) */
     uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */
-    uint64_t pair_pushes;     /* pairs pushed apart by their bridge (HSBD_PAIR_EXACT) */
+    /* pairs whose free end gap the exact pair rule changed (HSBD_PAIR_EXACT) */
+    uint64_t pair_corrections;
 } hsbd_spheres_stats;
 
 /* Read-only view of the state for observers. Unwrapped position of particle i along axis

@@ -54,7 +54,7 @@ void hsbd_spheres_save(const hsbd_spheres *s, hsbd_writer *w) {
         const uint64_t walls[2] = {s->stats.wall_collisions, s->stats.wall_pushes};
         hsbd_put_u64s(w, walls, 2);
     }
-    if (s->pair_bridges) hsbd_put_u64(w, s->stats.pair_pushes); /* only then, as the walls */
+    if (s->pair_exact) hsbd_put_u64(w, s->stats.pair_corrections); /* only then, as the walls */
     free(tmp), free(itmp), free(label);
 }
 
@@ -137,7 +137,7 @@ int hsbd_spheres_load(hsbd_spheres *s, hsbd_reader *r) {
         return -1;
     s->stats.wall_collisions = walls[0];
     s->stats.wall_pushes = walls[1];
-    if (s->pair_bridges && hsbd_get_u64(r, &s->stats.pair_pushes)) return -1;
+    if (s->pair_exact && hsbd_get_u64(r, &s->stats.pair_corrections)) return -1;
     if (stats[5] > 1000) return hsbd_reader_fail(r, "spheres: an unknown event-order state");
     if (sph_groups_set_pause(s, (unsigned)stats[5])) return hsbd_reader_oom(r, "the event groups");
     if (sph_rebuild_rows(s) != HSBD_OK) return hsbd_reader_oom(r, "the neighbour lists");
