@@ -135,7 +135,6 @@ HSBD_API int hsbd_gsd_write(hsbd_gsd *g, const hsbd_frame *frame, hsbd_error *er
  * lacks. Arrays are allocated; hsbd_gsd_snapshot_free releases them. */
 typedef struct hsbd_gsd_snapshot {
     uint64_t frame, frames; /* the frame read, and the frames of the file */
-    uint64_t step;          /* configuration/step */
     int dimension;          /* configuration/dimensions: 2 or 3 */
     double box[3];          /* Lx Ly Lz of configuration/box (its tilt factors are 0) */
     size_t n, ntypes;       /* particles/N; the names of particles/types */

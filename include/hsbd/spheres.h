@@ -43,11 +43,12 @@ typedef enum hsbd_spheres_event_order {
  * couplings or a force that varies in space, immobile obstacles in a field; docs/spheres.md,
  * "Pair collisions under a relative drift"). */
 typedef enum hsbd_pair_rule {
-    /* The pair's normal gap, a Brownian motion with diffusion D_i + D_j and the pair's
-     * relative drift, reflected exactly at contact (Skorokhod, the flat-contact limit of
-     * Scala Eq. 9), the push shared in proportion to D_i and D_j; the collisions that
-     * remain on the pushed straight paths (curvature, several partners) elastic. A system
-     * in which no two drifts can differ steps as with HSBD_PAIR_MIRROR, bit for bit. */
+    /* A pair whose drifts differ keeps the mirror rule's events, but its free end gap Y
+     * first becomes sign(Y) X, X the gap at which the law of the pair's normal gap reflected
+     * with its relative drift (Scala Eq. 9, in the pair's Brownian centre-of-mass frame) has
+     * the quantile that the mirror's law of |Y| has at |Y|; the change is shared in
+     * proportion to D_i and D_j. Eq. 9 exactly for a pair alone in the flat-contact limit;
+     * a pair without relative drift is not touched (the same bits as HSBD_PAIR_MIRROR). */
     HSBD_PAIR_EXACT = 0,
     /* Elastic collisions of the fictive velocities, drifts included (Scala Sec. III): the
      * image method, exact in the flat-contact limit only without relative drift. */
@@ -134,10 +135,11 @@ typedef struct hsbd_spheres_stats {
     double virial;
     uint64_t wall_collisions; /* wall events in the calendar (not the bridge pushes) */
     uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */
-    uint64_t pair_pushes;     /* pairs pushed apart by their bridge (HSBD_PAIR_EXACT) */
+    /* pairs whose free end gap the exact pair rule changed (HSBD_PAIR_EXACT) */
+    uint64_t pair_corrections;
     /* active particles with D_r > 0: the sum over steps and particles of w_i e_i . (the
-     * displacement collisions and pair pushes gave i in the step; under the exact pair rule
-     * also the walls' pushes), w_i = v0_i kT / ((d - 1) D_i D_r,i)
+     * displacement collisions, the exact pair rule and wall events gave i in the step; not
+     * the walls' bridge pushes, which come before), w_i = v0_i kT / ((d - 1) D_i D_r,i)
      * (energy x time / length): its mean per unit time over d V is the collisional part of
      * the swim pressure, P_swim = (1 / d V) sum_i w_i (v0_i + <e_i . v_i,collisions>)
      * (docs/active.md) */

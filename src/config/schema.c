@@ -208,12 +208,12 @@ const key_spec config_schema[] = {
     {"run", "pair_rule", SPHERES, K_ENUM, OFF(run.pair_rule), 0, 0, 0, "exact", "exact|mirror",
      "spheres: how a pair collides when the two particles' drifts differ (a field with "
      "per-species couplings or a force that varies in space, immobile obstacles in a "
-     "field). exact: the pair's normal gap, a Brownian motion with diffusion D_i + D_j and "
-     "their relative drift, reflected exactly at contact in the flat-contact limit (the "
-     "push shared in proportion to D_i and D_j), then elastic collisions for what remains; "
-     "mirror: elastic collisions of the fictive velocities with the drifts in them, exact "
-     "only without relative drift. Without relative drifts both give the same bits "
-     "(docs/spheres.md, pair collisions under a relative drift)"},
+     "field). exact: the pair's free end gap moved to the gap of the same quantile in the law "
+     "of its normal gap reflected with the relative drift (Scala Eq. 9, exact for a pair "
+     "alone in the flat-contact limit), then the elastic collisions as before; mirror: the "
+     "elastic collisions alone, exact only without relative drift. Pairs without relative "
+     "drift give the same bits either way (docs/spheres.md, pair collisions under a "
+     "relative drift)"},
     {"run", "events", SPHERES, K_ENUM, OFF(run.events), 0, 0, 0, "auto", "auto|global|groups",
      "spheres: how a step's events run: one time-ordered calendar for the whole box (global), "
      "group by group (groups: cache-friendly for large N, and on threads; a step whose "

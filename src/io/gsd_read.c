@@ -20,7 +20,6 @@ enum { HEADER_BYTES = 256, ENTRY_BYTES = 32, NAME_BYTES = 64, INDEX_BLOCK = 4096
 enum {
     C_DIMENSIONS,
     C_BOX,
-    C_STEP,
     C_N,
     C_TYPES,
     C_TYPEID,
@@ -31,9 +30,9 @@ enum {
     C_COUNT
 };
 static const char *const chunk_name[C_COUNT] = {
-    "configuration/dimensions", "configuration/box", "configuration/step", "particles/N",
-    "particles/types",          "particles/typeid",  "particles/diameter", "particles/position",
-    "particles/orientation",    "log/hsbd/position"};
+    "configuration/dimensions", "configuration/box",     "particles/N",
+    "particles/types",          "particles/typeid",      "particles/diameter",
+    "particles/position",       "particles/orientation", "log/hsbd/position"};
 
 typedef struct entry {
     uint64_t frame, n, location;
@@ -45,9 +44,9 @@ typedef struct entry {
 typedef struct reader {
     FILE *f;
     const char *name;
-    uint64_t size;         /* the file's length */
-    int id_chunk[1 << 16]; /* the file's name id -> C_... or -1 */
-    entry *kept;           /* entries of frame 0 and of the frame read */
+    uint64_t size;          /* the file's length */
+    int64_t id_of[C_COUNT]; /* the file's name id of each chunk read, or -1 */
+    entry *kept;            /* entries of frame 0 and of the frame read */
     size_t nkept, cap;
     hsbd_error *err;
 } reader;
@@ -80,8 +79,8 @@ static int read_at(reader *r, uint64_t at, void *p, size_t bytes) {
 
 /* The name list: which of the file's name ids are chunks read here. */
 static int read_names(reader *r, uint64_t location, uint64_t entries, int packed) {
-    for (size_t k = 0; k < sizeof r->id_chunk / sizeof r->id_chunk[0]; ++k)
-        r->id_chunk[k] = -1;
+    for (int c = 0; c < C_COUNT; ++c)
+        r->id_of[c] = -1;
     if (entries > r->size / NAME_BYTES)
         return damaged(r, "its name list lies beyond the file's end (cut short?)");
     const size_t bytes = (size_t)entries * NAME_BYTES;
@@ -92,14 +91,20 @@ static int read_names(reader *r, uint64_t location, uint64_t entries, int packed
     const size_t ids = packed ? bytes : (size_t)entries; /* GSD 1: 64 bytes a name */
     for (size_t id = 0, at = 0; rc == HSBD_OK && at < bytes && id < ids && id < (1 << 16); ++id) {
         const char *s = names + at;
-        if (!*s) break; /* the end of the list */
-        for (int c = 0; c < C_COUNT; ++c)
-            if (!strncmp(s, chunk_name[c], NAME_BYTES) && strlen(s) == strlen(chunk_name[c]))
-                r->id_chunk[id] = c;
+        if (!*s) break;                   /* the end of the list */
+        for (int c = 0; c < C_COUNT; ++c) /* the name and its NUL */
+            if (r->id_of[c] < 0 && !strncmp(s, chunk_name[c], strlen(chunk_name[c]) + 1))
+                r->id_of[c] = (int64_t)id;
         at += packed ? strnlen(s, bytes - at) + 1 : NAME_BYTES;
     }
     free(names);
     return rc;
+}
+
+static int chunk_of_id(const reader *r, uint64_t id) {
+    for (int c = 0; c < C_COUNT; ++c)
+        if (r->id_of[c] == (int64_t)id) return c;
+    return -1;
 }
 
 /* Each used index entry in turn (those at location 0 are unused), in blocks. */
@@ -119,7 +124,7 @@ static int scan_index(reader *r, uint64_t location, uint64_t entries, uint64_t *
                              .n = get_le(p + 8, 8),
                              .location = get_le(p + 16, 8),
                              .m = (uint32_t)get_le(p + 24, 4),
-                             .chunk = r->id_chunk[get_le(p + 28, 2)],
+                             .chunk = chunk_of_id(r, get_le(p + 28, 2)),
                              .type = p[30]};
             if (!e.location) continue;
             if (e.frame >= *frames) *frames = e.frame + 1;
@@ -221,7 +226,7 @@ static int read_types(reader *r, const entry *e, hsbd_gsd_snapshot *s) {
     return rc;
 }
 
-/* One number of a chunk (dimensions, step, N), or `fallback` without one. */
+/* One number of a chunk (dimensions, N), or `fallback` without one. */
 static int read_scalar(reader *r, int chunk, uint64_t frame, double fallback, double *v) {
     const entry *e = chunk_of(r, chunk, frame);
     double *p = NULL;
@@ -233,25 +238,23 @@ static int read_scalar(reader *r, int chunk, uint64_t frame, double fallback, do
     return rc;
 }
 
-/* The configuration: dimensions, box (no tilt), step, N. */
+/* The configuration: dimensions, box (no tilt), N. */
 static int read_configuration(reader *r, uint64_t frame, hsbd_gsd_snapshot *s) {
-    double dim = 3, step = 0, n = 0, *box = NULL;
+    double dim = 3, n = 0, *box = NULL;
     int rc = read_scalar(r, C_DIMENSIONS, frame, 3, &dim);
-    if (rc == HSBD_OK) rc = read_scalar(r, C_STEP, frame, 0, &step);
     if (rc == HSBD_OK) rc = read_scalar(r, C_N, frame, 0, &n);
     const entry *e = chunk_of(r, C_BOX, frame);
     if (rc == HSBD_OK && e) rc = read_numbers(r, e, 6, 1, &box);
     if (rc != HSBD_OK) return free(box), rc;
     char why[200];
-    s->dimension = (int)dim;
-    s->step = (uint64_t)step;
-    s->n = (size_t)n;
+    s->dimension = dim == 2 || dim == 3 ? (int)dim : 0;
+    s->n = n >= 1 && n <= 2147483647.0 ? (size_t)n : 0; /* system.N's range */
     for (int a = 0; a < 3; ++a)
         s->box[a] = box ? box[a] : 1.0;
     const int tilted = box && (box[3] != 0 || box[4] != 0 || box[5] != 0);
     free(box);
-    if (s->dimension != 2 && s->dimension != 3)
-        snprintf(why, sizeof why, "configuration/dimensions = %d; allowed: 2 or 3", s->dimension);
+    if (s->dimension == 0)
+        snprintf(why, sizeof why, "configuration/dimensions = %g; allowed: 2 or 3", dim);
     else if (tilted)
         snprintf(why, sizeof why,
                  "frame %llu has a tilted (triclinic) box; allowed: a "
@@ -263,8 +266,8 @@ static int read_configuration(reader *r, uint64_t frame, hsbd_gsd_snapshot *s) {
                  "frame %llu has the box %g x %g x %g; allowed: finite lengths > 0",
                  (unsigned long long)frame, s->box[0], s->box[1], s->box[2]);
     else if (s->n == 0)
-        snprintf(why, sizeof why, "frame %llu has no particles (particles/N)",
-                 (unsigned long long)frame);
+        snprintf(why, sizeof why, "frame %llu has particles/N = %g; allowed: 1 .. 2147483647",
+                 (unsigned long long)frame, n);
     else
         return HSBD_OK;
     return damaged(r, why);

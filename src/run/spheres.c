@@ -359,9 +359,9 @@ static void spheres_write_summary(run *r, FILE *f) {
                        hsbd_scheme_check_warnings(&check, warnings, 3));
     hsbd_json_number(f, "shell_updates_per_particle_step",
                      steps > 0 ? (double)st.shell_updates / (n * steps) : NAN, 1);
-    /* pairs pushed apart by the exact pair rule's bridges (run.pair_rule) */
-    hsbd_json_number(f, "pair_pushes_per_particle_step",
-                     steps > 0 ? (double)st.pair_pushes / (n * steps) : NAN, 1);
+    /* pairs whose end gap the exact pair rule changed (run.pair_rule) */
+    hsbd_json_number(f, "pair_corrections_per_particle_step",
+                     steps > 0 ? (double)st.pair_corrections / (n * steps) : NAN, 1);
     int finite;
     hsbd_json_number(f, "min_gap", hsbd_spheres_min_gap(m->sys, &finite), 1);
 }

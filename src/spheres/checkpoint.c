@@ -54,7 +54,7 @@ void hsbd_spheres_save(const hsbd_spheres *s, hsbd_writer *w) {
         const uint64_t walls[2] = {s->stats.wall_collisions, s->stats.wall_pushes};
         hsbd_put_u64s(w, walls, 2);
     }
-    if (s->pair_bridges) hsbd_put_u64(w, s->stats.pair_pushes); /* only then, as the walls */
+    if (s->pair_exact) hsbd_put_u64(w, s->stats.pair_corrections); /* only then, as the walls */
     if (s->active) { /* only then, too: the orientations (user order) and the swim sum */
         hsbd_put_f64s(w, s->orient, 3 * n);
         hsbd_put_f64(w, s->stats.swim_collisional);
@@ -141,7 +141,7 @@ int hsbd_spheres_load(hsbd_spheres *s, hsbd_reader *r) {
         return -1;
     s->stats.wall_collisions = walls[0];
     s->stats.wall_pushes = walls[1];
-    if (s->pair_bridges && hsbd_get_u64(r, &s->stats.pair_pushes)) return -1;
+    if (s->pair_exact && hsbd_get_u64(r, &s->stats.pair_corrections)) return -1;
     if (s->active) {
         if (get_doubles(r, s->orient, 3 * n) || hsbd_get_f64(r, &s->stats.swim_collisional))
             return -1;

@@ -7,7 +7,7 @@
 
 #include "hsbd/rng.h"
 #include "spheres/active.h"
-#include "spheres/bridges.h"
+#include "spheres/reflect.h"
 #include "spheres/events.h"
 #include "spheres/global.h"
 #include "spheres/groups.h"
@@ -171,9 +171,8 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     for (size_t k = 0; k < s->push_nparts; ++k)
         free(s->push_parts[k].p), free(s->push_parts[k].near);
     free(s->push_parts);
-    free(s->push_delta);
-    free(s->push_partners);
-    free(s->push_moved);
+    free(s->drift);
+    free(s->push_sum);
     free(s->normals);
     free(s->label);
     free(s->cell_rank);
@@ -330,7 +329,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     }
     if (sph_active_alloc(s)) goto oom;
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
-    s->pair_bridges =
+    s->pair_exact =
         params->hard_core && params->pair_rule == HSBD_PAIR_EXACT && relative_drifts(s, params);
     s->pair_skin = sph_pair_skin(s, s->dt);
     const double reach = s->sigma_max + sph_shell_reach(s);
@@ -347,6 +346,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->inv_box[a] = 1.0 / s->box[a];
     }
     if (alloc_walls_and_field(s)) goto oom;
+    if (s->pair_exact && !(s->drift = malloc(3 * n * sizeof *s->drift))) goto oom;
     for (int a = 0; a < s->dim; ++a)
         if (params->hard_core && !s->walls[a] && !(s->box[a] >= 2 * reach)) {
             hsbd_error_set(err, HSBD_EINPUT,
@@ -437,6 +437,27 @@ static void add_field_drift(hsbd_spheres *s) {
         s->v[3 * i + a] += s->drift_mu[i] * s->field_f[i];
 }
 
+/* Each particle's drift velocity in this step: the common drift, the field's and the
+ * propulsion (the exact pair rule compares them between partners: reflect.c). */
+static void record_drifts(hsbd_spheres *s) {
+    const double *g = s->par.drift;
+    for (size_t i = 0; i < s->n; ++i)
+        for (int a = 0; a < 3; ++a)
+            s->drift[3 * i + a] = s->noise_amp[i] > 0 ? g[a] : 0.0;
+    if (s->par.field) {
+        const size_t axis = (size_t)s->par.field_axis;
+        for (size_t i = 0; i < s->n; ++i)
+            s->drift[3 * i + axis] += s->drift_mu[i] * s->field_f[i];
+    }
+    if (!s->active) return;
+    for (size_t i = 0; i < s->n; ++i) { /* each particle's own drift, its propulsion */
+        double own[3];
+        sph_propulsion(s, (int32_t)i, own);
+        for (int a = 0; a < 3; ++a)
+            s->drift[3 * i + a] += own[a];
+    }
+}
+
 /* The walls' Skorokhod pushes, added to the fictive velocities before any event: a
  * particle alone at a wall then ends where the reflected Brownian motion with its drift
  * ends, and its straight path stays off the wall. Each wall's bridge is drawn from the
@@ -455,10 +476,8 @@ static void add_wall_pushes(hsbd_spheres *s) {
                              high * (high - dx) >= SPH_BRIDGE_REACH * d * dt))
                 continue; /* the common case: neither bridge can reach its wall */
             const uint64_t index = 2 * (3 * (uint64_t)s->label[i] + (uint64_t)a);
-            const double up = sph_bridge_push(s, low, low + dx, d * dt, SPH_BRIDGE_REACH,
-                                              s->bridge_stream, index);
-            const double down = sph_bridge_push(s, high, high - dx, d * dt, SPH_BRIDGE_REACH,
-                                                s->bridge_stream, index + 1);
+            const double up = sph_bridge_push(s, low, low + dx, d * dt, index);
+            const double down = sph_bridge_push(s, high, high - dx, d * dt, index + 1);
             if (up == 0 && down == 0) continue;
             *v += (up - down) / dt;
             sph_exact_sum *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
@@ -506,7 +525,8 @@ static void draw_velocities(hsbd_spheres *s) {
     }
     if (s->par.field) add_field_drift(s);
     if (s->active) sph_add_propulsion(s);
-    if (s->any_walls && !s->pair_bridges) add_wall_pushes(s); /* else with the pairs' */
+    if (s->pair_exact) record_drifts(s);
+    if (s->any_walls) add_wall_pushes(s);
 }
 
 /* A start-of-step event: into the calendar, or into the groups' hit list. Returns 0, or
@@ -674,9 +694,9 @@ int hsbd_spheres_step(hsbd_spheres *s) {
     draw_velocities(s);
     if (s->par.hard_core) {
         keep_start_positions(s);
-        if (s->active) sph_keep_free_velocities(s); /* before the pair pushes: the swim sum */
+        if (s->active) sph_keep_free_velocities(s); /* before the pair rule: the swim sum */
         s->push_virial = 0;
-        if ((s->pair_bridges && sph_pair_pushes(s)) || run_events(s))
+        if ((s->pair_exact && sph_pair_corrections(s)) || run_events(s))
             return fail_step(s, &stats_at_start);
         s->stats.virial += sph_exact_value(s->virial_scale, s->step_virial + s->push_virial);
         if (s->active) sph_add_swim_collisional(s);

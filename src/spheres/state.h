@@ -59,17 +59,18 @@ static inline double sph_exact_value(sph_exact_scale scale, sph_exact_sum sum) {
     return (double)sum * scale.from_quanta;
 }
 
-/* A pair whose bridge reached contact in a step (bridges.c): the engine's particles i, j,
- * their user labels lo < hi (the canonical order), the bridge's push along the unit end
- * separation n (j - i), and the pair's impulse / kT so far. One buffer per thread. */
-typedef struct sph_pair_push {
-    int32_t i, j;
-    uint32_t lo, hi;
-    double push, n[3], impulse;
-} sph_pair_push;
+/* A particle's share of a pair's change by the exact pair rule in a step (reflect.c): the
+ * engine's particle i and its displacement d. The changes of a step, one buffer per
+ * thread, with the pairs changed and their share of the virial. */
+typedef struct sph_pair_end {
+    int32_t i;
+    double d[3];
+} sph_pair_end;
 typedef struct sph_pushes {
-    sph_pair_push *p;
+    sph_pair_end *p;
     size_t len, cap;
+    uint64_t pairs;
+    sph_exact_sum virial;
     int32_t *near; /* a row's pairs within the screen */
     uint32_t near_cap;
 } sph_pushes;
@@ -162,18 +163,17 @@ struct hsbd_spheres {
     double *swim_weight; /* N: v0 kT / ((d - 1) D D_r), 0 where D_r = 0 */
     double *rot_normals, *rot_uniforms; /* a step's rotational draws: 3 N (2D: N), N */
     double *v_free; /* 3 N, internal order: the velocities before any event (hard core) */
-    /* the exact pair rule (bridges.c, docs/spheres.md "Pair collisions under a relative
+    /* the exact pair rule (reflect.c, docs/spheres.md "Pair collisions under a relative
      * drift"): on when the rule is exact and two drifts can differ; the skin widens the
-     * neighbour rows so that every pair whose bridge can reach contact is in them */
-    int pair_bridges;
+     * neighbour rows so that every pair the rule can change is in them */
+    int pair_exact;
     double pair_skin;
+    double *drift;          /* 3 N: each particle's drift velocity in this step (when pair_exact) */
     sph_pushes *push_parts; /* one per thread */
+    sph_exact_sum *push_sum; /* 3 N: a step's changes per particle (zero between steps) */
     size_t push_nparts;
-    double *push_delta;        /* 3 N: a step's displacements by the pushes (zero between) */
-    uint8_t *push_partners;    /* N: pushed pairs of each particle in a step, up to 2 */
-    uint8_t *push_moved;       /* N: the last sweep of the joint solve that moved it */
     sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
-    sph_exact_sum push_virial; /* this step's pair pushes' share of it */
+    sph_exact_sum push_virial; /* this step's pair rule's share of it */
     sph_exact_scale virial_scale, wall_scale, swim_scale; /* the quanta of those sums */
     hsbd_spheres_stats stats;
 };

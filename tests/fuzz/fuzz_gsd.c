@@ -1,7 +1,8 @@
 /* Fuzz target: a GSD file read back as an initial state (init.positions). The first byte
  * of the input picks the frame (0: the last, k: frame k - 1); the rest is the file. A
  * frame read must hold what the reader promises: N >= 1 particles, typeids below the
- * number of types, finite positions, diameters >= 0, a box of lengths > 0. */
+ * number of types, finite positions, diameters >= 0, a box of lengths > 0. (The numbers of
+ * any type are read as doubles: a value beyond an integer's range is refused, not cast.) */
 #include "fuzz.h"
 
 #include <math.h>

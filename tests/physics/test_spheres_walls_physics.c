@@ -283,13 +283,13 @@ static void wall_theorem_case(const char *name, hsbd_spheres_params p, double fo
            "wall events per particle-step, min gap %.2g\n",
            name, p.dt, t_equil, t_total, diff, diff_err, weight / area,
            (diff - weight / area) / diff_err, (double)st.collisions / st.steps / p.n,
-           (double)st.pair_pushes / st.steps / p.n,
+           (double)st.pair_corrections / st.steps / p.n,
            (double)(st.wall_collisions + st.wall_pushes) / st.steps / p.n, gap);
     CHECK(fabs(diff - weight / area) <= 4 * diff_err, "%s: wall theorem", name);
     /* drift factors D coupling that differ: the exact pair rule acts */
     const int relative = p.particle_coupling || p.species_coupling;
-    CHECK(relative ? st.pair_pushes > 0 : st.pair_pushes == 0, "%s: %llu pair pushes", name,
-          (unsigned long long)st.pair_pushes);
+    CHECK(relative ? st.pair_corrections > 0 : st.pair_corrections == 0, "%s: %llu pair pushes",
+          name, (unsigned long long)st.pair_corrections);
     CHECK(finite && gap >= -1e-9, "%s: overlap %g", name, gap);
     sampled_free(&o);
     hsbd_spheres_free(s);

@@ -1,5 +1,7 @@
 /* The pair rule of the EDBD engine (run.pair_rule; docs/spheres.md, "Pair collisions under a
  * relative drift"), deterministic checks:
+ * - The exact gap (src/spheres/reflect.c): the quantile map from the mirror's law of the end
+ *   gap to Eq. 9's, against the two laws in closed form (below).
  * - Where no two drifts can differ (one species in gravity between walls; a mixture with
  *   obstacles and no field; a common drift), the exact rule and the mirror rule give the
  *   same bits: positions, image counters, collisions, virial, and no pair push.
@@ -19,6 +21,7 @@
 #include "sphere_checks.h"
 #include "hsbd/field.h"
 #include "hsbd/spheres.h"
+#include "spheres/reflect.h"
 
 static const double PI = 3.14159265358979323846;
 
@@ -50,7 +53,7 @@ static int same_bits(const hsbd_spheres *a, const hsbd_spheres *b) {
     const hsbd_spheres_stats sa = hsbd_spheres_get_stats(a), sb = hsbd_spheres_get_stats(b);
     return !memcmp(va.x, vb.x, 3 * va.n * sizeof *va.x) &&
            !memcmp(va.image, vb.image, 3 * va.n * sizeof *va.image) &&
-           sa.collisions == sb.collisions && sa.pair_pushes == sb.pair_pushes &&
+           sa.collisions == sb.collisions && sa.pair_corrections == sb.pair_corrections &&
            sa.wall_pushes == sb.wall_pushes && !memcmp(&sa.virial, &sb.virial, sizeof sa.virial);
 }
 
@@ -69,15 +72,15 @@ static void compare_rules(const char *name, hsbd_spheres_params p, int steps, in
     if (!s[0] || !s[1]) return;
     const hsbd_spheres_stats se = hsbd_spheres_get_stats(s[0]), sm = hsbd_spheres_get_stats(s[1]);
     printf("%s: exact %llu pushes, %llu collisions; mirror %llu collisions; min gap %.3g\n", name,
-           (unsigned long long)se.pair_pushes, (unsigned long long)se.collisions,
+           (unsigned long long)se.pair_corrections, (unsigned long long)se.collisions,
            (unsigned long long)sm.collisions, gap);
     if (same)
-        CHECK(same_bits(s[0], s[1]) && se.pair_pushes == 0 && se.collisions > 0,
+        CHECK(same_bits(s[0], s[1]) && se.pair_corrections == 0 && se.collisions > 0,
               "%s: the rules differ without relative drift", name);
     else
-        CHECK(se.pair_pushes > 0 && sm.pair_pushes == 0 && !same_bits(s[0], s[1]),
-              "%s: pushes %llu (exact), %llu (mirror)", name, (unsigned long long)se.pair_pushes,
-              (unsigned long long)sm.pair_pushes);
+        CHECK(se.pair_corrections > 0 && sm.pair_corrections == 0 && !same_bits(s[0], s[1]),
+              "%s: pushes %llu (exact), %llu (mirror)", name,
+              (unsigned long long)se.pair_corrections, (unsigned long long)sm.pair_corrections);
     CHECK(gap >= -1e-9, "%s: overlap %g", name, gap);
     hsbd_spheres_free(s[0]);
     hsbd_spheres_free(s[1]);
@@ -104,7 +107,7 @@ static void compare_variants(const char *name, hsbd_spheres_params p, int steps,
     run_all(s, count, steps, NULL);
     for (int k = 1; k < count; ++k)
         if (s[0] && s[k]) CHECK(same_bits(s[0], s[k]), "%s: variant %d differs", name, k);
-    const uint64_t pushes = s[0] ? hsbd_spheres_get_stats(s[0]).pair_pushes : 0;
+    const uint64_t pushes = s[0] ? hsbd_spheres_get_stats(s[0]).pair_corrections : 0;
     CHECK(pushes > 0, "%s: no pair pushes", name);
     printf("%s: %d variants, %llu pair pushes: identical\n", name, count,
            (unsigned long long)pushes);
@@ -112,7 +115,66 @@ static void compare_variants(const char *name, hsbd_spheres_params p, int steps,
         hsbd_spheres_free(s[k]);
 }
 
+/* The laws of the end gap from x0 over dt (relative diffusion d, relative normal drift c):
+ * the mirror rule's |Y| and Eq. 9's reflected one (docs/theory.md). */
+static double cdf(double z) {
+    return 0.5 * erfc(-z / sqrt(2.0));
+}
+static double law_mirror(double x, double x0, double c, double d, double dt) {
+    const double s = sqrt(2 * d * dt), mu = x0 + c * dt;
+    return cdf((x - mu) / s) - cdf((-x - mu) / s);
+}
+static double law_exact(double x, double x0, double c, double d, double dt) {
+    const double s = sqrt(2 * d * dt), mu = x0 + c * dt;
+    return cdf((x - mu) / s) - exp(c * x / d) * cdf((-x - mu) / s);
+}
+
+/* sph_exact_gap maps the mirror's gap y to the gap of Eq. 9's law at the same quantile:
+ * F_exact(X) = F_mirror(y) to 1e-9 over a grid of gaps, drifts (pressing and separating,
+ * Peclet numbers of a step from 0.003 to 20) and steps; X grows with y; c = 0 gives y to
+ * the bit, and Scala's example (D 1, c -1, x0 1, dt 1) maps the mirror's mean 1.1284 to a
+ * mean of 0.8504 (the average of X over the law of |Y|, by quadrature). */
+static void test_exact_gap(void) {
+    static const double drifts[] = {-20, -5, -1, -0.1, 0.1, 1, 5, 20};
+    static const double steps[] = {1e-3, 1e-2, 1};
+    double worst = 0;
+    int monotone = 1, same = 1;
+    for (size_t q = 0; q < sizeof steps / sizeof steps[0]; ++q) {
+        const double dt = steps[q], d = 1.5, s = sqrt(2 * d * dt);
+        for (size_t k = 0; k < sizeof drifts / sizeof drifts[0]; ++k)
+            for (int m = 0; m < 6; ++m) {
+                const double c = drifts[k], x0 = m * 0.7 * s;
+                double last = -1;
+                for (int e = 0; e <= 40; ++e) {
+                    const double y = e * 0.2 * s, x = sph_exact_gap(y, x0, c, d, dt);
+                    worst =
+                        fmax(worst, fabs(law_exact(x, x0, c, d, dt) - law_mirror(y, x0, c, d, dt)));
+                    monotone &= x >= last;
+                    last = x;
+                    same &= sph_exact_gap(y, x0, 0.0, d, dt) == y;
+                }
+            }
+    }
+    printf("exact gap: largest |F_exact(X) - F_mirror(y)| %.2g\n", worst);
+    CHECK(worst < 1e-9, "the exact gap misses its quantile by %g", worst);
+    CHECK(monotone, "the exact gap does not grow with the mirror's");
+    CHECK(same, "c = 0 changes the gap");
+    /* Scala's example: E[X] = integral of X(y) over the density of |Y| (midpoints) */
+    double mean = 0, mirror = 0;
+    const double h = 1e-4;
+    for (double y = 0.5 * h; y < 12; y += h) {
+        const double p =
+            (law_mirror(y + 0.5 * h, 1, -1, 1, 1) - law_mirror(y - 0.5 * h, 1, -1, 1, 1));
+        mean += sph_exact_gap(y, 1, -1, 1, 1) * p;
+        mirror += y * p;
+    }
+    printf("exact gap: Scala's example, mean %.4f (Eq. 9 0.8504) from the mirror's %.4f\n", mean,
+           mirror);
+    CHECK(fabs(mean - 0.8504) < 1e-4 && fabs(mirror - 1.1284) < 1e-4, "means %g, %g", mean, mirror);
+}
+
 int main(void) {
+    test_exact_gap();
     /* ---- no relative drift: both rules give the same bits ---- */
     hsbd_field gravity = {0};
     hsbd_field_add(&gravity, hsbd_field_tilt(-2.0));
