@@ -58,7 +58,8 @@ validate: build
 	@$(BUILD)/hsbd validate --out runs/validate --jobs $(JOBS); rc=$$?; \
 	 /usr/bin/python3 tools/plot_validation.py runs/validate; \
 	 /usr/bin/python3 tools/plot_driven.py $(BUILD)/hsbd runs/validate/driven || rc=1; \
-	 tools/walls_dt_scan.sh $(BUILD)/hsbd || rc=1; exit $$rc
+	 tools/walls_dt_scan.sh $(BUILD)/hsbd || rc=1; \
+	 tools/validate_mips.sh $(BUILD)/hsbd runs/validate/mips || rc=1; exit $$rc
 
 # libFuzzer on each harness of tests/fuzz/ in turn for FUZZ_SECONDS (clang, installed on
 # demand); new inputs go to $(FUZZ)/corpus/, findings to $(FUZZ)/findings/ (README, fuzzing).

@@ -86,6 +86,14 @@ HSBD_API int hsbd_xyz_read_head(FILE *f, const char *name, size_t *n, double box
 HSBD_API int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
                                      hsbd_error *err);
 
+/* Active particles: the orientations (3 N unit vectors, z = 0 in 2D) of the frame in
+ * init.positions when its Properties=... has an orientation:R:4 column (a quaternion x y z
+ * w, as hsbd writes it: e = q (1, 0, 0) q*; in 2D its part in the plane), *found = 1; else
+ * *found = 0 and e is untouched. For a file hsbd_xyz_read_positions accepted; HSBD_EINPUT
+ * with the file and line for a quaternion that is not one. */
+HSBD_API int hsbd_xyz_read_orientations(const hsbd_config *cfg, double *e, int *found,
+                                        hsbd_error *err);
+
 /* ---- GSD trajectories (src/io/gsd.c; docs/trajectories.md) ---- */
 
 /* Rods in a GSD file: a 2D box of length L along x and this height along y, the rods at
@@ -153,8 +161,14 @@ HSBD_API int hsbd_gsd_file(const char *path);
  * init.frame: the positions moved from the file's box centred at the origin into hsbd's
  * (rods: N values of x, the file's y and z 0; disks and spheres: 3 N, z = 0 in 2D; wrapped
  * along periodic axes), and each particle's species (its type's place in species.names;
- * species may be NULL). The file's orientations are not read into anything yet. */
+ * species may be NULL). Its orientations: hsbd_gsd_read_orientations. */
 HSBD_API int hsbd_gsd_read_positions(const hsbd_config *cfg, double *x, int *species,
                                      hsbd_error *err);
+/* Active particles: the orientations (3 N unit vectors, z = 0 in 2D) of that frame when it
+ * has particles/orientation (quaternions w x y z; e = q (1, 0, 0) q*, HOOMD's body x axis;
+ * in 2D its part in the plane), *found = 1; else *found = 0 and e is untouched. HSBD_EINPUT
+ * naming the file, frame and particle for a quaternion that is not a rotation. */
+HSBD_API int hsbd_gsd_read_orientations(const hsbd_config *cfg, double *e, int *found,
+                                        hsbd_error *err);
 
 #endif

@@ -260,8 +260,8 @@ typedef struct hsbd_scheme_check {
                              * hexagonal) minus <sigma>; NaN at or beyond close packing */
     double collisions_per_particle_step; /* as measured (NaN: not yet) */
 } hsbd_scheme_check;
-/* From the view's diameters and D (<|dr_i|> = E|N_d| sqrt(2 D_i dt)) and a measured
- * collision rate (NaN when not yet measured). */
+/* From the view's diameters and D (<|dr_i|> = E|N_d| sqrt(2 D_i dt), plus v0_i dt for an
+ * active particle) and a measured collision rate (NaN when not yet measured). */
 HSBD_API void hsbd_scheme_check_compute(const hsbd_spheres_view *v,
                                         double collisions_per_particle_step,
                                         hsbd_scheme_check *out);

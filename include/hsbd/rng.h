@@ -16,7 +16,12 @@ enum hsbd_stream {
     HSBD_STREAM_INIT = 2,     /* initial configurations */
     HSBD_STREAM_CONTACT = 3,  /* Brownian-bridge minima of gaps (contact_rule = reflect) */
     HSBD_STREAM_COMPRESS = 4, /* Brownian steps that compress dense initial states (spheres) */
-    HSBD_STREAM_COMPRESS_CONTACT = 5 /* their bridge minima at walls (spheres) */
+    HSBD_STREAM_COMPRESS_CONTACT = 5, /* their bridge minima at walls (spheres) */
+    /* active particles (spheres): the rotational noise (normals), the acceptance of a 3D
+     * rotation (uniforms), the initial orientations */
+    HSBD_STREAM_ROTATION = 8,
+    HSBD_STREAM_ROTATION_ACCEPT = 9,
+    HSBD_STREAM_ORIENTATION_INIT = 10
 };
 
 /* Standard normals for indices first .. first+n-1 at counter `step` of `stream`. */

@@ -112,6 +112,16 @@ typedef struct hsbd_spheres_params {
      * calendar runs on one); <= 1: one. The results do not depend on it (docs/spheres.md,
      * "Threads") */
     int threads;
+    /* Active Brownian particles (docs/active.md): per particle, in the user's order (N values
+     * each, copied at alloc; NULL: no particle is active), the propulsion speed v0_i >= 0
+     * (length / time) along the particle's orientation e_i, a unit vector, and the
+     * rotational diffusion coefficient D_r,i >= 0 (1 / time) of e_i; both arrays or none.
+     * A step adds the drift v0_i e_i (e_i at the step's start) to the particle's velocity,
+     * then turns e_i by an exactly distributed rotation (2D: a Gaussian angle of variance
+     * 2 D_r dt; 3D: Brownian motion on the sphere, <e(0).e(t)> = exp(-2 D_r t) at any dt).
+     * Orientations start uniformly random (the seed's stream); particles with D_i = 0
+     * cannot be active. */
+    const double *particle_v0, *particle_rotational_diffusion;
 } hsbd_spheres_params;
 
 /* Collision statistics accumulated since the last reset. */
@@ -127,6 +137,13 @@ typedef struct hsbd_spheres_stats {
     uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */
     /* pairs whose free end gap the exact pair rule changed (HSBD_PAIR_EXACT) */
     uint64_t pair_corrections;
+    /* active particles with D_r > 0: the sum over steps and particles of w_i e_i . (the
+     * displacement collisions, the exact pair rule and wall events gave i in the step; not
+     * the walls' bridge pushes, which come before), w_i = v0_i kT / ((d - 1) D_i D_r,i)
+     * (energy x time / length): its mean per unit time over d V is the collisional part of
+     * the swim pressure, P_swim = (1 / d V) sum_i w_i (v0_i + <e_i . v_i,collisions>)
+     * (docs/active.md) */
+    double swim_collisional;
 } hsbd_spheres_stats;
 
 /* Read-only view of the state for observers. Unwrapped position of particle i along axis
@@ -145,6 +162,9 @@ typedef struct hsbd_spheres_view {
     double kT, dt, time;
     uint64_t step;
     int hard_core;
+    /* active particles (NULL when none are): N orientations (3 each, unit vectors, z = 0
+     * in 2D), propulsion speeds and rotational diffusion coefficients, in the user's order */
+    const double *orientation, *v0, *rotational_diffusion;
 } hsbd_spheres_view;
 
 typedef struct hsbd_spheres hsbd_spheres;
@@ -190,6 +210,11 @@ HSBD_API int hsbd_spheres_draw_diameters(uint64_t seed, size_t n, const double *
  * volume pi s^3/6 per particle over the box). */
 HSBD_API double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t n,
                                               const double *sigma);
+
+/* Active particles: their orientations (3 N values, user order; z ignored in 2D), each
+ * normalised; HSBD_EINPUT for a non-finite or zero vector (naming the particle) or a system
+ * without active particles. */
+HSBD_API int hsbd_spheres_set_orientations(hsbd_spheres *s, const double *e, hsbd_error *err);
 
 /* One EDBD step of length dt. Returns HSBD_OK, or HSBD_ENOMEM when an allocation failed
  * inside the step. A step is exact or fails as a whole: after an error the object holds

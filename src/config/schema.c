@@ -162,6 +162,16 @@ const key_spec config_schema[] = {
      "spheres: given: species.coupling (or 1) for every particle; volume: coupling_i = "
      "(sigma_i / system.sigma)^d, proportional to the particle's volume (buoyant mass of "
      "polydisperse colloids; then no species.coupling)"},
+    {"active", "v0", SPHERES, K_STRING, OFF(active.v0_text), 0, 0, 0, "", 0,
+     "spheres: active Brownian particles: the propulsion speed v0 (length/time, >= 0) along "
+     "each particle's orientation, one value for every species or one per species (0 for a "
+     "species with D = 0, which cannot be active); the orientations start uniformly random "
+     "(or from init.positions) and diffuse with active.rotational_D; Pe = v0 sigma / D. "
+     "Empty: no active particles (docs/active.md)"},
+    {"active", "rotational_D", SPHERES, K_STRING, OFF(active.rotational_text), 0, 0, 0, "", 0,
+     "spheres: rotational diffusion coefficient D_r (1/time, >= 0; 0: straight swimmers) of "
+     "the orientations, one value or one per species; empty: 3 D_i / sigma_i^2 for each "
+     "particle (Stokes-Einstein for a sphere). The orientations decorrelate as exp(-(d-1) D_r t)"},
     {"run", "dt", ALL_MODELS, K_DOUBLE, OFF(run.dt), 0, INF, OPEN_MIN | OPEN_MAX, "1e-4", 0,
      "time step"},
     {"run", "t_equil", ALL_MODELS, K_DOUBLE, OFF(run.t_equil), 0, INF, OPEN_MAX, "10", 0,
@@ -264,6 +274,16 @@ const key_spec config_schema[] = {
     {"sample", "sk_max", SPHERES, K_DOUBLE, OFF(sample.sk_max), 0, INF, OPEN_MAX, "0", 0,
      "spheres: the largest |k| of S(k) (0: 20 / system.sigma, past the third peak of a dense "
      "fluid)"},
+    {"sample", "local_density_every", SPHERES, K_INT, OFF(sample.local_density_every), 0, 1e15, 0,
+     "0", 0,
+     "spheres: every this many steps, the histogram of the local packing fraction over cells "
+     "of side sample.local_density_cell (local_density.tsv: two peaks in a phase-separated "
+     "fluid, the motility-induced phase separation of active particles); 0: off"},
+    {"sample", "local_density_cell", SPHERES, K_DOUBLE, OFF(sample.local_density_cell), 0, INF,
+     OPEN_MAX, "0", 0,
+     "spheres: the side of the cells of local_density.tsv, rounded to divide each box length "
+     "(0: 5 system.sigma); a cell's packing fraction is the volume of the particles whose "
+     "centres it holds over its own"},
     {"output", "dir", ALL_MODELS, K_STRING, OFF(output.dir), 0, 0, NO_HEADER, "", 0,
      "run directory (default: runs/<config name>); --out overrides"},
     {"output", "trajectory", ALL_MODELS, K_ENUM, OFF(output.trajectory), 0, 0, 0, "none",

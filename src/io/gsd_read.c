@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "hsbd/io.h"
+#include "io/orientation.h"
 
 #define GSD_MAGIC 0x65DF65DF65DF65DFull
 enum { HEADER_BYTES = 256, ENTRY_BYTES = 32, NAME_BYTES = 64, INDEX_BLOCK = 4096 };
@@ -439,7 +440,35 @@ int hsbd_gsd_read_positions(const hsbd_config *cfg, double *x, int *species, hsb
             if (!strcmp(cfg->species.name[q], s.types[s.typeid[i]])) k = (int)q;
         if (species) species[i] = k;
     }
-    /* s.orientation (particles/orientation) has no place yet: the particles have none */
+    hsbd_gsd_snapshot_free(&s); /* its orientations: hsbd_gsd_read_orientations */
+    return rc;
+}
+
+int hsbd_gsd_read_orientations(const hsbd_config *cfg, double *e, int *found, hsbd_error *err) {
+    hsbd_gsd_snapshot s;
+    const char *path = cfg->init.positions;
+    *found = 0;
+    if (hsbd_gsd_read(path, cfg->init.frame, &s, err) != HSBD_OK) return err->status;
+    int rc = HSBD_OK;
+    for (size_t i = 0; s.orientation && i < s.n && i < (size_t)cfg->system.n; ++i) {
+        double *ei = e + 3 * i; /* e = q (1, 0, 0) q*, q = (w, x, y, z) as HOOMD stores it */
+        int ok = hsbd_orientation_of_quaternion(s.orientation + 4 * i, ei);
+        if (ok && cfg->system.dimension == 2) { /* disks turn in the plane */
+            const double norm = hypot(ei[0], ei[1]);
+            ok = norm > 1e-6;
+            if (ok) ei[0] /= norm, ei[1] /= norm, ei[2] = 0;
+        }
+        if (!ok) {
+            rc =
+                hsbd_error_set(err, HSBD_EINPUT,
+                               "%s: frame %llu: particle %zu's particles/orientation is not a "
+                               "rotation%s",
+                               path, (unsigned long long)s.frame, i,
+                               cfg->system.dimension == 2 ? " about z (system.dimension = 2)" : "");
+            break;
+        }
+    }
+    *found = rc == HSBD_OK && s.orientation != NULL;
     hsbd_gsd_snapshot_free(&s);
     return rc;
 }

@@ -16,9 +16,17 @@ static const run_observer_ops *const rods_observers[] = {&run_observe_profile,
                                                          &run_observe_log,
                                                          NULL};
 
-static const run_observer_ops *const spheres_observers[] = {
-    &run_observe_gr,         &run_observe_virial, &run_observe_walls, &run_observe_msd,
-    &run_observe_trajectory, &run_observe_sk,     &run_observe_log,   NULL};
+static const run_observer_ops *const spheres_observers[] = {&run_observe_gr,
+                                                            &run_observe_virial,
+                                                            &run_observe_walls,
+                                                            &run_observe_msd,
+                                                            &run_observe_trajectory,
+                                                            &run_observe_sk,
+                                                            &run_observe_log,
+                                                            &run_observe_orientation,
+                                                            &run_observe_active,
+                                                            &run_observe_local_density,
+                                                            NULL};
 
 typedef struct run_model_spec {
     const char *name;

@@ -104,6 +104,19 @@ static int same_composition(const int *a, const int *b, size_t n, size_t ns) {
     return 1;
 }
 
+/* Active particles: the orientations of init.positions, when it has them (else they stay
+ * random). */
+static int read_orientations(const hsbd_config *cfg, spheres_model *m, hsbd_error *err) {
+    double *e = malloc(3 * (size_t)cfg->system.n * sizeof *e);
+    if (!e) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int found = 0;
+    int rc = cfg->init.gsd ? hsbd_gsd_read_orientations(cfg, e, &found, err)
+                           : hsbd_xyz_read_orientations(cfg, e, &found, err);
+    if (rc == HSBD_OK && found) rc = hsbd_spheres_set_orientations(m->sys, e, err);
+    free(e);
+    return rc;
+}
+
 static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     const size_t n = (size_t)cfg->system.n;
@@ -154,6 +167,13 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     }
     if (build_field_couplings(cfg, m, sigma, err) != HSBD_OK)
         return free(x), free(sigma), err->status;
+    double *v0 = NULL, *rotational = NULL; /* [active]: per particle */
+    if (cfg->active.on) {
+        if (!(v0 = malloc(2 * n * sizeof *v0)))
+            return free(x), free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        rotational = v0 + n;
+        hsbd_config_active(cfg, m->species, sigma, diffusion, v0, rotational);
+    }
     hsbd_spheres_params p = {.n = n,
                              .dimension = (int)cfg->system.dimension,
                              .sigma = cfg->system.sigma,
@@ -175,12 +195,15 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .event_order = (hsbd_spheres_event_order)cfg->run.events,
                              .field_step = cfg->run.field_step,
                              .pair_rule = cfg->run.pair_rule,
-                             .threads = run_threads(cfg)};
+                             .threads = run_threads(cfg),
+                             .particle_v0 = v0,
+                             .particle_rotational_diffusion = rotational};
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a],
         p.walls[a] = cfg->system.walls[a];
     m->sys = hsbd_spheres_alloc(&p, err);
     free(sigma);
+    free(v0);
     if (!m->sys) {
         free(x);
         char why[sizeof err->message];
@@ -190,8 +213,10 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
             hsbd_config_origin(cfg, "system", cfg->system.box_text[0] ? "box" : "packing_fraction"),
             why, hsbd_config_origin(cfg, "system", "shell"));
     }
-    const int rc = r->resuming ? HSBD_OK : place_particles(r, m, x, err);
+    int rc = r->resuming ? HSBD_OK : place_particles(r, m, x, err);
     free(x);
+    if (rc == HSBD_OK && !r->resuming && cfg->active.on && cfg->init.positions[0])
+        rc = read_orientations(cfg, m, err);
     return rc;
 }
 
@@ -274,7 +299,8 @@ static void spheres_frame(const run *r, hsbd_frame *f) {
                       .species = v.species,
                       .nspecies = cfg->species.n,
                       .names = cfg->species.n ? cfg->species.name : NULL,
-                      .one_name = HSBD_XYZ_ONE_SPECIES};
+                      .one_name = HSBD_XYZ_ONE_SPECIES,
+                      .orientation = v.orientation};
 }
 
 /* ---- results ---- */

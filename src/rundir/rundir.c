@@ -37,6 +37,8 @@ static int is_run_output(const char *name) {
                                         "density_z.tsv",
                                         "sk.tsv",
                                         "log.tsv",
+                                        "orientation.tsv",
+                                        "local_density.tsv",
                                         RUNDIR_LOCK_FILE};
     const size_t len = strlen(name);
     const size_t base = len > 5 && !strcmp(name + len - 5, ".part") ? len - 5 : len;

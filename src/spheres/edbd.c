@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "hsbd/rng.h"
+#include "spheres/active.h"
 #include "spheres/reflect.h"
 #include "spheres/events.h"
 #include "spheres/global.h"
@@ -187,6 +188,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->field_x);
     free(s->field_f);
     free(s->field_fp);
+    sph_active_free(s);
     hsbd_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
     sph_groups_free(s->groups);
@@ -228,11 +230,13 @@ static int alloc_walls_and_field(hsbd_spheres *s) {
 }
 
 /* Whether two particles' drifts can differ in a step, so that the exact pair rule has work
- * (docs/spheres.md, "Pair collisions under a relative drift"): a field whose force varies in
- * space (a term of non-zero or unknown curvature), or drift factors D_i coupling_i that
- * differ between particles (immobile ones included: their factor is 0). The common drift
- * moves every mobile particle alike and is refused with immobile ones. */
+ * (docs/spheres.md, "Pair collisions under a relative drift"): active particles that swim
+ * (each along its own orientation), a field whose force varies in space (a term of non-zero
+ * or unknown curvature), or drift factors D_i coupling_i that differ between particles
+ * (immobile ones included: their factor is 0). The common drift moves every mobile particle
+ * alike and is refused with immobile ones. */
 static int relative_drifts(const hsbd_spheres *s, const hsbd_spheres_params *p) {
+    if (s->v0_max > 0) return 1; /* sph_active_alloc ran before */
     if (!p->field) return 0;
     for (size_t k = 0; k < p->field->nterms; ++k)
         if (!p->field->term[k].ops->max_curvature) return 1;
@@ -318,6 +322,12 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->diffusion_max = dmax;
     s->virial_scale = sph_exact_scale_for(s->sigma_max * s->sigma_max / dmax); /* a time */
     s->wall_scale = sph_exact_scale_for(s->sigma_max / dmax);
+    s->swim_scale = sph_exact_scale_for(params->kT * s->sigma_max * s->sigma_max / dmax);
+    if (sph_active_check(params, s->diffusion, err) != HSBD_OK) {
+        hsbd_spheres_free(s);
+        return NULL;
+    }
+    if (sph_active_alloc(s)) goto oom;
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
     s->pair_exact =
         params->hard_core && params->pair_rule == HSBD_PAIR_EXACT && relative_drifts(s, params);
@@ -427,17 +437,25 @@ static void add_field_drift(hsbd_spheres *s) {
         s->v[3 * i + a] += s->drift_mu[i] * s->field_f[i];
 }
 
-/* Each particle's drift velocity in this step, the common drift and the field's (the exact
- * pair rule compares them between partners: reflect.c). */
+/* Each particle's drift velocity in this step: the common drift, the field's and the
+ * propulsion (the exact pair rule compares them between partners: reflect.c). */
 static void record_drifts(hsbd_spheres *s) {
     const double *g = s->par.drift;
     for (size_t i = 0; i < s->n; ++i)
         for (int a = 0; a < 3; ++a)
             s->drift[3 * i + a] = s->noise_amp[i] > 0 ? g[a] : 0.0;
-    if (!s->par.field) return;
-    const size_t axis = (size_t)s->par.field_axis;
-    for (size_t i = 0; i < s->n; ++i)
-        s->drift[3 * i + axis] += s->drift_mu[i] * s->field_f[i];
+    if (s->par.field) {
+        const size_t axis = (size_t)s->par.field_axis;
+        for (size_t i = 0; i < s->n; ++i)
+            s->drift[3 * i + axis] += s->drift_mu[i] * s->field_f[i];
+    }
+    if (!s->active) return;
+    for (size_t i = 0; i < s->n; ++i) { /* each particle's own drift, its propulsion */
+        double own[3];
+        sph_propulsion(s, (int32_t)i, own);
+        for (int a = 0; a < 3; ++a)
+            s->drift[3 * i + a] += own[a];
+    }
 }
 
 /* The walls' Skorokhod pushes, added to the fictive velocities before any event: a
@@ -506,6 +524,7 @@ static void draw_velocities(hsbd_spheres *s) {
         }
     }
     if (s->par.field) add_field_drift(s);
+    if (s->active) sph_add_propulsion(s);
     if (s->pair_exact) record_drifts(s);
     if (s->any_walls) add_wall_pushes(s);
 }
@@ -675,10 +694,12 @@ int hsbd_spheres_step(hsbd_spheres *s) {
     draw_velocities(s);
     if (s->par.hard_core) {
         keep_start_positions(s);
+        if (s->active) sph_keep_free_velocities(s); /* before the pair rule: the swim sum */
         s->push_virial = 0;
         if ((s->pair_exact && sph_pair_corrections(s)) || run_events(s))
             return fail_step(s, &stats_at_start);
         s->stats.virial += sph_exact_value(s->virial_scale, s->step_virial + s->push_virial);
+        if (s->active) sph_add_swim_collisional(s);
     }
     if (s->sort_enabled) s->sort_clock += s->diffusion_max * s->dt;
     finish_step(s);
@@ -686,6 +707,7 @@ int hsbd_spheres_step(hsbd_spheres *s) {
         keep_between_walls(s);
         commit_wall_step(s);
     }
+    if (s->active) sph_rotate(s); /* the orientations of the step's end (its counter) */
     s->step++;
     s->stats.steps++;
     s->time += s->dt;
@@ -709,7 +731,10 @@ hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s) {
                            .dt = s->dt,
                            .time = s->time,
                            .step = s->step,
-                           .hard_core = s->par.hard_core};
+                           .hard_core = s->par.hard_core,
+                           .orientation = s->orient,
+                           .v0 = s->v0,
+                           .rotational_diffusion = s->rot_d};
     for (int a = 0; a < 3; ++a)
         v.box[a] = s->length[a];
     return v;

@@ -153,6 +153,16 @@ struct hsbd_spheres {
     double *drift_mu;          /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
     double *field_x, *field_f; /* N: coordinates along the field axis, forces */
     double *field_fp;          /* N: Heun's forces at the predictor's end points, or NULL */
+    /* active particles (active.c), in the user's order; all NULL when none is active */
+    int active;          /* the parameters gave v0 and D_r */
+    int propel;          /* 0 while the compression runs: no propulsion, no rotation */
+    double v0_max;       /* the largest v0: > 0, pairs of active particles have relative
+                          * drifts (what a pair rule for relative drifts needs to know) */
+    double *orient;      /* 3 N unit vectors (z = 0 in 2D) */
+    double *v0, *rot_d;  /* N each: propulsion speed, rotational diffusion coefficient */
+    double *swim_weight; /* N: v0 kT / ((d - 1) D D_r), 0 where D_r = 0 */
+    double *rot_normals, *rot_uniforms; /* a step's rotational draws: 3 N (2D: N), N */
+    double *v_free; /* 3 N, internal order: the velocities before any event (hard core) */
     /* the exact pair rule (reflect.c, docs/spheres.md "Pair collisions under a relative
      * drift"): on when the rule is exact and two drifts can differ; the skin widens the
      * neighbour rows so that every pair the rule can change is in them */
@@ -164,7 +174,7 @@ struct hsbd_spheres {
     size_t push_nparts;
     sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
     sph_exact_sum push_virial; /* this step's pair rule's share of it */
-    sph_exact_scale virial_scale, wall_scale; /* the quanta of those sums */
+    sph_exact_scale virial_scale, wall_scale, swim_scale; /* the quanta of those sums */
     hsbd_spheres_stats stats;
 };
 

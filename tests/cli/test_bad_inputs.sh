@@ -428,6 +428,17 @@ bad_case coupling-and-law "species.coupling is set with species.coupling_law = v
 bad_case coupling-no-species "species.coupling is set but species.names is empty" -- run box3.ini --set species.coupling=2 --set field.type=tilt
 bad_case force-immobile "a field acts on species B, whose D = 0 cannot move" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set field.type=tilt
 bad_case drift-immobile "system.drift with species B, whose D = 0 cannot move" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set "system.drift=1 0 0"
+# active particles
+bad_case active-v0-negative "command line (--set) active.v0" "active.v0 value '-1' is out of range; allowed: finite decimal numbers 0 <= v0 < inf" -- run box3.ini --set active.v0=-1
+bad_case active-dr-negative "active.rotational_D value '-0.5' is out of range; allowed: finite decimal numbers 0 <= rotational_D < inf" -- run box3.ini --set active.v0=1 --set active.rotational_D=-0.5
+bad_case active-v0-count "active.v0 has 3 values for 2 species; allowed: one value, or one per species" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 1" --set "active.v0=1 2 3"
+bad_case active-immobile "active.v0 = 2 for species B, whose D = 0 cannot move; allowed: v0 = 0 for it" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set active.v0=2
+bad_case active-rotational-alone "active.rotational_D is set but active.v0 is empty" -- run box3.ini --set active.rotational_D=1
+bad_case active-rods "active.v0 applies to system.model = spheres only, but the model is rods" -- run --defaults --set active.v0=1
+printf '2\nLattice="12 0 0 0 12 0 0 0 12" Properties=species:S:1:pos:R:3:radius:R:1:orientation:R:4\nS 1 1 1 0.5 0 0 0 1\nS 5 5 5 0.5 0 0 0 0\n' >zeroquat.xyz
+bad_case active-zero-quaternion "zeroquat.xyz:4: the orientation (columns 6-9, quaternion x y z w) is not four finite numbers of a rotation" -- run box3.ini --set system.N=2 --set active.v0=1 --set init.positions=zeroquat.xyz
+printf '[system]\nmodel = rods\n[active]\nv0 = 3\n' >rodsactive.ini
+bad_case active-rods-file "rodsactive.ini:4:" "active.v0 applies to system.model = spheres only" -- run rodsactive.ini
 printf '2\nLattice="12 0 0 0 12 0 0 0 12" Properties=species:S:1:pos:R:3\nS 1 1 1\nS 5 5 0.2\n' >wallpos.xyz
 bad_case memory-profiles "sample.bin_width = 1e-09" "the density profiles' bins" -- run box3.ini --set system.boundary=walls --set sample.bin_width=1e-9
 bad_case xyz-outside-walls "wallpos.xyz:4: particle 2 at z = 0.2 is outside the walls" "allowed: sigma/2 = 0.5 <= z" -- run box3.ini --set system.N=2 --set system.boundary=walls --set init.positions=wallpos.xyz

@@ -95,6 +95,8 @@ cases=(
   "rods-gsd|rodsmix.ini|--set output.trajectory=gsd --set output.trajectory_every=0.01 --set species.names=A,B --set species.count=40,20 --set species.sigma=0.4,0.7 --set species.D=1,0.6"
   "spheres-gsd|spheres.ini|--set output.trajectory=gsd --set output.trajectory_every=0.01"
   "spheres-walls-gravity|spheres.ini|--set system.boundary=walls,periodic,walls --set field.type=tilt --set field.force=-0.5 --set species.coupling=1,2"
+  "spheres-active-3d|spheres.ini|--set active.v0=4,1 --set active.rotational_D=2 --set run.t_total=1.5"
+  "spheres-active-2d-gsd|spheres.ini|--set system.dimension=2 --set system.packing_fraction=0.5 --set active.v0=8 --set sample.local_density_every=20 --set output.trajectory=gsd --set output.trajectory_every=0.01 --set run.t_total=1.5"
 )
 
 run_killed() { # run_killed NAME CONFIG SETTINGS... : stopped at random moments, resumed to the end
