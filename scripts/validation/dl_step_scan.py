@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The long-time self-diffusion D_L of hard spheres (and disks) against the time step.
 
-Usage: dl_step_scan.py HSBD OUT [--parts equil,shell,scan,dilute,disks,short,multi[,long]]
+Usage: dl_step_scan.py HSBD OUT [--parts equil,shell,scan,dilute,disks,short,tracers,multi
+                       [,long]]
                        [--jobs 2] [--figure docs/figures/spheres-dl-dt.png]
        dl_step_scan.py HSBD OUT --parts tables [--figure ...]   (the tables and
                        fits of the runs already in OUT, nothing run)
@@ -24,6 +25,9 @@ dilute: phi 0.05, 1000 time units per dt (seeds 1 and 2): the pair level (three 
 disks:  2D, phi 0.4 and 0.6, dt 3e-4 .. 1e-2, 80 time units.
 short:  the MSD at lags 0.05 .. 0.5 (5 time units, sampled every 0.01) at phi 0.3 and 0.45
         down to dt 3e-5 against the smallest dt: the order of the error in dt.
+tracers: point-like tracers (diameter 0.001, D 1) among the phi 0.3 start's spheres
+        frozen in place (D 0), 4000 of them, 20 time units, dt 1e-4 .. 1e-2: binary
+        encounters with a curved surface and nothing else.
 multi:  from each start, N(0, 2 D dt) displacements drawn here (numpy, fixed seed) and, for
         every pair, whether its straight relative path within the step reaches contact (the
         binary prediction a step begins with): the mean number of such contacts per
@@ -243,9 +247,9 @@ def multi_part(out, dim=3, phis=PHIS, dts=DTS, scan_name="scan"):
     measured = {}
     path = os.path.join(out, f"{scan_name}.tsv")
     if os.path.exists(path):
-        t = read_table(path)
-        for row in t.data:
-            measured[(round(row[0], 6), round(row[1], 12))] = row[5]
+        t = load(path)
+        for phi, dt, cpp in zip(t["phi"], t["dt"], t["collisions_per_particle_step"]):
+            measured[(round(phi, 6), round(dt, 12))] = cpp
     with open(os.path.join(out, f"multi-{dim}d.tsv"), "w") as f:
         f.write("phi\tdt\tcontacts_per_particle\tmeasured_2cpp\tfraction_ge1\tfraction_ge2\t"
                 "fraction_ge3\n")
@@ -277,6 +281,55 @@ def long_part(hsbd, out, jobs, phis=(0.1, 0.3, 0.5), dt=1e-3):
             f.write(f"{phi:g}\t{dt:g}\t{longer:.6g}\t{s['D_long_err']:.3g}\t{short:.6g}\t"
                     f"{longer / short:.5f}\n")
     print(f"long: {os.path.join(out, 'long.tsv')}")
+
+
+TRACER_DTS = (1e-2, 3e-3, 1e-3, 3e-4, 1e-4)
+
+
+def tracers_part(hsbd, out, jobs, dts=TRACER_DTS, count=4000, tracer_sigma=0.001):
+    """Point-like tracers among immobile obstacles: the phi 0.3 start's 1000 spheres frozen
+    (D = 0), 4000 tracers of diameter 0.001 and D 1 placed at random outside them. Each
+    tracer meets fixed spheres of contact radius 0.5 and nothing else (tracer-tracer contacts
+    are of measure zero): binary encounters with a curved surface, no momentum passed on."""
+    x, box = read_xyz(start_path(out, 3, 0.3))
+    rng = np.random.default_rng(5)
+    tracers = []
+    while len(tracers) < count:
+        p = rng.uniform(0, box[0], 3)
+        r = x - p
+        r -= box * np.round(r / box)
+        if (np.sqrt((r * r).sum(axis=1)) > 0.5 + tracer_sigma / 2 + 1e-4).all():
+            tracers.append(p)
+    start = os.path.join(out, "start-tracers.xyz")
+    with open(start, "w") as f:
+        f.write(f"{count + len(x)}\nLattice=\"{box[0]:.17g} 0 0 0 {box[1]:.17g} 0 0 0 "
+                f"{box[2]:.17g}\" pbc=\"T T T\" Properties=species:S:1:pos:R:3\n")
+        for p in tracers:
+            f.write("tracer %.12g %.12g %.12g\n" % tuple(p))
+        for p in x:
+            f.write("obstacle %.12g %.12g %.12g\n" % tuple(p))
+    phi = (len(x) + count * tracer_sigma ** 3) * math.pi / 6 / float(np.prod(box))
+    runs = []
+    for dt in dts:
+        d = os.path.join(out, f"tracers-dt{dt:g}")
+        runs.append((dt, d, [
+            "--set", "system.model=spheres", "--set", "system.dimension=3",
+            "--set", f"system.N={count + len(x)}", "--set", f"system.packing_fraction={phi!r}",
+            "--set", "system.seed=3", "--set", "species.names=tracer,obstacle",
+            "--set", f"species.count={count},{len(x)}",
+            "--set", f"species.sigma={tracer_sigma:g},1", "--set", "species.D=1,0",
+            "--set", f"init.positions={start}", "--set", f"run.dt={dt:g}",
+            "--set", "run.t_equil=0", "--set", "run.t_total=20",
+            "--set", f"sample.every={max(1, round(0.01 / dt))}",
+            "--set", "sample.msd_max_lag=2", "--set", "sample.blocks=10"]))
+    run_all(hsbd, jobs, [(r[1], r[2]) for r in runs])
+    with open(os.path.join(out, "tracers.tsv"), "w") as f:
+        f.write("dt\tD_L\tD_L_err\tcollisions_per_particle_step\n")
+        for dt, d, _ in runs:
+            s = summary(d)
+            dl, err = s["D_long_species"]["tracer"]
+            f.write(f"{dt:g}\t{dl:.6g}\t{err:.3g}\t{s['collisions_per_particle_step']:.5g}\n")
+    print(f"tracers: {os.path.join(out, 'tracers.tsv')}")
 
 
 SHORT_PHIS = (0.3, 0.45)
@@ -470,19 +523,28 @@ def figure(out, path, rows, dilute=None, disks=None):
     short = os.path.join(out, "short.tsv")
     if os.path.exists(short):
         t = load(short)
+        ref = min(t["dt"])
         for phi, col in zip(sorted(set(t["phi"])), ("tab:blue", "tab:orange")):
-            sel = (t["phi"] == phi) & (t["lag"] == SHORT_LAGS[0]) & (t["dt"] > min(t["dt"]))
-            ax[2].errorbar(t["dt"][sel], 100 * (1 - t["ratio_to_smallest_dt"][sel]),
-                           100 * t["ratio_err"][sel], fmt="o", color=col, capsize=2,
+            sel = (t["phi"] == phi) & (t["lag"] == SHORT_LAGS[0]) & (t["dt"] > ref)
+            x, y, e = t["dt"][sel], 1 - t["ratio_to_smallest_dt"][sel], t["ratio_err"][sel]
+            ax[2].errorbar(x, 100 * y, 100 * e, fmt="o", color=col, capsize=2,
                            label=f"phi {phi:g}")
-        ax[2].plot(fine, 500 * fine, "k:", lw=1, label="5 dt (order 1)")
-        ax[2].plot(fine, 50 * np.sqrt(fine), "k--", lw=1, label="0.5 sqrt(dt) (order 1/2)")
+            small = x <= 3.1e-3  # order 1: y = c (dt - ref) through the small steps
+            w = (x[small] - ref) / e[small] ** 2
+            c = np.sum(w * y[small]) / np.sum(w * (x[small] - ref))
+            ax[2].plot(fine, 100 * c * (fine - ref), "-", color=col, lw=1,
+                       label=f"{c:.3g} (dt - 3e-5), order 1")
+            big = np.argmax(x)  # order 1/2 through the largest step
+            a = y[big] / (math.sqrt(x[big]) - math.sqrt(ref))
+            ax[2].plot(fine, 100 * a * (np.sqrt(fine) - math.sqrt(ref)), "--", color=col, lw=1,
+                       label=f"{a:.2g} (sqrt(dt) - sqrt(3e-5)), order 1/2")
+        ax[2].axhline(0, color="k", lw=0.5)
         ax[2].set_xscale("log")
-        ax[2].set_yscale("symlog", linthresh=0.1)
+        ax[2].set_ylim(-1, 8)
         ax[2].set_xlabel("dt (sigma^2 / D)")
         ax[2].set_ylabel("MSD deficit at lag 0.05 against dt 3e-5 (%)")
-        ax[2].set_title("order of the error: the MSD at a short lag")
-        ax[2].legend(fontsize=7)
+        ax[2].set_title("the order of the error: the MSD at a short lag")
+        ax[2].legend(fontsize=6.5)
     fig.tight_layout()
     save_figure(fig, path)
 
@@ -492,7 +554,7 @@ def main():
     ap.add_argument("hsbd")
     ap.add_argument("out")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--parts", default="equil,shell,scan,dilute,disks,short,multi")
+    ap.add_argument("--parts", default="equil,shell,scan,dilute,disks,short,tracers,multi")
     ap.add_argument("--figure", default="")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -511,6 +573,8 @@ def main():
             scan_part(hsbd, out, args.jobs, name, dry)
     if "short" in parts:
         short_part(hsbd, out, args.jobs)
+    if "tracers" in parts:
+        tracers_part(hsbd, out, args.jobs)
     if "multi" in parts:
         multi_part(out, phis=PHIS + (0.05,))
     if "long" in parts:
