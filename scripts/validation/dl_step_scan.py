@@ -1,32 +1,44 @@
 #!/usr/bin/python3
 """The long-time self-diffusion D_L of hard spheres (and disks) against the time step.
 
-Usage: dl_step_scan.py HSBD OUT [--parts equil,scan,dilute,shell,multi,disks,long]
-                       [--jobs 2] [--seeds 1,2] [--figure docs/figures/spheres-dl-dt.png]
+Usage: dl_step_scan.py HSBD OUT [--parts equil,shell,scan,dilute,disks,short,tracers,multi
+                       [,long]]
+                       [--jobs 2] [--figure docs/figures/spheres-dl-dt.png]
+       dl_step_scan.py HSBD OUT --parts tables [--figure ...]   (the tables and
+                       fits of the runs already in OUT, nothing run)
 
 equil:  one equilibrated start per packing fraction: N 1000 from the default initial state
         (random insertion, or compression above phi 0.30), 20 time units at dt 1e-2 (the
-        scheme samples the equilibrium distribution exactly at any dt), the last frame kept
-        as OUT/start-<d>d-phi<phi>.xyz. Every other run starts from it with no equilibration.
-scan:   3D, phi 0.1 .. 0.5, dt 1e-4 .. 1e-2, N 1000, 80 time units per seed; D_L is hsbd's
-        own estimate (summary.json D_long: the MSD's slope between lags 0.4 and 4), its error
-        from 20 time blocks. Per phi a fit D_L(dt) = D_0 (1 - c dt - c2 dt^2), weighted by the
-        errors; the dt at which the fit's deficit reaches 1 % and 0.1 %.
-dilute: phi 0.05, 1000 time units per dt: the pair level (two-body encounters alone; three
-        spheres meet within a step at a rate of order phi^2 of the pairs').
+        step samples the equilibrium distribution exactly at any dt), the last frame kept
+        as OUT/start-<d>d-phi<phi>.xyz. Every other run starts from it, unequilibrated.
 shell:  the neighbour scheme's share: 500 steps at phi 0.3, dt 1e-2 from the same start with
         shell radii 0.05, 0.15 and the default, and both event orders; the end positions
         compared bit for bit.
+scan:   3D, phi 0.1 .. 0.5, dt 3e-4 .. 1e-2 (and 1e-4 at phi 0.3), N 1000, 100 time units
+        per seed (seed 1; also seed 2 at phi 0.3 and 0.45); D_L is hsbd's own estimate (summary.json D_long: the MSD's slope between
+        lags 0.4 and 4), its error from 20 time blocks. One model for all phi:
+        D_L(dt) = D_L(0, phi) (1 - c(phi) dt), c(phi) = a phi^p, fitted to every run at
+        once (scipy least squares, errors scaled by sqrt(chi^2/dof)); the dt at which the
+        deficit reaches 1 % and 0.1 %. Per phi also a straight line through dt <= 2.1e-3.
+dilute: phi 0.05, 1000 time units per dt (seeds 1 and 2): the pair level (three spheres
+        meet within a step at a rate of order phi^2 of the pairs').
+disks:  2D, phi 0.4 and 0.6, dt 3e-4 .. 1e-2, 80 time units.
+short:  the MSD at lags 0.05 .. 0.5 (5 time units, sampled every 0.01) at phi 0.3 and 0.45
+        down to dt 3e-5 against the smallest dt: the order of the error in dt.
+tracers: point-like tracers (diameter 0.001, D 1) among the phi 0.3 start's spheres
+        frozen in place (D 0), 4000 of them, 20 time units, dt 1e-4 .. 1e-2: binary
+        encounters with a curved surface and nothing else.
 multi:  from each start, N(0, 2 D dt) displacements drawn here (numpy, fixed seed) and, for
         every pair, whether its straight relative path within the step reaches contact (the
-        binary prediction the step begins with): the mean number of such contacts per
+        binary prediction a step begins with): the mean number of such contacts per
         particle (against the engine's measured 2 x collisions per particle-step) and the
         fraction of particles with two or more (a three-body encounter inside a step).
-disks:  2D, phi 0.4 and 0.6, a shorter dt scan.
-long:   per phi one run at dt 5e-4 over 400 units with the MSD to lag 20: the slope between
-        lags 2 and 20 against the scan's lags 0.4 and 4 (how long "long time" must be).
-Each part writes OUT/<part>.tsv; the figure shows D_L / D_0 - 1 against dt with the fits.
-Units sigma = D = kT = 1. Fixed seeds; runs already complete in OUT are kept.
+long:   phi 0.1, 0.3, 0.5 at dt 1e-3 over 400 units with the MSD to lag 20: the slope
+        between lags 2 and 20 against the scan's lags 0.4 and 4.
+Each part writes OUT/<part>.tsv (fits: OUT/<part>-fit.tsv); the figure shows the deficit
+against dt with the model, the dt each accuracy needs, and the short-lag order check.
+Units sigma = D = kT = 1. Fixed seeds; runs already complete in OUT are kept. Run it with
+nice on a shared machine: about 2 hours of CPU in all (nice -n 10 ... --jobs 2).
 """
 import argparse
 import hashlib
@@ -46,8 +58,9 @@ from hsbd_tools import read_table  # noqa: E402
 PHIS = (0.3, 0.45, 0.1, 0.2, 0.4, 0.5)  # the run order
 DTS = (1e-2, 5e-3, 2e-3, 1e-3, 3e-4)
 SMALLEST = (0.3, 1e-4)  # one run at the smallest dt
+SECOND_SEED_PHIS = (0.45, 0.3)  # a second seed at every dt
 DILUTE_DTS = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4)
-DILUTE_SEEDS = (1, 2, 3, 4)
+DILUTE_SEEDS = (1, 2)
 DISK_PHIS = (0.4, 0.6)
 DISK_DTS = (1e-2, 3e-3, 1e-3, 3e-4)
 N = 1000
@@ -121,25 +134,49 @@ def dl_runs(out, name, dim, phis, dts, seeds, t_total, lag=4, extra=()):
     return runs
 
 
-def write_dl_table(path, runs):
+LAG_D2 = 2.0  # the lag of the apparent diffusion coefficient MSD / (2 d t)
+
+
+def msd_over_6t(d, lag, dim):
+    """MSD(lag) / (2 d lag) of run d and its error (log-log interpolation in msd.tsv)."""
+    t = read_table(os.path.join(d, "msd.tsv")).data
+    return tuple(float(np.exp(np.interp(math.log(lag), np.log(t[:, 0]), np.log(t[:, c]))))
+                 / (2 * dim * lag) for c in (1, 2))
+
+
+def write_dl_table(path, runs, dim=3):
     with open(path, "w") as f:
-        f.write("phi\tdt\tseed\tD_L\tD_L_err\tcollisions_per_particle_step\tZ_virial\t"
-                "Z_theory\tcpu_seconds\ttime\n")
+        f.write("phi\tdt\tseed\tD_L\tD_L_err\tD_2\tD_2_err\tcollisions_per_particle_step\t"
+                "Z_virial\tZ_theory\tcpu_seconds\ttime\n")
         for phi, dt, seed, d, _ in runs:
+            if not os.path.exists(os.path.join(d, "summary.json")):
+                continue  # not run (yet): --parts tables
             s = summary(d)
             z_theory = s.get("Z_theory_klm", s.get("Z_theory", float("nan")))
+            d2, d2_err = msd_over_6t(d, LAG_D2, dim)
             f.write(f"{phi:g}\t{dt:g}\t{seed}\t{s['D_long']:.8g}\t{s['D_long_err']:.4g}\t"
-                    f"{s['collisions_per_particle_step']:.6g}\t{s.get('Z_virial', 0):.7g}\t"
+                    f"{d2:.8g}\t{d2_err:.4g}\t{s['collisions_per_particle_step']:.6g}\t{s.get('Z_virial', 0):.7g}\t"
                     f"{z_theory:.7g}\t{s['cpu_seconds_production']:.4g}\t"
                     f"{s['time_simulated']:.6g}\n")
     print(f"table: {path}")
 
 
-def scan_part(hsbd, out, jobs, seeds, name="scan", dim=3, phis=PHIS, dts=DTS, t_total=100,
-              extra=()):
-    runs = dl_runs(out, name, dim, phis, dts, seeds, t_total, extra=extra)
-    run_all(hsbd, jobs, [(r[3], r[4]) for r in runs])
-    write_dl_table(os.path.join(out, f"{name}.tsv"), runs)
+def run_sets(out):
+    """Every D_L run of the parts scan, dilute and disks: name -> (dimension, runs)."""
+    return {
+        "scan": (3, dl_runs(out, "scan", 3, PHIS, DTS, (1,), 100, extra=(SMALLEST,)) +
+                 dl_runs(out, "scan", 3, SECOND_SEED_PHIS, DTS, (2,), 100)),
+        "dilute": (3, dl_runs(out, "dilute", 3, (0.05,), DILUTE_DTS, DILUTE_SEEDS, 1000)),
+        "disks": (2, dl_runs(out, "disks", 2, DISK_PHIS, DISK_DTS, (1,), 80)),
+    }
+
+
+def scan_part(hsbd, out, jobs, name, dry=False):
+    """The runs of one set (unless dry) and its table of those complete."""
+    dim, runs = run_sets(out)[name]
+    if not dry:
+        run_all(hsbd, jobs, [(r[3], r[4]) for r in runs])
+    write_dl_table(os.path.join(out, f"{name}.tsv"), runs, dim)
 
 
 def shell_part(hsbd, out):
@@ -210,9 +247,9 @@ def multi_part(out, dim=3, phis=PHIS, dts=DTS, scan_name="scan"):
     measured = {}
     path = os.path.join(out, f"{scan_name}.tsv")
     if os.path.exists(path):
-        t = read_table(path)
-        for row in t.data:
-            measured[(round(row[0], 6), round(row[1], 12))] = row[5]
+        t = load(path)
+        for phi, dt, cpp in zip(t["phi"], t["dt"], t["collisions_per_particle_step"]):
+            measured[(round(phi, 6), round(dt, 12))] = cpp
     with open(os.path.join(out, f"multi-{dim}d.tsv"), "w") as f:
         f.write("phi\tdt\tcontacts_per_particle\tmeasured_2cpp\tfraction_ge1\tfraction_ge2\t"
                 "fraction_ge3\n")
@@ -246,67 +283,207 @@ def long_part(hsbd, out, jobs, phis=(0.1, 0.3, 0.5), dt=1e-3):
     print(f"long: {os.path.join(out, 'long.tsv')}")
 
 
+TRACER_DTS = (1e-2, 3e-3, 1e-3, 3e-4, 1e-4)
+
+
+def tracers_part(hsbd, out, jobs, dts=TRACER_DTS, count=4000, tracer_sigma=0.001):
+    """Point-like tracers among immobile obstacles: the phi 0.3 start's 1000 spheres frozen
+    (D = 0), 4000 tracers of diameter 0.001 and D 1 placed at random outside them. Each
+    tracer meets fixed spheres of contact radius 0.5 and nothing else (tracer-tracer contacts
+    are of measure zero): binary encounters with a curved surface, no momentum passed on."""
+    x, box = read_xyz(start_path(out, 3, 0.3))
+    rng = np.random.default_rng(5)
+    tracers = []
+    while len(tracers) < count:
+        p = rng.uniform(0, box[0], 3)
+        r = x - p
+        r -= box * np.round(r / box)
+        if (np.sqrt((r * r).sum(axis=1)) > 0.5 + tracer_sigma / 2 + 1e-4).all():
+            tracers.append(p)
+    start = os.path.join(out, "start-tracers.xyz")
+    with open(start, "w") as f:
+        f.write(f"{count + len(x)}\nLattice=\"{box[0]:.17g} 0 0 0 {box[1]:.17g} 0 0 0 "
+                f"{box[2]:.17g}\" pbc=\"T T T\" Properties=species:S:1:pos:R:3\n")
+        for p in tracers:
+            f.write("tracer %.12g %.12g %.12g\n" % tuple(p))
+        for p in x:
+            f.write("obstacle %.12g %.12g %.12g\n" % tuple(p))
+    phi = (len(x) + count * tracer_sigma ** 3) * math.pi / 6 / float(np.prod(box))
+    runs = []
+    for dt in dts:
+        d = os.path.join(out, f"tracers-dt{dt:g}")
+        runs.append((dt, d, [
+            "--set", "system.model=spheres", "--set", "system.dimension=3",
+            "--set", f"system.N={count + len(x)}", "--set", f"system.packing_fraction={phi!r}",
+            "--set", "system.seed=3", "--set", "species.names=tracer,obstacle",
+            "--set", f"species.count={count},{len(x)}",
+            "--set", f"species.sigma={tracer_sigma:g},1", "--set", "species.D=1,0",
+            "--set", f"init.positions={start}", "--set", f"run.dt={dt:g}",
+            "--set", "run.t_equil=0", "--set", "run.t_total=20",
+            "--set", f"sample.every={max(1, round(0.01 / dt))}",
+            "--set", "sample.msd_max_lag=2", "--set", "sample.blocks=10"]))
+    run_all(hsbd, jobs, [(r[1], r[2]) for r in runs])
+    with open(os.path.join(out, "tracers.tsv"), "w") as f:
+        f.write("dt\tD_L\tD_L_err\tcollisions_per_particle_step\n")
+        for dt, d, _ in runs:
+            s = summary(d)
+            dl, err = s["D_long_species"]["tracer"]
+            f.write(f"{dt:g}\t{dl:.6g}\t{err:.3g}\t{s['collisions_per_particle_step']:.5g}\n")
+    print(f"tracers: {os.path.join(out, 'tracers.tsv')}")
+
+
+SHORT_PHIS = (0.3, 0.45)
+SHORT_DTS = (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5)
+SHORT_LAGS = (0.05, 0.1, 0.2, 0.5)
+
+
+def short_part(hsbd, out, jobs, phis=SHORT_PHIS, dts=SHORT_DTS, t_total=5):
+    """The MSD at short lags (sampled every 0.01, the same lags in every run) down to
+    dt 3e-5: the relative deficit against the smallest dt, the error's order in dt."""
+    runs = []
+    for phi in phis:
+        for dt in sorted(dts, reverse=True):
+            d = os.path.join(out, f"short-3d-phi{phi:g}-dt{dt:g}")
+            args = dl_args(out, 3, phi, dt, 1, t_total, 0.5)
+            args[args.index(f"sample.every={max(1, round(0.02 / dt))}")] = \
+                f"sample.every={max(1, round(0.01 / dt))}"
+            args[args.index("sample.blocks=20")] = "sample.blocks=10"
+            runs.append((phi, dt, d, args))
+    run_all(hsbd, jobs, [(r[2], r[3]) for r in runs])
+    with open(os.path.join(out, "short.tsv"), "w") as f:
+        f.write("phi\tdt\tlag\tmsd\tmsd_err\tratio_to_smallest_dt\tratio_err\n")
+        for phi in phis:
+            tables = {}
+            for p, dt, d, _ in runs:
+                if p == phi:  # the MSD and its error at each lag (log-log interpolation:
+                    # the sampling interval is the multiple of dt nearest to 0.01)
+                    t = read_table(os.path.join(d, "msd.tsv")).data
+                    tables[dt] = [tuple(np.exp(np.interp(math.log(lag), np.log(t[:, 0]),
+                                                         np.log(t[:, c]))) for c in (1, 2))
+                                  for lag in SHORT_LAGS]
+            ref = tables[min(dts)]
+            for dt in sorted(dts, reverse=True):
+                for k, lag in enumerate(SHORT_LAGS):
+                    (m, e), (m0, e0) = tables[dt][k], ref[k]
+                    f.write(f"{phi:g}\t{dt:g}\t{lag:g}\t{m:.7g}\t{e:.3g}\t{m / m0:.6f}\t"
+                            f"{m / m0 * math.hypot(e / m, e0 / m0):.2g}\n")
+    print(f"short: {os.path.join(out, 'short.tsv')}")
+
+
 # ---- analysis ----
 
 def load(path):
     t = read_table(path)
-    return {n: t.data[:, k] for k, n in enumerate(t.names)}
+    return {n: t.data[:, k] for k, n in enumerate(t.names)} if t.data.size else None
 
 
-def fit(dt, y, e, quadratic):
-    """Weighted least squares y = D0 (1 - c dt - c2 dt^2): D0, c, c2, their covariance, chi2/dof."""
-    cols = [np.ones_like(dt), dt] + ([dt * dt] if quadratic else [])
-    a = np.array(cols).T / e[:, None]
-    b = y / e
-    p, *_ = np.linalg.lstsq(a, b, rcond=None)
-    cov = np.linalg.inv(a.T @ a)
-    dof = max(1, len(y) - len(p))
-    chi2 = float(np.sum((a @ p - b) ** 2)) / dof
-    d0 = p[0]
-    c = -p[1] / d0
-    c2 = -p[2] / d0 if quadratic else 0.0
-    return d0, c, c2, cov, chi2
+SMALL_DT = 2.1e-3  # the linear regime of the deficit: its slope c from dt <= this
 
 
-def dt_at(level, c, c2):
-    """The dt at which c dt + c2 dt^2 reaches level."""
-    if c2 == 0:
-        return level / c if c > 0 else float("inf")
-    disc = c * c + 4 * c2 * level
-    return (-c + math.sqrt(disc)) / (2 * c2) if disc >= 0 else float("inf")
+def deficit(dt, c, s):
+    """The fitted form of 1 - D_L(dt) / D_L(0): c dt at small dt, saturating at s."""
+    return c * dt / (1 + c * dt / s)
 
 
-def analyse(out, name="scan"):
-    d = load(os.path.join(out, f"{name}.tsv"))
-    rows = []
+def fit_linear(dt, y, e):
+    """Weighted least squares y = D0 (1 - c dt): D0, c, their errors (scaled by
+    sqrt(chi^2/dof) when that exceeds 1) and chi^2/dof."""
+    m = np.array([np.ones_like(dt), dt]).T / e[:, None]
+    p, *_ = np.linalg.lstsq(m, y / e, rcond=None)
+    cov = np.linalg.inv(m.T @ m)
+    chi2 = float(np.sum((m @ p - y / e) ** 2)) / max(1, len(y) - 2)
+    cov *= max(1.0, chi2)
+    d0, c = p[0], -p[1] / p[0]
+    c_err = c * math.hypot(math.sqrt(cov[1, 1]) / p[1], math.sqrt(cov[0, 0]) / p[0])
+    return d0, math.sqrt(cov[0, 0]), c, abs(c_err), chi2
+
+
+def dt_at(level, c, s):
+    """The dt at which deficit(dt, c, s) reaches level (inf when it never does)."""
+    return level / (c * (1 - level / s)) if c > 0 and 0 < level < s else float("inf")
+
+
+def seed_means(d, sel, value, error):
+    """Per dt (sorted): the seeds' weighted mean of a column and its error."""
+    dts, y, e = [], [], []
+    for dt in sorted(set(d["dt"][sel])):
+        s = sel & (d["dt"] == dt)
+        w = 1 / d[error][s] ** 2
+        dts.append(dt)
+        y.append(np.sum(w * d[value][s]) / np.sum(w))
+        e.append(1 / math.sqrt(np.sum(w)))
+    return map(np.array, (dts, y, e))
+
+
+def global_fit(data, fixed_s=None):
+    """One model for every phi: D_L(dt) = D_L(0, phi) (1 - deficit(dt, c(phi), s)) with
+    c(phi) = a phi^p; data: (phi, dts, y, e) per phi. The parameters (a, p, s, then each
+    D_L(0)), their errors (scaled by sqrt(chi^2/dof) when that exceeds 1) and chi^2/dof."""
+    from scipy.optimize import least_squares
+
+    def residuals(q):
+        a, pw = q[0], q[1]
+        sat = fixed_s if fixed_s else q[2]
+        off = 2 if fixed_s else 3
+        return np.concatenate([(q[off + k] * (1 - deficit(dts, a * phi ** pw, sat)) - y) / e
+                               for k, (phi, dts, y, e) in enumerate(data)])
+    q0 = [30.0, 1.5] + ([] if fixed_s else [0.3]) + [y[np.argmin(dts)] for _, dts, y, _ in data]
+    r = least_squares(residuals, q0)
+    dof = max(1, len(r.fun) - len(q0))
+    chi2 = float(np.sum(r.fun ** 2)) / dof
+    cov = np.linalg.pinv(r.jac.T @ r.jac) * max(1.0, chi2)
+    err = np.sqrt(np.diag(cov))
+    q = list(r.x)
+    if fixed_s:
+        q.insert(2, fixed_s)
+        err = np.insert(err, 2, 0.0)
+    return q, err, chi2, cov[:2, :2]
+
+
+def analyse(out, name="scan", fixed_s=math.inf):
+    """The global model over every phi of the table (global_fit), and per phi the slope of
+    a straight line through dt <= SMALL_DT as a check."""
+    path = os.path.join(out, f"{name}.tsv")
+    d = load(path) if os.path.exists(path) else None
+    if d is None:
+        return None
+    data = []
     for phi in sorted(set(d["phi"])):
-        sel = d["phi"] == phi
-        dts = sorted(set(d["dt"][sel]))
-        dt_m, y, e = [], [], []
-        for dt in dts:  # the seeds' mean, its error from the blocks (and the seeds' scatter)
-            s = sel & (d["dt"] == dt)
-            w = 1 / d["D_L_err"][s] ** 2
-            dt_m.append(dt)
-            y.append(np.sum(w * d["D_L"][s]) / np.sum(w))
-            e.append(1 / math.sqrt(np.sum(w)))
-        dt_m, y, e = map(np.array, (dt_m, y, e))
-        lin = fit(dt_m, y, e, False)
-        quad = fit(dt_m, y, e, True)
-        use = quad if lin[4] > 2 and len(dt_m) > 3 else lin
-        d0, c, c2, cov, chi2 = use
-        d0_err = math.sqrt(cov[0, 0])
-        c_err = math.sqrt(cov[1, 1]) / d0
-        rows.append(dict(phi=phi, d0=d0, d0_err=d0_err, c=c, c_err=c_err, c2=c2, chi2=chi2,
-                         model="quadratic" if use is quad else "linear", lin_chi2=lin[4],
-                         dt1=dt_at(0.01, c, c2), dt01=dt_at(0.001, c, c2),
-                         dts=dt_m, y=y, e=e))
+        dts, y, e = seed_means(d, d["phi"] == phi, "D_L", "D_L_err")
+        if len(dts) >= 3:
+            data.append((phi, dts, y, e))
+    if not data:
+        return None
+    if len(data) < 2:  # too few phi for c(phi): a straight line through every dt
+        q, err, chi2, cov = [float("nan")] * 3 + [0.0] * len(data), [0.0] * 3, 0.0, None
+    else:
+        q, err, chi2, cov = global_fit(data, fixed_s)
+    a, pw, sat = q[:3]
+    rows = []
+    for k, (phi, dts, y, e) in enumerate(data):
+        small = dts <= SMALL_DT
+        c_local, c_local_err = (fit_linear(dts[small], y[small], e[small])[2:4]
+                                if small.sum() >= 2 else (float("nan"), float("nan")))
+        if cov is None:
+            d0, d0_err, c, c_err, _ = fit_linear(dts, y, e)
+            sat = float("inf")
+        else:
+            d0, d0_err, c = q[3 + k], err[3 + k], a * phi ** pw
+            grad = np.array([c / a, c * math.log(phi)])  # c's error from (a, p)
+            c_err = math.sqrt(float(grad @ cov @ grad))
+        rows.append(dict(phi=phi, d0=d0, d0_err=d0_err, c=c, c_err=c_err, c_local=c_local,
+                         c_local_err=c_local_err, s=sat, dts=dts, y=y, e=e,
+                         dt1=dt_at(0.01, c, sat), dt01=dt_at(0.001, c, sat)))
     with open(os.path.join(out, f"{name}-fit.tsv"), "w") as f:
-        f.write("phi\tD_0\tD_0_err\tc\tc_err\tc2\tchi2_dof\tmodel\tlinear_chi2_dof\t"
-                "dt_1pc\tdt_0.1pc\n")
+        f.write(f"# D_L(dt) = D_L(0) (1 - c dt / (1 + c dt / s)), c = a phi^p: a = {a:.4g} +- "
+                f"{err[0]:.2g}, p = {pw:.4g} +- {err[1]:.2g}, s = {sat:.3g} +- {err[2]:.2g} "
+                f"(inf: fixed, a straight line), chi^2/dof = {chi2:.3g}\n")
+        f.write("phi\tD_L0\tD_L0_err\tc\tc_err\tc_local\tc_local_err\tdt_1pc\tdt_0.1pc\n")
         for r in rows:
             f.write(f"{r['phi']:g}\t{r['d0']:.5f}\t{r['d0_err']:.5f}\t{r['c']:.4g}\t"
-                    f"{r['c_err']:.2g}\t{r['c2']:.4g}\t{r['chi2']:.3g}\t{r['model']}\t"
-                    f"{r['lin_chi2']:.3g}\t{r['dt1']:.3g}\t{r['dt01']:.3g}\n")
+                    f"{r['c_err']:.2g}\t"
+                    f"{r['c_local']:.3g}\t{r['c_local_err']:.2g}\t{r['dt1']:.3g}\t"
+                    f"{r['dt01']:.3g}\n")
     print(f"fit: {os.path.join(out, f'{name}-fit.tsv')}")
     return rows
 
@@ -316,34 +493,58 @@ def figure(out, path, rows, dilute=None, disks=None):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from hsbd_tools import save_figure
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.4))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.6))
     colours = plt.cm.viridis(np.linspace(0, 0.9, len(rows)))
     fine = np.logspace(-4.2, -1.9, 100)
     for r, col in zip(rows, colours):
-        rel = r["y"] / r["d0"] - 1
-        ax[0].errorbar(r["dts"], 100 * rel, 100 * r["e"] / r["d0"], fmt="o", color=col, ms=4,
-                       capsize=2, label=f"phi {r['phi']:g}: D_0 = {r['d0']:.4f}")
-        ax[0].plot(fine, -100 * (r["c"] * fine + r["c2"] * fine ** 2), "-", color=col, lw=1)
-    for extra, mark, lab in ((dilute, "s", "phi 0.05"), (disks, "^", "disks")):
+        ax[0].errorbar(r["dts"], 100 * (r["y"] / r["d0"] - 1), 100 * r["e"] / r["d0"], fmt="o",
+                       color=col, ms=4, capsize=2,
+                       label=f"phi {r['phi']:g}: D_L(0) = {r['d0']:.3f}, c = {r['c']:.3g}")
+        ax[0].plot(fine, -100 * deficit(fine, r["c"], r["s"]), "-", color=col, lw=1)
+    for extra, mark, colour in ((dilute, "s", "grey"), (disks, "^", "tab:red")):
         for r in extra or []:
-            rel = r["y"] / r["d0"] - 1
-            ax[0].errorbar(r["dts"], 100 * rel, 100 * r["e"] / r["d0"], fmt=mark, ms=4,
-                           color="grey" if mark == "s" else "tab:red", capsize=2,
-                           label=f"{lab} {r['phi']:g}" if mark == "^" else lab)
-    ax[0].axhline(-1, color="k", lw=0.6, ls=":")
-    ax[0].axhline(-0.1, color="k", lw=0.6, ls=":")
+            ax[0].errorbar(r["dts"], 100 * (r["y"] / r["d0"] - 1), 100 * r["e"] / r["d0"],
+                           fmt=mark, ms=4, color=colour, capsize=2,
+                           label=f"{'disks' if mark == '^' else 'spheres'} phi {r['phi']:g}")
+    for level in (-1, -0.1):
+        ax[0].axhline(level, color="k", lw=0.6, ls=":")
     ax[0].set_xscale("log")
     ax[0].set_xlabel("dt (sigma^2 / D)")
     ax[0].set_ylabel("D_L(dt) / D_L(0) - 1  (%)")
-    ax[0].set_title("D_L against the time step (N 1000, 3D unless marked)")
-    ax[0].legend(fontsize=7)
+    ax[0].set_title("D_L (MSD slope, lags 0.4-4) against dt, N 1000")
+    ax[0].legend(fontsize=6.5)
     phis = np.array([r["phi"] for r in rows])
     ax[1].semilogy(phis, [r["dt1"] for r in rows], "o-", label="1 %")
     ax[1].semilogy(phis, [r["dt01"] for r in rows], "s-", label="0.1 %")
     ax[1].set_xlabel("phi")
-    ax[1].set_ylabel("largest dt for the D_L error")
-    ax[1].set_title("time step for a given accuracy of D_L")
+    ax[1].set_ylabel("largest dt (sigma^2 / D)")
+    ax[1].set_title("the time step for a given accuracy of D_L (3D)")
     ax[1].legend()
+    short = os.path.join(out, "short.tsv")
+    if os.path.exists(short):
+        t = load(short)
+        ref = min(t["dt"])
+        for phi, col in zip(sorted(set(t["phi"])), ("tab:blue", "tab:orange")):
+            sel = (t["phi"] == phi) & (t["lag"] == SHORT_LAGS[0]) & (t["dt"] > ref)
+            x, y, e = t["dt"][sel], 1 - t["ratio_to_smallest_dt"][sel], t["ratio_err"][sel]
+            ax[2].errorbar(x, 100 * y, 100 * e, fmt="o", color=col, capsize=2,
+                           label=f"phi {phi:g}")
+            small = x <= 3.1e-3  # order 1: y = c (dt - ref) through the small steps
+            w = (x[small] - ref) / e[small] ** 2
+            c = np.sum(w * y[small]) / np.sum(w * (x[small] - ref))
+            ax[2].plot(fine, 100 * c * (fine - ref), "-", color=col, lw=1,
+                       label=f"{c:.3g} (dt - 3e-5), order 1")
+            big = np.argmax(x)  # order 1/2 through the largest step
+            a = y[big] / (math.sqrt(x[big]) - math.sqrt(ref))
+            ax[2].plot(fine, 100 * a * (np.sqrt(fine) - math.sqrt(ref)), "--", color=col, lw=1,
+                       label=f"{a:.2g} (sqrt(dt) - sqrt(3e-5)), order 1/2")
+        ax[2].axhline(0, color="k", lw=0.5)
+        ax[2].set_xscale("log")
+        ax[2].set_ylim(-1, 8)
+        ax[2].set_xlabel("dt (sigma^2 / D)")
+        ax[2].set_ylabel("MSD deficit at lag 0.05 against dt 3e-5 (%)")
+        ax[2].set_title("the order of the error: the MSD at a short lag")
+        ax[2].legend(fontsize=6.5)
     fig.tight_layout()
     save_figure(fig, path)
 
@@ -352,12 +553,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("hsbd")
     ap.add_argument("out")
-    ap.add_argument("--seeds", default="1")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--parts", default="equil,scan,dilute,shell,multi,disks,long")
+    ap.add_argument("--parts", default="equil,shell,scan,dilute,disks,short,tracers,multi")
     ap.add_argument("--figure", default="")
     args = ap.parse_args()
-    seeds = [int(s) for s in args.seeds.split(",")]
     os.makedirs(args.out, exist_ok=True)
     hsbd = os.path.abspath(args.hsbd)
     out = os.path.abspath(args.out)
@@ -368,19 +567,19 @@ def main():
             equil_part(hsbd, out, args.jobs, 2, DISK_PHIS)
     if "shell" in parts:
         shell_part(hsbd, out)
-    if "scan" in parts:
-        scan_part(hsbd, out, args.jobs, seeds, extra=(SMALLEST,))
-    if "dilute" in parts:
-        scan_part(hsbd, out, args.jobs, DILUTE_SEEDS, "dilute", 3, (0.05,), DILUTE_DTS, 1000)
-    if "disks" in parts:
-        scan_part(hsbd, out, args.jobs, seeds[:1], "disks", 2, DISK_PHIS, DISK_DTS, 80)
+    dry = "tables" in parts  # the tables of the runs done so far, nothing run
+    for name in ("scan", "dilute", "disks"):
+        if name in parts or dry:
+            scan_part(hsbd, out, args.jobs, name, dry)
+    if "short" in parts:
+        short_part(hsbd, out, args.jobs)
+    if "tracers" in parts:
+        tracers_part(hsbd, out, args.jobs)
     if "multi" in parts:
-        multi_part(out)
+        multi_part(out, phis=PHIS + (0.05,))
     if "long" in parts:
         long_part(hsbd, out, args.jobs)
-    rows = analyse(out) if os.path.exists(os.path.join(out, "scan.tsv")) else []
-    dilute = analyse(out, "dilute") if os.path.exists(os.path.join(out, "dilute.tsv")) else None
-    disks = analyse(out, "disks") if os.path.exists(os.path.join(out, "disks.tsv")) else None
+    rows, dilute, disks = (analyse(out, name) for name in ("scan", "dilute", "disks"))
     if args.figure and rows:
         figure(out, args.figure, rows, dilute, disks)
 

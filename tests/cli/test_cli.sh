@@ -379,6 +379,29 @@ assert any('Eq. 6' in w for w in d['warnings'])" 2>/dev/null; then ok; else bad 
 if "$HSBD" run sph.ini --set system.packing_fraction=0.45 --set init.method=compress --set run.dt=2e-3 \
        --out eq3 --quiet 2>eq3.err && grep -q "Scala Eq. 3" eq3.err; then ok; else bad "Eq. 3 warning: $(cat eq3.err)"; fi
 
+# D_L's time-step error (docs/spheres.md, "D_L and the time step"): at phi 0.3 a step of
+# 1e-2 leaves D_L several percent low, warned on stderr and in summary.json with the dt that
+# keeps it within 1 %; 1e-3 is below that level, and ideal particles (hard core off) have
+# no such error
+dl_step() { # dl_step NAME DT [ARGS...]: the warning build of a phi 0.3 run
+    local name=$1 dt=$2
+    shift 2
+    "$HSBD" run sph.ini --set system.packing_fraction=0.3 --set run.dt="$dt" --set run.t_equil=0 \
+        --set run.t_total=0.1 --set sample.every=1 --set sample.blocks=2 "$@" --out "$name" \
+        --quiet 2>"$name.err"
+}
+if dl_step dlc 1e-2 && grep -q "warning: run.dt = 0.01: D_L (D_long, the MSD's long-time slope) is about [3-6]\.[0-9] % low at phi 0.3 .*; run.dt <= 0.00[12][0-9]* keeps it within 1 %" dlc.err &&
+    python3 -c "
+import json; w = json.load(open('dlc/summary.json'))['warnings']
+assert sum('D_L (D_long' in x for x in w) == 1, w" 2>/dev/null; then ok
+else bad "D_L time-step warning at dt 1e-2: $(cat dlc.err)"; fi
+if dl_step dlf 1e-3 && ! grep -q "D_L" dlf.err && python3 -c "
+import json; w = json.load(open('dlf/summary.json'))['warnings']
+assert not any('D_L' in x for x in w), w" 2>/dev/null; then ok
+else bad "D_L warned at dt 1e-3: $(cat dlf.err)"; fi
+if dl_step dli 1e-2 --set system.hard_core=off && ! grep -q "D_L" dli.err; then ok
+else bad "D_L warned for ideal particles: $(cat dli.err)"; fi
+
 # above phi = pi/6 Scala's mean gap rho^(-1/3) - sigma is negative: the lattice spacing's
 # gap stays finite (phi 0.55, dt 2e-4: a step of 0.31 of it, no warning, no inf or nan)
 if "$HSBD" run sph.ini --set system.packing_fraction=0.55 --set init.method=compress \
