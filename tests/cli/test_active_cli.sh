@@ -14,6 +14,7 @@ set -u
 HSBD=${1:?usage: test_active_cli.sh path/to/hsbd}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
 SRC=$(cd "$(dirname "$0")/../.." && pwd)
+export PYTHONPATH="$(dirname "$HSBD")/python" # the package of this build (tools/plot_active.py)
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 cd "$T"
