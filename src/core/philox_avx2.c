@@ -161,4 +161,54 @@ void hsbd_philox_uniforms_at_avx2(uint64_t seed, uint32_t stream, uint64_t step,
     else if (tail > 0)
         philox_listed(&s, base, offset + j, 1, tail, out + j);
 }
+/* The 16 bytes of blocks base + block[k], k < valid <= 4 `groups`, to out + 16 block[k]: per
+ * lane the words (v0, v1) and (v2, v3) as two 64-bit halves (least significant word first,
+ * so the bytes come out in the order of src/core/rng.c), then one 16-byte store per block.
+ * groups <= PHILOX_GROUPS is a constant at each call; a short run reads its offsets through
+ * masks and stores its blocks only. */
+static inline void philox_blocks(const philox_setup *s, uint64_t base, const unsigned *block,
+                                 int groups, size_t valid, uint8_t *restrict out) {
+    const int whole = valid == (size_t)(4 * groups);
+    __m256i x[PHILOX_GROUPS][4];
+    for (int g = 0; g < groups; ++g) {
+        const int *og = (const int *)(const void *)(block + 4 * g);
+        const __m128i below =
+            _mm_cmpgt_epi32(_mm_set1_epi32((int)valid - 4 * g), _mm_setr_epi32(0, 1, 2, 3));
+        const __m128i o = whole ? _mm_loadu_si128((const __m128i *)(const void *)og)
+                                : _mm_maskload_epi32(og, below);
+        x[g][0] = _mm256_add_epi64(_mm256_set1_epi64x((int64_t)base), _mm256_cvtepu32_epi64(o));
+        x[g][1] = s->step_lo;
+        x[g][2] = s->step_hi;
+        x[g][3] = s->stream;
+    }
+    philox_rounds(s, x, groups);
+    const __m256i low = _mm256_set1_epi64x(0xffffffff);
+    for (int g = 0; g < groups; ++g) {
+        const __m256i a =
+            _mm256_or_si256(_mm256_and_si256(x[g][0], low), _mm256_slli_epi64(x[g][1], 32));
+        const __m256i b =
+            _mm256_or_si256(_mm256_and_si256(x[g][2], low), _mm256_slli_epi64(x[g][3], 32));
+        const __m256i even = _mm256_unpacklo_epi64(a, b), odd = _mm256_unpackhi_epi64(a, b);
+        const __m128i lane[4] = {_mm256_castsi256_si128(even), _mm256_castsi256_si128(odd),
+                                 _mm256_extracti128_si256(even, 1),
+                                 _mm256_extracti128_si256(odd, 1)};
+        for (int l = 0; l < 4 && (whole || (size_t)(4 * g + l) < valid); ++l)
+            _mm_storeu_si128((__m128i *)(void *)(out + 16 * (size_t)block[4 * g + l]), lane[l]);
+    }
+}
+
+void hsbd_philox_bytes_at_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
+                               const unsigned *block, size_t n, uint8_t *restrict out) {
+    const philox_setup s = philox_setup_of(seed, stream, step);
+    size_t j = 0;
+    for (; j + 4 * PHILOX_GROUPS <= n; j += 4 * PHILOX_GROUPS)
+        philox_blocks(&s, base, block + j, PHILOX_GROUPS, 4 * PHILOX_GROUPS, out);
+    const size_t tail = n - j; /* in one interleaved call of as few groups as hold it */
+    if (tail > 8)
+        philox_blocks(&s, base, block + j, 3, tail, out);
+    else if (tail > 4)
+        philox_blocks(&s, base, block + j, 2, tail, out);
+    else if (tail > 0)
+        philox_blocks(&s, base, block + j, 1, tail, out);
+}
 #endif

@@ -36,4 +36,12 @@ void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t ste
 void hsbd_philox_uniforms_at_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
                                   const unsigned *offset, size_t n, double *restrict out);
 
+/* hsbd_rng_bytes_at: twelve blocks at a time, the tail in one call. */
+void hsbd_philox_bytes_at_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
+                               const unsigned *block, size_t n, uint8_t *restrict out);
+
+/* In place: x[i] -> ln x[i] (SLEEF's vector log, 1.0 ulp, with AVX2+FMA; else libm). */
+void hsbd_vmath_log(size_t n, double *x);
+void hsbd_vmath_log_avx2(size_t n, double *x);
+
 #endif

@@ -596,81 +596,68 @@ static void recenter(hsbd_rods *r) {
     r->wraps += k;
 }
 
-/* A gap that may cross whose uniform u shows, without a log, that its bridge minimum stays
- * >= 0: bridge_push_with would return +0.0. The minimum is < 0 when -ln u > g0 g1 / d_rel_dt,
- * and -ln u <= (1 - u) / u, so 4 d_rel_dt (1 - u) < 4 g0 g1 u (times u > 0) rules the
- * crossing out. The relative margin of 1e-12 covers every rounding of this test and of
- * bridge_push_with (a few ulps, with libm's log within one), so the sign of the computed
- * minimum is the one this test implies and the bits are those of bridge_push_with. */
-static inline int bridge_surely_clear(double g0, double g1, double d_rel_dt, double u) {
-    const double a = g0 + g1;
-    return 4.0 * d_rel_dt * (1.0 - u) * (1.0 + 1e-12) + 1e-12 * a * a * u < 4.0 * g0 * g1 * u;
-}
-
-/* The push that reflects a gap that may cross (gaps.h) at zero (Skorokhod; docs/theory.md, exact
- * shortcuts), with its uniform u: -m when the bridge minimum m drawn with u is < 0, else +0.0,
- * selected by a mask (the same bits as the branch, without its mispredictions). */
-static inline double bridge_push_with(double g0, double g1, double d_rel_dt, double u) {
+/* The push that reflects a gap that may cross (gaps.h) at zero, given ln U of its uniform U:
+ * -m when the bridge minimum m = (g0 + g1 - sqrt((g1 - g0)^2 - 4 D_rel dt ln U)) / 2 is < 0,
+ * else 0 (Skorokhod; docs/theory.md, exact shortcuts). */
+static inline double bridge_push_of(double g0, double g1, double d_rel_dt, double ln_u) {
     const double d = g1 - g0;
-    const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));
-    const double neg = -m;
-    uint64_t bits;
-    memcpy(&bits, &neg, sizeof bits);
-    bits &= -(uint64_t)(m < 0);
-    double push;
-    memcpy(&push, &bits, sizeof push);
-    return push;
+    const double push = 0.5 * (sqrt(d * d - 4.0 * d_rel_dt * ln_u) - (g0 + g1)); /* -m */
+    return push > 0 ? push : 0.0; /* a maxsd: no branch on the sign, which is random */
 }
 
-static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed,
-                                 uint64_t step, size_t gap) {
+/* A gap's uniform is U = (b + V) / 256: its random byte b (stream HSBD_STREAM_CONTACT, byte
+ * `gap` of hsbd_rng_bytes_at) and, only when b < bridge_byte_bound leaves a crossing
+ * possible, its low digits V (stream HSBD_STREAM_CONTACT_DEPTH). The push of one gap outside
+ * the batches (the ring's last gap, the walls'), whose V is the uniform of index `gap`. */
+static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, uint64_t step,
+                          size_t gap) {
     if (!bridge_may_cross(g0, g1, d_rel_dt)) return 0.0;
+    const unsigned block = 0;
+    uint8_t bytes[GAP_BLOCK];
+    hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, gap / GAP_BLOCK, &block, 1, bytes);
+    const double byte = bytes[gap % GAP_BLOCK];
+    if (!(byte < bridge_byte_bound(g0 * g1, d_rel_dt))) return 0.0;
     double u;
-    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, gap, 1, &u);
-    return bridge_push_with(g0, g1, d_rel_dt, u);
+    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT_DEPTH, step, gap, 1, &u);
+    u = (byte + u) * (1.0 / 256);
+    hsbd_vmath_log(1, &u);
+    return bridge_push_of(g0, g1, d_rel_dt, u);
 }
 
-enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pairs align */
+enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; a multiple of GAP_BLOCK */
 
-/* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in passes
- * that give the same bits as bridge_push gap by gap: the gaps that may cross listed
- * (gaps.h, eight at a time), their uniforms (twelve Philox counters at a time with AVX2,
- * one per listed gap: a gap's number depends only on its index, hsbd/rng.h), the test
- * that rules most crossings out, then the bridge minima of the rest (scalar libm log and
- * sqrt). Only the listed gaps are computed again after the first pass (the same
- * subtractions, so the same bits). */
+/* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1; first a
+ * multiple of GAP_CHUNK), with the uniforms of bridge_push: the blocks of GAP_BLOCK gaps that
+ * hold a gap that may cross (gaps.h), their random bytes (one Philox counter per block), the
+ * candidates among the gaps that may cross (byte below the bound), then for these alone the
+ * low digits (the k-th candidate of the batch takes the uniform of index first + k), the
+ * logarithms (vectorised) and the bridge minima. */
 static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
                            double *restrict push) {
-    double u[GAP_CHUNK], d[GAP_CHUNK];
-    unsigned idx[GAP_CHUNK];
+    double u[GAP_CHUNK], d[GAP_CHUNK], g0g1[GAP_CHUNK];
+    unsigned blocks[GAP_CHUNK / GAP_BLOCK], idx[GAP_CHUNK];
+    uint16_t mask[GAP_CHUNK / GAP_BLOCK];
+    uint8_t bytes[GAP_CHUNK];
     const double *restrict z = r->z + first, *restrict y = r->y + first;
     const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
+    const double *dd = r->species ? d : NULL;
     if (r->species)
         for (size_t j = 0; j < m; ++j)
             d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
-    const size_t count = gap_list_may_cross(z, y, r->species ? d : NULL, d_one, m, idx);
     memset(push, 0, m * sizeof *push);
-    if (count == 0) return;  /* the common case in small dilute systems */
-    if (4 * count > 3 * m) { /* over 3/4 listed: one run of counters costs less */
-        double every[GAP_CHUNK];
-        hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, every);
-        for (size_t k = 0; k < count; ++k)
-            u[k] = every[idx[k]];
-    } else {
-        hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
-    }
-    size_t crossing = 0; /* the listed gaps whose uniform does not rule the crossing out */
+    const size_t nblocks = gap_blocks_may_cross(z, y, dd, d_one, m, mask, blocks, g0g1);
+    if (nblocks == 0) return; /* the common case in small dilute systems */
+    hsbd_rng_bytes_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first / GAP_BLOCK, blocks, nblocks,
+                      bytes);
+    const size_t count = gap_candidates(g0g1, dd, d_one, m, mask, blocks, nblocks, bytes, idx);
+    if (count == 0) return;
+    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT_DEPTH, r->step, first, count, u);
+    for (size_t k = 0; k < count; ++k)
+        u[k] = ((double)bytes[idx[k]] + u[k]) * (1.0 / 256);
+    hsbd_vmath_log(count, u);
     for (size_t k = 0; k < count; ++k) {
         const size_t j = idx[k];
-        const double dj = r->species ? d[j] : d_one;
-        idx[crossing] = (unsigned)j;
-        u[crossing] = u[k];
-        crossing += (size_t)!bridge_surely_clear(z[j + 1] - z[j], y[j + 1] - y[j], dj, u[k]);
-    }
-    for (size_t k = 0; k < crossing; ++k) {
-        const size_t j = idx[k];
-        const double dj = r->species ? d[j] : d_one;
-        push[j] = bridge_push_with(z[j + 1] - z[j], y[j + 1] - y[j], dj, u[k]);
+        push[j] = bridge_push_of(z[j + 1] - z[j], y[j + 1] - y[j], dd ? d[j] : d_one, u[k]);
     }
 }
 
@@ -685,8 +672,8 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
 
 /* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push:
  * their pushed end points into out. */
-static void take_half_pushes(const hsbd_rods *r, size_t lo, size_t hi, double *out) {
-    const double *y = r->y, *push = r->push;
+static void take_half_pushes(const hsbd_rods *r, size_t lo, size_t hi, double *restrict out) {
+    const double *restrict y = r->y, *restrict push = r->push;
     for (size_t i = lo; i < hi; ++i)
         out[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
 }

@@ -1,23 +1,52 @@
-/* The reflect rule's list of the gaps that may cross (see gaps.h). The AVX2 version turns
- * the tests of eight gaps into a byte and stores the places of its set bits, taken from a
- * table, in one go: no branch on the flags, whose pattern is random. */
+/* The reflect rule's passes over a batch of gaps (see gaps.h). The AVX2 versions test four
+ * gaps per vector, turn the answers of a block into bits, and store the places of the set
+ * bits of each byte, taken from a table, in one go: no branch on the answers, whose pattern
+ * is random. */
 #include "rods1d/gaps.h"
-
-#include <stdint.h>
 
 #include "core/vmath.h"
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #endif
 
-/* The gaps j .. m - 1 that may cross, appended to the count listed so far, without
- * branches; returns the new count. */
-static size_t list_from(const double *restrict z, const double *restrict y,
-                        const double *restrict d, double d_one, size_t j, size_t m, size_t count,
-                        unsigned *restrict idx) {
-    for (; j < m; ++j) {
-        idx[count] = (unsigned)j;
-        count += (size_t)bridge_may_cross(z[j + 1] - z[j], y[j + 1] - y[j], d ? d[j] : d_one);
+/* the gaps of block b that may cross (bit j - j0 for gap j), their products into g0g1 */
+static unsigned block_may_cross(const double *restrict z, const double *restrict y,
+                                const double *restrict d, double d_one, size_t b, size_t m,
+                                double *restrict g0g1) {
+    const size_t j0 = GAP_BLOCK * b, j1 = j0 + GAP_BLOCK < m ? j0 + GAP_BLOCK : m;
+    unsigned bits = 0;
+    for (size_t j = j0; j < j1; ++j) {
+        const double g0 = z[j + 1] - z[j], g1 = y[j + 1] - y[j];
+        g0g1[j] = g0 * g1;
+        bits |= (unsigned)bridge_may_cross(g0, g1, d ? d[j] : d_one) << (j - j0);
+    }
+    return bits;
+}
+
+size_t gap_blocks_may_cross_scalar(const double *z, const double *y, const double *d, double d_one,
+                                   size_t m, uint16_t *mask, unsigned *blocks, double *g0g1) {
+    size_t count = 0;
+    for (size_t b = 0; GAP_BLOCK * b < m; ++b) {
+        const unsigned bits = block_may_cross(z, y, d, d_one, b, m, g0g1);
+        mask[b] = (uint16_t)bits;
+        blocks[count] = (unsigned)b;
+        count += bits != 0;
+    }
+    return count;
+}
+
+size_t gap_candidates_scalar(const double *g0g1, const double *d, double d_one, size_t m,
+                             const uint16_t *mask, const unsigned *blocks, size_t nblocks,
+                             const uint8_t *bytes, unsigned *idx) {
+    size_t count = 0;
+    for (size_t k = 0; k < nblocks; ++k) {
+        const size_t j0 = GAP_BLOCK * (size_t)blocks[k];
+        const size_t j1 = j0 + GAP_BLOCK < m ? j0 + GAP_BLOCK : m;
+        for (size_t j = j0; j < j1; ++j) {
+            const double bound = bridge_byte_bound(g0g1[j], d ? d[j] : d_one);
+            idx[count] = (unsigned)j;
+            count += (size_t)((mask[blocks[k]] >> (j - j0) & 1u) & ((double)bytes[j] < bound));
+        }
     }
     return count;
 }
@@ -38,55 +67,156 @@ static size_t list_from(const double *restrict z, const double *restrict y,
 static const uint32_t set_bit_places[256] = {PLACES_64(0u), PLACES_64(64u), PLACES_64(128u),
                                              PLACES_64(192u)};
 
-/* The same with AVX2, eight gaps at a time: the same subtractions, products and comparisons
- * lane by lane (no FMA: the same answers), their eight bits a byte whose set bits' places
- * the table gives, added to j and stored at once (idx has room: count <= j). */
-__attribute__((target("avx2,popcnt,no-fma"))) size_t
-gap_list_may_cross_avx2(const double *restrict z, const double *restrict y,
-                        const double *restrict d, double d_one, size_t m, unsigned *restrict idx) {
+/* The places of the set bits of the byte `bits` plus j, stored at idx + count at once (room:
+ * eight entries); returns the new count. */
+__attribute__((target("avx2,popcnt"))) static inline size_t
+store_places(unsigned bits, size_t j, size_t count, unsigned *restrict idx) {
     const __m256i shifts = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
-    size_t count = 0, j = 0;
-    for (; j + 8 <= m; j += 8) {
-        unsigned bits = 0;
-        for (size_t h = 0; h < 8; h += 4) {
-            const __m256d g0 =
-                _mm256_sub_pd(_mm256_loadu_pd(z + j + h + 1), _mm256_loadu_pd(z + j + h));
-            const __m256d g1 =
-                _mm256_sub_pd(_mm256_loadu_pd(y + j + h + 1), _mm256_loadu_pd(y + j + h));
-            const __m256d dj = d ? _mm256_loadu_pd(d + j + h) : _mm256_set1_pd(d_one);
-            const __m256d bound = _mm256_mul_pd(_mm256_set1_pd(20.0), dj);
-            const __m256d may = /* !(g1 > 0) | !(g0 g1 > 20 d): bridge_may_cross */
-                _mm256_or_pd(_mm256_cmp_pd(g1, _mm256_setzero_pd(), _CMP_NGT_UQ),
-                             _mm256_cmp_pd(_mm256_mul_pd(g0, g1), bound, _CMP_NGT_UQ));
-            bits |= (unsigned)_mm256_movemask_pd(may) << h;
-        }
-        if (!bits) continue; /* most bytes in dilute systems */
-        const __m256i places = _mm256_and_si256(
-            _mm256_srlv_epi32(_mm256_set1_epi32((int)set_bit_places[bits]), shifts),
-            _mm256_set1_epi32(7));
-        _mm256_storeu_si256((__m256i *)(void *)(idx + count),
-                            _mm256_add_epi32(places, _mm256_set1_epi32((int)j)));
-        count += (size_t)__builtin_popcount(bits);
+    const __m256i places =
+        _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32((int)set_bit_places[bits]), shifts),
+                         _mm256_set1_epi32(7));
+    _mm256_storeu_si256((__m256i *)(void *)(idx + count),
+                        _mm256_add_epi32(places, _mm256_set1_epi32((int)j)));
+    return count + (size_t)__builtin_popcount(bits);
+}
+
+/* the lanes below `valid` of four */
+__attribute__((target("avx2"))) static inline __m256i lanes_below(int valid) {
+    return _mm256_cmpgt_epi64(_mm256_set1_epi64x(valid), _mm256_setr_epi64x(0, 1, 2, 3));
+}
+
+/* p[0 .. 3], or the first `valid` of them (the others 0) when valid < 4 */
+__attribute__((target("avx2"))) static inline __m256d load4(const double *p, int valid) {
+    return valid >= 4 ? _mm256_loadu_pd(p) : _mm256_maskload_pd(p, lanes_below(valid));
+}
+
+/* bridge_may_cross of gaps j .. j + 3 as four bits (the same products and comparisons),
+ * their products g0 g1 into g0g1[j ..]; gaps from j + valid on read and write no memory, and
+ * their bits are to be ignored */
+__attribute__((target("avx2,no-fma"))) static inline unsigned
+may_cross4(const double *restrict z, const double *restrict y, const double *restrict d,
+           double d_one, size_t j, int valid, double *restrict g0g1) {
+    const __m256d g0 = _mm256_sub_pd(load4(z + j + 1, valid), load4(z + j, valid));
+    const __m256d g1 = _mm256_sub_pd(load4(y + j + 1, valid), load4(y + j, valid));
+    const __m256d dj = d ? load4(d + j, valid) : _mm256_set1_pd(d_one);
+    const __m256d product = _mm256_mul_pd(g0, g1);
+    if (valid >= 4)
+        _mm256_storeu_pd(g0g1 + j, product);
+    else
+        _mm256_maskstore_pd(g0g1 + j, lanes_below(valid), product);
+    const __m256d may = /* !(g1 > 0) | !(g0 g1 > 20 d) */
+        _mm256_or_pd(_mm256_cmp_pd(g1, _mm256_setzero_pd(), _CMP_NGT_UQ),
+                     _mm256_cmp_pd(product, _mm256_mul_pd(_mm256_set1_pd(20.0), dj), _CMP_NGT_UQ));
+    return (unsigned)_mm256_movemask_pd(may);
+}
+
+/* (double)bytes[j] < bridge_byte_bound of gaps j .. j + 3 as four bits: the same
+ * operations lane by lane (2^(8 - t) built from the low bits of e + 2^52, which hold t, as
+ * ldexp makes it); the bytes of the whole block are there, products only below j + valid */
+__attribute__((target("avx2,no-fma"))) static inline unsigned
+below_bound4(const double *restrict g0g1, const double *restrict d, double d_one, size_t j,
+             int valid, const uint8_t *restrict bytes) {
+    const __m256d scale = d ? _mm256_div_pd(_mm256_set1_pd(1.4426950408889634), load4(d + j, valid))
+                            : _mm256_set1_pd(1.4426950408889634 / d_one);
+    __m256d e = _mm256_mul_pd(load4(g0g1 + j, valid), scale);
+    e = _mm256_min_pd(_mm256_max_pd(e, _mm256_setzero_pd()), _mm256_set1_pd(60.0));
+    const __m256d shifted = _mm256_add_pd(e, _mm256_set1_pd(0x1p52));
+    const __m256d t = _mm256_sub_pd(shifted, _mm256_set1_pd(0x1p52));
+    const __m256i exponent = _mm256_sub_epi64(_mm256_set1_epi64x((int64_t)(1023 + 8) << 52),
+                                              _mm256_slli_epi64(_mm256_castpd_si256(shifted), 52));
+    const __m256d chord = _mm256_sub_pd(_mm256_set1_pd(1.0607),
+                                        _mm256_mul_pd(_mm256_set1_pd(0.7071), _mm256_sub_pd(e, t)));
+    const __m256d bound = _mm256_mul_pd(_mm256_castsi256_pd(exponent), chord);
+    int four;
+    __builtin_memcpy(&four, bytes + j, sizeof four);
+    const __m256d b = _mm256_cvtepi32_pd(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(four)));
+    return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(b, bound, _CMP_LT_OQ));
+}
+
+/* the bits of the gaps j = GAP_BLOCK b .. j + valid - 1 of a block (valid <= GAP_BLOCK, the
+ * constant GAP_BLOCK for whole blocks): may they cross; are their bytes below the bound */
+__attribute__((target("avx2,no-fma"))) static inline unsigned
+block_may_cross4(const double *restrict z, const double *restrict y, const double *restrict d,
+                 double d_one, size_t j, int valid, double *restrict g0g1) {
+    unsigned bits = 0;
+    for (int h = 0; h < GAP_BLOCK && h < valid; h += 4)
+        bits |= may_cross4(z, y, d, d_one, j + (size_t)h, valid - h, g0g1) << h;
+    return valid < GAP_BLOCK ? bits & ((1u << valid) - 1u) : bits;
+}
+
+__attribute__((target("avx2,no-fma"))) static inline unsigned
+block_below_bound4(const double *restrict g0g1, const double *restrict d, double d_one, size_t j,
+                   int valid, const uint8_t *restrict bytes) {
+    unsigned bits = 0;
+    for (int h = 0; h < GAP_BLOCK && h < valid; h += 4)
+        bits |= below_bound4(g0g1, d, d_one, j + (size_t)h, valid - h, bytes) << h;
+    return bits;
+}
+
+__attribute__((target("avx2,popcnt,no-fma"))) size_t
+gap_blocks_may_cross_avx2(const double *restrict z, const double *restrict y,
+                          const double *restrict d, double d_one, size_t m, uint16_t *restrict mask,
+                          unsigned *restrict blocks, double *restrict g0g1) {
+    size_t count = 0, b = 0;
+    for (; GAP_BLOCK * b < m; ++b) {
+        const size_t j = GAP_BLOCK * b;
+        const unsigned bits = j + GAP_BLOCK <= m
+                                  ? block_may_cross4(z, y, d, d_one, j, GAP_BLOCK, g0g1)
+                                  : block_may_cross4(z, y, d, d_one, j, (int)(m - j), g0g1);
+        mask[b] = (uint16_t)bits;
+        blocks[count] = (unsigned)b;
+        count += bits != 0;
     }
-    return list_from(z, y, d, d_one, j, m, count, idx);
+    return count;
+}
+
+__attribute__((target("avx2,popcnt,no-fma"))) size_t
+gap_candidates_avx2(const double *restrict g0g1, const double *restrict d, double d_one, size_t m,
+                    const uint16_t *restrict mask, const unsigned *restrict blocks, size_t nblocks,
+                    const uint8_t *restrict bytes, unsigned *restrict idx) {
+    size_t count = 0;
+    for (size_t k = 0; k < nblocks; ++k) {
+        const size_t b = blocks[k], j = GAP_BLOCK * b;
+        const unsigned bits =
+            mask[b] &
+            (j + GAP_BLOCK <= m ? block_below_bound4(g0g1, d, d_one, j, GAP_BLOCK, bytes)
+                                : block_below_bound4(g0g1, d, d_one, j, (int)(m - j), bytes));
+        /* count <= j, and idx has room for whole blocks: eight stores from count fit */
+        count = store_places(bits & 0xffu, j, count, idx);
+        count = store_places(bits >> 8, j + 8, count, idx);
+    }
+    return count;
 }
 #else
-size_t gap_list_may_cross_avx2(const double *z, const double *y, const double *d, double d_one,
-                               size_t m, unsigned *idx) {
-    (void)z, (void)y, (void)d, (void)d_one, (void)m, (void)idx;
+size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double *d, double d_one,
+                                 size_t m, uint16_t *mask, unsigned *blocks, double *g0g1) {
+    (void)z, (void)y, (void)d, (void)d_one, (void)m, (void)mask, (void)blocks, (void)g0g1;
+    return 0;
+}
+size_t gap_candidates_avx2(const double *g0g1, const double *d, double d_one, size_t m,
+                           const uint16_t *mask, const unsigned *blocks, size_t nblocks,
+                           const uint8_t *bytes, unsigned *idx) {
+    (void)g0g1, (void)d, (void)d_one, (void)m, (void)mask, (void)blocks, (void)nblocks;
+    (void)bytes, (void)idx;
     return 0;
 }
 #endif
 
-size_t gap_list_may_cross_scalar(const double *z, const double *y, const double *d, double d_one,
-                                 size_t m, unsigned *idx) {
-    return list_from(z, y, d, d_one, 0, m, 0, idx);
+size_t gap_blocks_may_cross(const double *z, const double *y, const double *d, double d_one,
+                            size_t m, uint16_t *mask, unsigned *blocks, double *g0g1) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (hsbd_cpu_has_avx2())
+        return gap_blocks_may_cross_avx2(z, y, d, d_one, m, mask, blocks, g0g1);
+#endif
+    return gap_blocks_may_cross_scalar(z, y, d, d_one, m, mask, blocks, g0g1);
 }
 
-size_t gap_list_may_cross(const double *z, const double *y, const double *d, double d_one, size_t m,
-                          unsigned *idx) {
+size_t gap_candidates(const double *g0g1, const double *d, double d_one, size_t m,
+                      const uint16_t *mask, const unsigned *blocks, size_t nblocks,
+                      const uint8_t *bytes, unsigned *idx) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (hsbd_cpu_has_avx2()) return gap_list_may_cross_avx2(z, y, d, d_one, m, idx);
+    if (hsbd_cpu_has_avx2())
+        return gap_candidates_avx2(g0g1, d, d_one, m, mask, blocks, nblocks, bytes, idx);
 #endif
-    return gap_list_may_cross_scalar(z, y, d, d_one, m, idx);
+    return gap_candidates_scalar(g0g1, d, d_one, m, mask, blocks, nblocks, bytes, idx);
 }
