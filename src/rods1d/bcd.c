@@ -596,35 +596,34 @@ static void recenter(hsbd_rods *r) {
     r->wraps += k;
 }
 
-/* The push that reflects a gap that may cross (gaps.h) at zero, given ln U of its uniform U:
- * -m when the bridge minimum m = (g0 + g1 - sqrt((g1 - g0)^2 - 4 D_rel dt ln U)) / 2 is < 0,
- * else 0 (Skorokhod; docs/theory.md, exact shortcuts). */
-static inline double bridge_push_of(double g0, double g1, double d_rel_dt, double ln_u) {
-    const double d = g1 - g0;
-    const double push = 0.5 * (sqrt(d * d - 4.0 * d_rel_dt * ln_u) - (g0 + g1)); /* -m */
-    return push > 0 ? push : 0.0; /* a maxsd: no branch on the sign, which is random */
-}
-
 /* A gap's uniform is U = (b + V) / 256: its random byte b (stream HSBD_STREAM_CONTACT, byte
- * `gap` of hsbd_rng_bytes_at) and, only when b < bridge_byte_bound leaves a crossing
- * possible, its low digits V (stream HSBD_STREAM_CONTACT_DEPTH). The push of one gap outside
- * the batches (the ring's last gap, the walls'), whose V is the uniform of index `gap`. */
+ * `gap` of hsbd_rng_bytes_at) and, only when b leaves a crossing possible
+ * (bridge_byte_candidate), its low digits V (stream HSBD_STREAM_CONTACT_DEPTH). The push of
+ * one gap outside the batches (the ring's last gap, the walls'), whose V is the uniform of
+ * index `gap`. */
 static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, uint64_t step,
                           size_t gap) {
     if (!bridge_may_cross(g0, g1, d_rel_dt)) return 0.0;
     const unsigned block = 0;
     uint8_t bytes[GAP_BLOCK];
     hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, gap / GAP_BLOCK, &block, 1, bytes);
-    const double byte = bytes[gap % GAP_BLOCK];
-    if (!(byte < bridge_byte_bound(g0 * g1, d_rel_dt))) return 0.0;
+    const unsigned byte = bytes[gap % GAP_BLOCK];
+    if (!bridge_byte_candidate(g0 * g1, d_rel_dt, byte)) return 0.0;
     double u;
     hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT_DEPTH, step, gap, 1, &u);
-    u = (byte + u) * (1.0 / 256);
+    u = ((double)byte + u) * (1.0 / 256);
     hsbd_vmath_log(1, &u);
-    return bridge_push_of(g0, g1, d_rel_dt, u);
+    const double sum = g0 + g1, sq = (g1 - g0) * (g1 - g0);
+    gap_pushes(1, &sum, &sq, NULL, d_rel_dt, &u);
+    return u;
 }
 
 enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; a multiple of GAP_BLOCK */
+
+/* 0, 1, 2, ...: the indices of the first candidates' low digits, relative to the batch */
+static const unsigned counting[3 * GAP_BLOCK] = {
+    0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23,
+    24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47};
 
 /* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1; first a
  * multiple of GAP_CHUNK), with the uniforms of bridge_push: the blocks of GAP_BLOCK gaps that
@@ -634,7 +633,7 @@ enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; a multiple of 
  * logarithms (vectorised) and the bridge minima. */
 static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
                            double *restrict push) {
-    double u[GAP_CHUNK], d[GAP_CHUNK], g0g1[GAP_CHUNK];
+    double u[GAP_CHUNK], d[GAP_CHUNK], g0g1[GAP_CHUNK], sq[GAP_CHUNK];
     unsigned blocks[GAP_CHUNK / GAP_BLOCK], idx[GAP_CHUNK];
     uint16_t mask[GAP_CHUNK / GAP_BLOCK];
     uint8_t bytes[GAP_CHUNK];
@@ -651,14 +650,24 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
                       bytes);
     const size_t count = gap_candidates(g0g1, dd, d_one, m, mask, blocks, nblocks, bytes, idx);
     if (count == 0) return;
-    hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT_DEPTH, r->step, first, count, u);
-    for (size_t k = 0; k < count; ++k)
-        u[k] = ((double)bytes[idx[k]] + u[k]) * (1.0 / 256);
-    hsbd_vmath_log(count, u);
+    if (count > 3 * GAP_BLOCK) /* a run of counters, two uniforms each */
+        hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT_DEPTH, r->step, first, count, u);
+    else /* few: one counter each, the same numbers (less to set up than a run) */
+        hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT_DEPTH, r->step, first, counting,
+                             count, u);
+    double *sum = g0g1; /* the products are used up; the candidates' values packed in order */
     for (size_t k = 0; k < count; ++k) {
-        const size_t j = idx[k];
-        push[j] = bridge_push_of(z[j + 1] - z[j], y[j + 1] - y[j], dd ? d[j] : d_one, u[k]);
+        const size_t j = idx[k]; /* >= k: d[j] is read before d[k] is written */
+        const double g0 = z[j + 1] - z[j], g1 = y[j + 1] - y[j];
+        u[k] = ((double)bytes[j] + u[k]) * (1.0 / 256);
+        sum[k] = g0 + g1;
+        sq[k] = (g1 - g0) * (g1 - g0);
+        if (dd) d[k] = d[j];
     }
+    hsbd_vmath_log(count, u);
+    gap_pushes(count, sum, sq, dd, d_one, u);
+    for (size_t k = 0; k < count; ++k)
+        push[idx[k]] = u[k];
 }
 
 /* The part of a gap's push that rod i takes: mu_i / (mu_i + mu_nb) against rod nb, all of
@@ -673,9 +682,7 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
 /* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push:
  * their pushed end points into out. */
 static void take_half_pushes(const hsbd_rods *r, size_t lo, size_t hi, double *restrict out) {
-    const double *restrict y = r->y, *restrict push = r->push;
-    for (size_t i = lo; i < hi; ++i)
-        out[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
+    if (lo < hi) gap_half_pushes(hi - lo, r->y + lo, r->push + lo, out + lo);
 }
 
 /* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at the last one, n - 2), in

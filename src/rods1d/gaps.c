@@ -4,6 +4,8 @@
  * is random. */
 #include "rods1d/gaps.h"
 
+#include <math.h>
+
 #include "core/vmath.h"
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -43,12 +45,30 @@ size_t gap_candidates_scalar(const double *g0g1, const double *d, double d_one, 
         const size_t j0 = GAP_BLOCK * (size_t)blocks[k];
         const size_t j1 = j0 + GAP_BLOCK < m ? j0 + GAP_BLOCK : m;
         for (size_t j = j0; j < j1; ++j) {
-            const double bound = bridge_byte_bound(g0g1[j], d ? d[j] : d_one);
+            const int candidate = bridge_byte_candidate(g0g1[j], d ? d[j] : d_one, bytes[j]);
             idx[count] = (unsigned)j;
-            count += (size_t)((mask[blocks[k]] >> (j - j0) & 1u) & ((double)bytes[j] < bound));
+            count += (size_t)((mask[blocks[k]] >> (j - j0) & 1u) & (unsigned)candidate);
         }
     }
     return count;
+}
+
+/* the push of one gap (gap_pushes), -m or 0 */
+static inline double bridge_push_of(double sum, double sq, double d_rel_dt, double ln_u) {
+    const double push = 0.5 * (sqrt(sq - 4.0 * d_rel_dt * ln_u) - sum); /* -m, Skorokhod */
+    return push > 0 ? push : 0.0;                                       /* as maxpd */
+}
+
+void gap_pushes_scalar(size_t count, const double *sum, const double *sq, const double *d,
+                       double d_one, double *ln_u) {
+    for (size_t k = 0; k < count; ++k)
+        ln_u[k] = bridge_push_of(sum[k], sq[k], d ? d[k] : d_one, ln_u[k]);
+}
+
+void gap_half_pushes_scalar(size_t n, const double *restrict y, const double *restrict push,
+                            double *restrict out) {
+    for (size_t i = 0; i < n; ++i)
+        out[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -110,31 +130,25 @@ may_cross4(const double *restrict z, const double *restrict y, const double *res
     return (unsigned)_mm256_movemask_pd(may);
 }
 
-/* (double)bytes[j] < bridge_byte_bound of gaps j .. j + 3 as four bits: the same
- * operations lane by lane (2^(8 - t) built from the low bits of e + 2^52, which hold t, as
- * ldexp makes it); the bytes of the whole block are there, products only below j + valid */
+/* bridge_byte_candidate of gaps j .. j + 3 as four bits: the same operations lane by lane
+ * (the bytes of the whole block are there, products only below j + valid) */
 __attribute__((target("avx2,no-fma"))) static inline unsigned
-below_bound4(const double *restrict g0g1, const double *restrict d, double d_one, size_t j,
-             int valid, const uint8_t *restrict bytes) {
-    const __m256d scale = d ? _mm256_div_pd(_mm256_set1_pd(1.4426950408889634), load4(d + j, valid))
-                            : _mm256_set1_pd(1.4426950408889634 / d_one);
-    __m256d e = _mm256_mul_pd(load4(g0g1 + j, valid), scale);
-    e = _mm256_min_pd(_mm256_max_pd(e, _mm256_setzero_pd()), _mm256_set1_pd(60.0));
-    const __m256d shifted = _mm256_add_pd(e, _mm256_set1_pd(0x1p52));
-    const __m256d t = _mm256_sub_pd(shifted, _mm256_set1_pd(0x1p52));
-    const __m256i exponent = _mm256_sub_epi64(_mm256_set1_epi64x((int64_t)(1023 + 8) << 52),
-                                              _mm256_slli_epi64(_mm256_castpd_si256(shifted), 52));
-    const __m256d chord = _mm256_sub_pd(_mm256_set1_pd(1.0607),
-                                        _mm256_mul_pd(_mm256_set1_pd(0.7071), _mm256_sub_pd(e, t)));
-    const __m256d bound = _mm256_mul_pd(_mm256_castsi256_pd(exponent), chord);
+candidate4(const double *restrict g0g1, const double *restrict d, double d_one, size_t j, int valid,
+           const uint8_t *restrict bytes) {
+    const double c = 0x1p23 * 1.4426950408889634; /* 2^23 log2(e) */
+    const __m256d scale =
+        d ? _mm256_div_pd(_mm256_set1_pd(c), load4(d + j, valid)) : _mm256_set1_pd(c / d_one);
+    const __m256d e = _mm256_mul_pd(load4(g0g1 + j, valid), scale);
     int four;
     __builtin_memcpy(&four, bytes + j, sizeof four);
-    const __m256d b = _mm256_cvtepi32_pd(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(four)));
-    return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(b, bound, _CMP_LT_OQ));
+    const __m128 b = _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(four)));
+    const __m256d bits = _mm256_cvtepi32_pd(_mm_castps_si128(b)); /* < 2^31: exact */
+    return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(
+        _mm256_add_pd(e, bits), _mm256_set1_pd(0x1p23 * (135.0 + 0x1p-16)), _CMP_LT_OQ));
 }
 
 /* the bits of the gaps j = GAP_BLOCK b .. j + valid - 1 of a block (valid <= GAP_BLOCK, the
- * constant GAP_BLOCK for whole blocks): may they cross; are their bytes below the bound */
+ * constant GAP_BLOCK for whole blocks): may they cross; are they candidates */
 __attribute__((target("avx2,no-fma"))) static inline unsigned
 block_may_cross4(const double *restrict z, const double *restrict y, const double *restrict d,
                  double d_one, size_t j, int valid, double *restrict g0g1) {
@@ -145,11 +159,11 @@ block_may_cross4(const double *restrict z, const double *restrict y, const doubl
 }
 
 __attribute__((target("avx2,no-fma"))) static inline unsigned
-block_below_bound4(const double *restrict g0g1, const double *restrict d, double d_one, size_t j,
-                   int valid, const uint8_t *restrict bytes) {
+block_candidates4(const double *restrict g0g1, const double *restrict d, double d_one, size_t j,
+                  int valid, const uint8_t *restrict bytes) {
     unsigned bits = 0;
     for (int h = 0; h < GAP_BLOCK && h < valid; h += 4)
-        bits |= below_bound4(g0g1, d, d_one, j + (size_t)h, valid - h, bytes) << h;
+        bits |= candidate4(g0g1, d, d_one, j + (size_t)h, valid - h, bytes) << h;
     return bits;
 }
 
@@ -179,15 +193,49 @@ gap_candidates_avx2(const double *restrict g0g1, const double *restrict d, doubl
         const size_t b = blocks[k], j = GAP_BLOCK * b;
         const unsigned bits =
             mask[b] &
-            (j + GAP_BLOCK <= m ? block_below_bound4(g0g1, d, d_one, j, GAP_BLOCK, bytes)
-                                : block_below_bound4(g0g1, d, d_one, j, (int)(m - j), bytes));
+            (j + GAP_BLOCK <= m ? block_candidates4(g0g1, d, d_one, j, GAP_BLOCK, bytes)
+                                : block_candidates4(g0g1, d, d_one, j, (int)(m - j), bytes));
         /* count <= j, and idx has room for whole blocks: eight stores from count fit */
         count = store_places(bits & 0xffu, j, count, idx);
         count = store_places(bits >> 8, j + 8, count, idx);
     }
     return count;
 }
+__attribute__((target("avx2,no-fma"))) void gap_pushes_avx2(size_t count, const double *sum,
+                                                            const double *sq, const double *d,
+                                                            double d_one, double *ln_u) {
+    size_t k = 0;
+    for (; k + 4 <= count; k += 4) { /* the same operations; the square root correctly rounded */
+        const __m256d four_d =
+            _mm256_mul_pd(_mm256_set1_pd(4.0), d ? _mm256_loadu_pd(d + k) : _mm256_set1_pd(d_one));
+        const __m256d root = _mm256_sqrt_pd(_mm256_sub_pd(
+            _mm256_loadu_pd(sq + k), _mm256_mul_pd(four_d, _mm256_loadu_pd(ln_u + k))));
+        const __m256d push =
+            _mm256_mul_pd(_mm256_set1_pd(0.5), _mm256_sub_pd(root, _mm256_loadu_pd(sum + k)));
+        _mm256_storeu_pd(ln_u + k, _mm256_max_pd(push, _mm256_setzero_pd()));
+    }
+    gap_pushes_scalar(count - k, sum + k, sq + k, d ? d + k : NULL, d_one, ln_u + k);
+}
+__attribute__((target("avx2,no-fma"))) void gap_half_pushes_avx2(size_t n, const double *restrict y,
+                                                                 const double *restrict push,
+                                                                 double *restrict out) {
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        const __m256d half =
+            _mm256_mul_pd(_mm256_set1_pd(0.5),
+                          _mm256_sub_pd(_mm256_loadu_pd(push + i - 1), _mm256_loadu_pd(push + i)));
+        _mm256_storeu_pd(out + i, _mm256_add_pd(_mm256_loadu_pd(y + i), half));
+    }
+    gap_half_pushes_scalar(n - i, y + i, push + i, out + i);
+}
 #else
+void gap_pushes_avx2(size_t count, const double *sum, const double *sq, const double *d,
+                     double d_one, double *ln_u) {
+    gap_pushes_scalar(count, sum, sq, d, d_one, ln_u);
+}
+void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out) {
+    gap_half_pushes_scalar(n, y, push, out);
+}
 size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double *d, double d_one,
                                  size_t m, uint16_t *mask, unsigned *blocks, double *g0g1) {
     (void)z, (void)y, (void)d, (void)d_one, (void)m, (void)mask, (void)blocks, (void)g0g1;
@@ -219,4 +267,25 @@ size_t gap_candidates(const double *g0g1, const double *d, double d_one, size_t 
         return gap_candidates_avx2(g0g1, d, d_one, m, mask, blocks, nblocks, bytes, idx);
 #endif
     return gap_candidates_scalar(g0g1, d, d_one, m, mask, blocks, nblocks, bytes, idx);
+}
+
+void gap_pushes(size_t count, const double *sum, const double *sq, const double *d, double d_one,
+                double *ln_u) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (hsbd_cpu_has_avx2()) {
+        gap_pushes_avx2(count, sum, sq, d, d_one, ln_u);
+        return;
+    }
+#endif
+    gap_pushes_scalar(count, sum, sq, d, d_one, ln_u);
+}
+
+void gap_half_pushes(size_t n, const double *y, const double *push, double *out) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (hsbd_cpu_has_avx2()) {
+        gap_half_pushes_avx2(n, y, push, out);
+        return;
+    }
+#endif
+    gap_half_pushes_scalar(n, y, push, out);
 }

@@ -6,7 +6,7 @@
 #ifndef HSBD_RODS1D_GAPS_H
 #define HSBD_RODS1D_GAPS_H
 
-#include <math.h>
+#include <string.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -19,19 +19,20 @@ static inline int bridge_may_cross(double g0, double g1, double d_rel_dt) {
     return !(g1 > 0) | !(g0 * g1 > 20.0 * d_rel_dt); /* no branch: | evaluates both */
 }
 
-/* 256 times an upper bound of the crossing probability p = exp(-g0 g1 / d_rel_dt) = 2^-e of
- * a gap, given its product g0 g1: with e = t + r, t the whole number nearest to e and
- * |r| <= 1/2, 2^-r <= 1.0607 - 0.7071 r (above the chord of the convex 2^-r over
- * [-1/2, 1/2], by 5e-5 at its ends), so 256 2^-t (1.0607 - 0.7071 r) >= 256 p, at most 6 %
- * above it; the margin covers the rounding here and in the bridge minimum's formula. e is
- * taken in [0, 60] (256 and more for p = 1: g0 g1 <= 0, or NaN), and t made by adding 2^52,
- * which rounds to the nearest whole number. A gap whose random byte b has b >= this bound has
- * a uniform U = (b + V) / 256 >= p whatever its low digits V: it does not cross. */
-static inline double bridge_byte_bound(double g0g1, double d_rel_dt) {
-    const double e0 = g0g1 * (1.4426950408889634 / d_rel_dt);       /* log2(e) / D_rel dt */
-    const double e1 = e0 > 0 ? e0 : 0.0, e = e1 < 60.0 ? e1 : 60.0; /* as maxpd, minpd */
-    const double t = (e + 0x1p52) - 0x1p52;
-    return ldexp(256.0, -(int)t) * (1.0607 - 0.7071 * (e - t));
+/* Whether a gap that may cross, given its product g0 g1, is a candidate for a crossing
+ * with its random byte b, the top eight bits of its uniform U = (b + V) / 256. It crosses
+ * when U < p = 2^-E, E = g0 g1 log2(e) / D_rel dt, which needs b / 256 < p, i.e.
+ * log2 b < 8 - E. A float's bits read as a whole number, 2^23 (127 + k + f) for
+ * b = 2^k (1 + f), give a lower bound of log2 b, k + f <= k + log2(1 + f), within 0.086; so
+ * b is no candidate when E + k + f >= 8, and a candidate, E 2^23 + bits < 135 2^23 (plus a
+ * margin of 2^-16 for the rounding here and in the bridge minimum's formula), lets through
+ * at most 6 % more gaps than cross. b = 0 (bits 0): a candidate unless E >= 135. */
+static inline int bridge_byte_candidate(double g0g1, double d_rel_dt, unsigned b) {
+    const double e = g0g1 * (0x1p23 * 1.4426950408889634 / d_rel_dt); /* 2^23 E */
+    const float fb = (float)b;
+    uint32_t bits;
+    memcpy(&bits, &fb, sizeof bits);
+    return e + (double)bits < 0x1p23 * (135.0 + 0x1p-16);
 }
 
 /* The blocks of GAP_BLOCK gaps among gaps j < m that hold a gap that may cross: bit i of
@@ -44,12 +45,22 @@ size_t gap_blocks_may_cross(const double *z, const double *y, const double *d, d
                             size_t m, uint16_t *mask, unsigned *blocks, double *g0g1);
 
 /* The candidates among the gaps that may cross of the listed blocks (from
- * gap_blocks_may_cross, with its products g0g1): the gaps whose random byte bytes[j] is below
- * bridge_byte_bound, in order into idx[] (room for m rounded up to a whole block); returns
- * their number. */
+ * gap_blocks_may_cross, with its products g0g1): the gaps whose random byte bytes[j] makes
+ * them a candidate (bridge_byte_candidate), in order into idx[] (room for m rounded up to a
+ * whole block); returns their number. */
 size_t gap_candidates(const double *g0g1, const double *d, double d_one, size_t m,
                       const uint16_t *mask, const unsigned *blocks, size_t nblocks,
                       const uint8_t *bytes, unsigned *idx);
+
+/* The pushes -m > 0 of `count` gaps (0 where the bridge minimum m >= 0), in place of their
+ * ln U: m = (a - sqrt(s - 4 D_rel dt ln U)) / 2 from their sums a = g0 + g1, squared
+ * differences s = (g1 - g0)^2 and D_rel dt (d[k], or d_one when d is NULL). */
+void gap_pushes(size_t count, const double *sum, const double *sq, const double *d, double d_one,
+                double *ln_u);
+
+/* out[i] = y[i] + (push[i - 1] - push[i]) / 2, i < n: rods of one species between two gaps
+ * take half of each gap's push */
+void gap_half_pushes(size_t n, const double *y, const double *push, double *out);
 
 /* The two versions of each (the plain names call the AVX2 ones when the CPU has it; the
  * AVX2 ones return 0 elsewhere, for the test): */
@@ -60,6 +71,12 @@ size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double 
 size_t gap_candidates_scalar(const double *g0g1, const double *d, double d_one, size_t m,
                              const uint16_t *mask, const unsigned *blocks, size_t nblocks,
                              const uint8_t *bytes, unsigned *idx);
+void gap_half_pushes_scalar(size_t n, const double *y, const double *push, double *out);
+void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out);
+void gap_pushes_scalar(size_t count, const double *sum, const double *sq, const double *d,
+                       double d_one, double *ln_u);
+void gap_pushes_avx2(size_t count, const double *sum, const double *sq, const double *d,
+                     double d_one, double *ln_u);
 size_t gap_candidates_avx2(const double *g0g1, const double *d, double d_one, size_t m,
                            const uint16_t *mask, const unsigned *blocks, size_t nblocks,
                            const uint8_t *bytes, unsigned *idx);
