@@ -130,14 +130,14 @@ may_cross4(const double *restrict z, const double *restrict y, const double *res
     return (unsigned)_mm256_movemask_pd(may);
 }
 
-/* bridge_byte_candidate of gaps j .. j + 3 as four bits: the same operations lane by lane
- * (the bytes of the whole block are there, products only below j + valid) */
+/* bridge_byte_candidate of gaps j .. j + 3 as four bits, given 2^23 log2(e) / d_one for one
+ * species: the same operations lane by lane (the bytes of the whole block are there,
+ * products only below j + valid) */
 __attribute__((target("avx2,no-fma"))) static inline unsigned
-candidate4(const double *restrict g0g1, const double *restrict d, double d_one, size_t j, int valid,
-           const uint8_t *restrict bytes) {
+candidate4(const double *restrict g0g1, const double *restrict d, __m256d scale_one, size_t j,
+           int valid, const uint8_t *restrict bytes) {
     const double c = 0x1p23 * 1.4426950408889634; /* 2^23 log2(e) */
-    const __m256d scale =
-        d ? _mm256_div_pd(_mm256_set1_pd(c), load4(d + j, valid)) : _mm256_set1_pd(c / d_one);
+    const __m256d scale = d ? _mm256_div_pd(_mm256_set1_pd(c), load4(d + j, valid)) : scale_one;
     const __m256d e = _mm256_mul_pd(load4(g0g1 + j, valid), scale);
     int four;
     __builtin_memcpy(&four, bytes + j, sizeof four);
@@ -159,11 +159,11 @@ block_may_cross4(const double *restrict z, const double *restrict y, const doubl
 }
 
 __attribute__((target("avx2,no-fma"))) static inline unsigned
-block_candidates4(const double *restrict g0g1, const double *restrict d, double d_one, size_t j,
-                  int valid, const uint8_t *restrict bytes) {
+block_candidates4(const double *restrict g0g1, const double *restrict d, __m256d scale_one,
+                  size_t j, int valid, const uint8_t *restrict bytes) {
     unsigned bits = 0;
     for (int h = 0; h < GAP_BLOCK && h < valid; h += 4)
-        bits |= candidate4(g0g1, d, d_one, j + (size_t)h, valid - h, bytes) << h;
+        bits |= candidate4(g0g1, d, scale_one, j + (size_t)h, valid - h, bytes) << h;
     return bits;
 }
 
@@ -188,13 +188,14 @@ __attribute__((target("avx2,popcnt,no-fma"))) size_t
 gap_candidates_avx2(const double *restrict g0g1, const double *restrict d, double d_one, size_t m,
                     const uint16_t *restrict mask, const unsigned *restrict blocks, size_t nblocks,
                     const uint8_t *restrict bytes, unsigned *restrict idx) {
+    const __m256d scale_one = _mm256_set1_pd(0x1p23 * 1.4426950408889634 / d_one);
     size_t count = 0;
     for (size_t k = 0; k < nblocks; ++k) {
         const size_t b = blocks[k], j = GAP_BLOCK * b;
         const unsigned bits =
             mask[b] &
-            (j + GAP_BLOCK <= m ? block_candidates4(g0g1, d, d_one, j, GAP_BLOCK, bytes)
-                                : block_candidates4(g0g1, d, d_one, j, (int)(m - j), bytes));
+            (j + GAP_BLOCK <= m ? block_candidates4(g0g1, d, scale_one, j, GAP_BLOCK, bytes)
+                                : block_candidates4(g0g1, d, scale_one, j, (int)(m - j), bytes));
         /* count <= j, and idx has room for whole blocks: eight stores from count fit */
         count = store_places(bits & 0xffu, j, count, idx);
         count = store_places(bits >> 8, j + 8, count, idx);
