@@ -223,9 +223,116 @@ static void test_reflect_two_rods(void) {
     }
 }
 
+/* The reflect rule's pushes follow the law of the minimum m of the Brownian bridge of each
+ * gap from g0 to its free end g1 (relative diffusion D_rel dt = d): P(m < a) =
+ * exp(-(g0 - a)(g1 - a) / d) for a <= min(g0, g1). So a gap crosses with probability
+ * p = exp(-g0 g1 / d) (1 when g0 g1 <= 0), and for a crossing gap pushed by h = -m the
+ * probability transform w = exp(-(g0 + h)(g1 + h) / d) / p is uniform on (0, 1): its mean
+ * is 1/2 and its mean square 1/3, over all crossings and over the rare ones (p < 1/100, where
+ * the low digits of the uniform decide). Checked on every gap of every step, the positions reset
+ * before each step so that the start gaps run over closed ones, ones that cross often, rarely
+ * (most gaps near 0.1, where crossings with p < 1/100 come from) and (beyond the listing's
+ * bound, p < 2e-9) never: a ring of one species (2100 rods: two
+ * whole batches of gaps, a short one and the ring's last gap apart) and a mixture of two
+ * species between walls (the wall gaps with the rod's own D). Tolerances: 4 standard
+ * errors of the binomial count and of the uniform's moments (exact variances), fixed seeds. */
+static void test_reflect_bridge_law(int walls) {
+    enum { N = 2100, NG = 12 };
+    const double start_gaps[NG] = {0.0, 0.002, 0.01, 0.03, 0.06, 0.09,
+                                   0.1, 0.11,  0.12, 0.13, 0.2,  1.0};
+    const double sp_sigma[2] = {0.5, 0.3}, sp_d[2] = {1.0, 3.0}, dt = 1e-3;
+    const uint64_t steps = (uint64_t)(600 * run_scale());
+    int species[N];
+    double x[N], gap[N + 1];
+    double occupied = 0, pos = 0;
+    for (size_t i = 0; i <= N; ++i)
+        gap[i] = start_gaps[(i * 5 + i / NG) % NG]; /* gap i right of rod i; N: left wall */
+    if (walls) pos = gap[N];
+    for (size_t i = 0; i < N; ++i) {
+        species[i] = walls ? (int)(i % 3 == 0) : 0;
+        const double sg = walls ? sp_sigma[species[i]] : 0.5;
+        x[i] = pos + sg / 2;
+        pos += sg + gap[i];
+        occupied += sg;
+    }
+    hsbd_rods_params par = {.n = N,
+                            .length = pos,
+                            .sigma = 0.5,
+                            .diffusion = 1,
+                            .kT = 1,
+                            .dt = dt,
+                            .seed = walls ? 17 : 16,
+                            .hard_core = 1,
+                            .contact_rule = HSBD_CONTACT_REFLECT,
+                            .boundary = walls ? HSBD_RODS_WALLS : HSBD_RODS_PERIODIC};
+    if (walls) {
+        par.nspecies = 2;
+        par.species = species;
+        par.species_sigma = sp_sigma;
+        par.species_diffusion = sp_d;
+    }
+    hsbd_error err;
+    hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
+    CHECK(rods != NULL, "%s", err.message);
+    if (!rods) return;
+    const double lf = pos - occupied;
+    double crossed[2] = {0}, expected[2] = {0}, variance[2] = {0}, w1[2] = {0}, w2[2] = {0};
+    static double z0[N];
+    for (uint64_t s = 0; s < steps; ++s) {
+        CHECK(hsbd_rods_set_positions(rods, x, &err) == HSBD_OK, "%s", err.message);
+        hsbd_rods_view v = hsbd_rods_get_view(rods);
+        memcpy(z0, v.z, sizeof z0);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
+        v = hsbd_rods_get_view(rods);
+        for (size_t k = 0; k <= N; ++k) { /* gap k right of rod k; N: left wall (walls only) */
+            double g0, g1, mu_sum;
+            if (k + 1 < N) {
+                g0 = z0[k + 1] - z0[k], g1 = v.y[k + 1] - v.y[k];
+                mu_sum = v.species ? v.species_mobility[v.species[k]] +
+                                         v.species_mobility[v.species[k + 1]]
+                                   : 2 * v.mobility;
+            } else if (k + 1 == N && !walls) {
+                g0 = z0[0] + lf - z0[k], g1 = v.y[0] + lf - v.y[k], mu_sum = 2 * v.mobility;
+            } else if (k + 1 == N) {
+                g0 = lf - z0[k], g1 = lf - v.y[k], mu_sum = v.species_mobility[v.species[k]];
+            } else if (walls) {
+                g0 = z0[0], g1 = v.y[0], mu_sum = v.species_mobility[v.species[0]];
+            } else {
+                continue;
+            }
+            const double d = mu_sum * v.kT * dt, h = v.push[k];
+            const double p = g0 * g1 <= 0 ? 1.0 : exp(-g0 * g1 / d);
+            for (int rare = 0; rare <= (p < 0.01); ++rare) { /* all, then the rare ones */
+                expected[rare] += p, variance[rare] += p * (1 - p);
+                if (h > 0) {
+                    const double w = exp(-(g0 + h) * (g1 + h) / d) / p;
+                    crossed[rare] += 1, w1[rare] += w, w2[rare] += w * w;
+                }
+            }
+        }
+    }
+    for (int rare = 0; rare <= 1; ++rare) {
+        char what[64];
+        snprintf(what, sizeof what, "%s%s", walls ? "mixture between walls" : "ring",
+                 rare ? ", p < 1/100" : "");
+        const double n = crossed[rare], m1 = w1[rare] / n, m2 = w2[rare] / n;
+        printf("  reflect, %s: %.0f crossings, %.1f expected (+- %.1f); transform mean %.5f, "
+               "mean square %.5f\n",
+               what, n, expected[rare], sqrt(variance[rare]), m1, m2);
+        CHECK(fabs(n - expected[rare]) < 4 * sqrt(variance[rare]),
+              "%s: %.0f crossings, %.1f expected", what, n, expected[rare]);
+        CHECK(fabs(m1 - 0.5) < 4 * sqrt(1.0 / 12 / n), "%s: transform mean %.5f", what, m1);
+        CHECK(fabs(m2 - 1.0 / 3) < 4 * sqrt(4.0 / 45 / n), "%s: transform mean square %.5f", what,
+              m2);
+    }
+    hsbd_rods_free(rods);
+}
+
 int main(void) {
     printf("run scale %.2g\n", run_scale());
     test_reflect_two_rods();
+    test_reflect_bridge_law(0);
+    test_reflect_bridge_law(1);
     test_tonks_ring();
     test_short_time_msd();
     test_drift(0);
