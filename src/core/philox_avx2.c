@@ -164,19 +164,18 @@ void hsbd_philox_uniforms_at_avx2(uint64_t seed, uint32_t stream, uint64_t step,
 /* The 16 bytes of blocks base + block[k], k < valid <= 4 `groups`, to out + 16 block[k]: per
  * lane the words (v0, v1) and (v2, v3) as two 64-bit halves (least significant word first,
  * so the bytes come out in the order of src/core/rng.c), then one 16-byte store per block.
- * groups <= PHILOX_GROUPS is a constant at each call; a short run reads its offsets through
- * masks and stores its blocks only. */
+ * groups <= PHILOX_GROUPS is a constant at each call; a short run reads and stores its
+ * blocks only. The blocks are read one by one: the caller has just stored them one by one,
+ * and a vector load of four such stores waits for them to reach the cache. */
 static inline void philox_blocks(const philox_setup *s, uint64_t base, const unsigned *block,
                                  int groups, size_t valid, uint8_t *restrict out) {
     const int whole = valid == (size_t)(4 * groups);
     __m256i x[PHILOX_GROUPS][4];
     for (int g = 0; g < groups; ++g) {
-        const int *og = (const int *)(const void *)(block + 4 * g);
-        const __m128i below =
-            _mm_cmpgt_epi32(_mm_set1_epi32((int)valid - 4 * g), _mm_setr_epi32(0, 1, 2, 3));
-        const __m128i o = whole ? _mm_loadu_si128((const __m128i *)(const void *)og)
-                                : _mm_maskload_epi32(og, below);
-        x[g][0] = _mm256_add_epi64(_mm256_set1_epi64x((int64_t)base), _mm256_cvtepu32_epi64(o));
+        uint64_t c[4];
+        for (int l = 0; l < 4; ++l)
+            c[l] = base + (whole || (size_t)(4 * g + l) < valid ? block[4 * g + l] : 0u);
+        x[g][0] = _mm256_setr_epi64x((int64_t)c[0], (int64_t)c[1], (int64_t)c[2], (int64_t)c[3]);
         x[g][1] = s->step_lo;
         x[g][2] = s->step_hi;
         x[g][3] = s->stream;

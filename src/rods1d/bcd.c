@@ -32,9 +32,9 @@ struct hsbd_rods {
     double *friction;
     double *sp_sigma, *sp_diffusion, *sp_mobility, *sp_mu_dt, *sp_noise;
     double contact_tol; /* gaps below this count as contact in the diagnostics */
-    double *z;          /* contact-offset coordinates, in order along the line */
+    double *z;          /* contact-offset coordinates, in order along the line (n + 1) */
     double *offset;     /* z_i + offset_i = position (summed contact distances, docs) */
-    double *y;          /* free end points of the current step */
+    double *y;          /* free end points of the current step (n + 1) */
     int64_t wraps;      /* unwrapped = z + offset + wraps * L */
     uint64_t step;
     double time;                /* sum of the steps' dt */
@@ -172,9 +172,9 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     const size_t n = par->n;
     r->par = *par;
     r->walls = par->boundary == HSBD_RODS_WALLS;
-    r->z = calloc(n, sizeof *r->z);
+    r->z = calloc(n + 1, sizeof *r->z); /* + 1: rod 0 one ring further (reflect_gaps) */
     r->offset = malloc(n * sizeof *r->offset);
-    r->y = malloc(n * sizeof *r->y);
+    r->y = calloc(n + 1, sizeof *r->y);
     r->frag_v = malloc(n * sizeof *r->frag_v);
     if (par->nspecies > 0) r->frag_w = malloc(n * sizeof *r->frag_w);
     r->pava = hsbd_pava_alloc(n);
@@ -642,7 +642,8 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
     const double *dd = r->species ? d : NULL;
     if (r->species)
         for (size_t j = 0; j < m; ++j)
-            d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
+            d[j] =
+                (rod_mobility(r, first + j) + rod_mobility(r, (first + j + 1) % r->par.n)) * kt_dt;
     memset(push, 0, m * sizeof *push);
     const size_t nblocks = gap_blocks_may_cross(z, y, dd, d_one, m, mask, blocks, g0g1);
     if (nblocks == 0) return; /* the common case in small dilute systems */
@@ -685,12 +686,18 @@ static void take_half_pushes(const hsbd_rods *r, size_t lo, size_t hi, double *r
     if (lo < hi) gap_half_pushes(hi - lo, r->y + lo, r->push + lo, out + lo);
 }
 
-/* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at the last one, n - 2), in
- * batches of GAP_CHUNK from lo. With one species the rods between two gaps of a batch
- * take their halves at once, while the batch's end points and pushes are in cache; the
- * first rod of each batch waits for the batch before (take_batch_edges). */
+/* The rod-rod gaps the batches take: on a ring all n, the last one (rod n - 1 to rod 0) through
+ * the copies z[n], y[n] of rod 0 one ring further; between walls n - 1 (the walls' gaps apart). */
+static size_t batch_gaps(const hsbd_rods *r) {
+    return r->walls || r->par.n < 2 ? r->par.n - 1 : r->par.n;
+}
+
+/* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at batch_gaps), in batches of
+ * GAP_CHUNK from lo. With one species the rods between two gaps of a batch take their
+ * halves at once, while the batch's end points and pushes are in cache; the first rod of
+ * each batch waits for the batch before (take_batch_edges). */
 static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt, double *out) {
-    if (hi > r->par.n - 1) hi = r->par.n - 1;
+    if (hi > batch_gaps(r)) hi = batch_gaps(r);
     for (size_t first = lo; first < hi; first += GAP_CHUNK) {
         const size_t m = hi - first < GAP_CHUNK ? hi - first : GAP_CHUNK;
         push_gap_batch(r, first, m, kt_dt, r->push + first);
@@ -701,8 +708,18 @@ static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt, d
 /* One species: the first rod of every batch but the first (its left gap is the last of
  * the batch before) takes its halves. */
 static void take_batch_edges(const hsbd_rods *r, double *out) {
-    for (size_t first = GAP_CHUNK; first < r->par.n - 1; first += GAP_CHUNK)
+    for (size_t first = GAP_CHUNK; first < batch_gaps(r); first += GAP_CHUNK)
         take_half_pushes(r, first, first + 1, out);
+}
+
+/* The pushed end point of rod i from its two gaps' pushes, shared by the mobilities
+ * (push_share); a wall's gap is push[n] on the left, push[n - 1] on the right. */
+static void take_pushes(const hsbd_rods *r, size_t i, double *out) {
+    const size_t n = r->par.n, il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
+    const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
+    const double left = r->push[wall_left ? n : il], right = r->push[i];
+    out[i] = r->y[i] + left * push_share(r, i, wall_left ? i : il) -
+             right * push_share(r, i, wall_right ? i : ir);
 }
 
 /* Reflect rule: for every gap that may have touched zero during the step, draw the
@@ -713,44 +730,44 @@ static void take_batch_edges(const hsbd_rods *r, double *out) {
  * free end points of all gaps first, so the result does not depend on the order. The
  * pushed end points go to out: r->ypush, or z itself (see hsbd_rods_step). Each batch
  * writes the rods between its gaps only after its own pushes, and no batch reads the
- * positions of another's rods but the first (written last, by take_batch_edges), so out
- * may be z on threads too. */
+ * positions of another's rods but the first (written last, by take_batch_edges) and the
+ * copy of rod 0, so out may be z on threads too. */
 static void reflect_gaps(hsbd_rods *r, double *out) {
-    const size_t n = r->par.n;
+    const size_t n = r->par.n, gaps = batch_gaps(r);
     const double kt_dt = r->par.kT * r->par.dt, lf = r->free_length;
-    const uint64_t seed = r->par.seed, step = r->step;
-    const double *z = r->z, *y = r->y;
     double *push = r->push;
-    /* interior rods of one species take half of each neighbouring push (the batches) */
-    const size_t first_general = r->species ? n : 1;
+    if (!r->walls) { /* rod 0 one ring further: the ring's last gap in the last batch */
+        r->z[n] = r->z[0] + lf;
+        r->y[n] = r->y[0] + lf;
+    }
     const int threads = step_threads(r, n);
     if (threads > 1) {
-        const long nbatches = (long)((n - 1 + GAP_CHUNK - 1) / GAP_CHUNK);
+        const long nbatches = (long)((gaps + GAP_CHUNK - 1) / GAP_CHUNK);
 #pragma omp parallel for schedule(static) num_threads(threads)
         for (long b = 0; b < nbatches; ++b)
             push_gap_batches(r, (size_t)b * GAP_CHUNK, (size_t)(b + 1) * GAP_CHUNK, kt_dt, out);
     } else {
-        push_gap_batches(r, 0, n - 1, kt_dt, out);
+        push_gap_batches(r, 0, gaps, kt_dt, out);
     }
     if (!r->species) take_batch_edges(r, out);
     if (r->walls) { /* the rod's own D against each wall */
+        const double *z = r->z, *y = r->y;
+        const uint64_t seed = r->par.seed, step = r->step;
         const double d_last = rod_mobility(r, n - 1) * kt_dt, d_first = rod_mobility(r, 0) * kt_dt;
         push[n - 1] = bridge_push(lf - z[n - 1], lf - y[n - 1], d_last, seed, step, n - 1);
         push[n] = bridge_push(z[0], y[0], d_first, seed, step, n);
     } else {
-        const double d_rel_dt = (rod_mobility(r, n - 1) + rod_mobility(r, 0)) * kt_dt;
-        push[n - 1] = n > 1 ? bridge_push(z[0] + lf - z[n - 1], y[0] + lf - y[n - 1], d_rel_dt,
-                                          seed, step, n - 1)
-                            : 0.0;
+        if (n < 2) push[0] = 0.0; /* one rod on a ring: no gap */
         push[n] = 0.0;
     }
-    /* the rods the halves above left out: all of a mixture, else the two at the ends */
-    for (size_t i = 0; i < n; i = i + 1 < first_general || i + 1 == n ? i + 1 : n - 1) {
-        const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
-        const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
-        const double left = push[wall_left ? n : il], right = push[i];
-        out[i] = y[i] + left * push_share(r, i, wall_left ? i : il) -
-                 right * push_share(r, i, wall_right ? i : ir);
+    /* the rods the batches left out: all of a mixture, else rod 0 and, between walls, the
+     * last rod */
+    if (r->species) {
+        for (size_t i = 0; i < n; ++i)
+            take_pushes(r, i, out);
+    } else {
+        take_pushes(r, 0, out);
+        if (r->walls && n > 1) take_pushes(r, n - 1, out);
     }
 }
 

@@ -196,6 +196,7 @@ gap_candidates_avx2(const double *restrict g0g1, const double *restrict d, doubl
             mask[b] &
             (j + GAP_BLOCK <= m ? block_candidates4(g0g1, d, scale_one, j, GAP_BLOCK, bytes)
                                 : block_candidates4(g0g1, d, scale_one, j, (int)(m - j), bytes));
+        if (!bits) continue; /* no candidate: the common block in dilute systems */
         /* count <= j, and idx has room for whole blocks: eight stores from count fit */
         count = store_places(bits & 0xffu, j, count, idx);
         count = store_places(bits >> 8, j + 8, count, idx);
