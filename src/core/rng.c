@@ -115,3 +115,17 @@ void hsbd_rng_bytes_at(uint64_t seed, uint32_t stream, uint64_t step, uint64_t b
             b[i] = (uint8_t)(r.v[i / 4] >> (8 * (i % 4)));
     }
 }
+
+void hsbd_rng_bytes_and_four(uint64_t seed, uint64_t step, uint32_t byte_stream, uint64_t base,
+                             const unsigned *block, size_t n, uint8_t *out, uint32_t uniform_stream,
+                             uint64_t index, double *four) {
+#if defined(__x86_64__)
+    if (hsbd_cpu_has_avx2() && n <= 8) {
+        hsbd_philox_bytes_and_four_avx2(seed, step, byte_stream, base, block, n, out,
+                                        uniform_stream, index, four);
+        return;
+    }
+#endif
+    hsbd_rng_bytes_at(seed, byte_stream, step, base, block, n, out);
+    hsbd_rng_uniforms(seed, uniform_stream, step, index, 4, four);
+}

@@ -13,6 +13,8 @@
 #include "rods1d/gaps.h"
 
 enum { STEP_CHUNK = 256 }; /* rods per inner batch; even, so RNG pairs align */
+enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; a multiple of GAP_BLOCK */
+enum { EARLY_GAPS = 8 * GAP_BLOCK, EARLY_DIGITS = 4 }; /* see push_gap_batch */
 
 /* clusters starting in a part of the ring and the fragments they split into; a cluster
  * longer than the part's regression holds is left for later (at most one per part) */
@@ -49,8 +51,9 @@ struct hsbd_rods {
     double *push;               /* reflect rule: push per gap in the last step (N + 1 gaps) */
     size_t wall_blocks[2];      /* walls: regression blocks clamped to the left / right wall */
     size_t pava_blocks;         /* walls: blocks of the last regression */
-    double *ypush; /* reflect rule: end points after the pushes (the regression's input) */
-    double *fpair; /* pair forces of the step (NULL without pair terms) */
+    double *ypush;         /* reflect rule: end points after the pushes (the regression's input) */
+    uint8_t *batch_listed; /* reflect rule: blocks each batch listed in its last step (<= 255) */
+    double *fpair;         /* pair forces of the step (NULL without pair terms) */
     double pair_range;
 };
 
@@ -182,6 +185,7 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     if (par->contact_rule == HSBD_CONTACT_REFLECT) {
         r->push = calloc(n + 1, sizeof *r->push);
         r->ypush = malloc(n * sizeof *r->ypush);
+        r->batch_listed = calloc(n / GAP_CHUNK + 1, sizeof *r->batch_listed);
     }
     r->pair_range = hsbd_pair_range(&par->pair);
     if (par->pair.nterms > 0) r->fpair = malloc(n * sizeof *r->fpair);
@@ -189,7 +193,8 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     if (!species_ok) species_ok = alloc_species(r, par) == 0;
     if (!species_ok || !r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
         (par->nspecies > 0 && !r->frag_w) || alloc_fragment_parts(r) != 0 ||
-        (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush)) ||
+        (par->contact_rule == HSBD_CONTACT_REFLECT &&
+         (!r->push || !r->ypush || !r->batch_listed)) ||
         (par->pair.nterms > 0 && !r->fpair)) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
@@ -218,6 +223,7 @@ void hsbd_rods_free(hsbd_rods *r) {
     free(r->frag_count);
     free(r->push);
     free(r->ypush);
+    free(r->batch_listed);
     free(r->fpair);
     free(r->species);
     free(r->friction);
@@ -618,8 +624,6 @@ static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, 
     return u;
 }
 
-enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; a multiple of GAP_BLOCK */
-
 /* 0, 1, 2, ...: the indices of the first candidates' low digits, relative to the batch */
 static const unsigned counting[3 * GAP_BLOCK] = {
     0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23,
@@ -631,7 +635,7 @@ static const unsigned counting[3 * GAP_BLOCK] = {
  * candidates among the gaps that may cross (byte below the bound), then for these alone the
  * low digits (the k-th candidate of the batch takes the uniform of index first + k), the
  * logarithms (vectorised) and the bridge minima. */
-static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
+static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
                            double *restrict push) {
     double u[GAP_CHUNK], d[GAP_CHUNK], g0g1[GAP_CHUNK], sq[GAP_CHUNK];
     unsigned blocks[GAP_CHUNK / GAP_BLOCK], idx[GAP_CHUNK];
@@ -645,17 +649,29 @@ static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt
             d[j] =
                 (rod_mobility(r, first + j) + rod_mobility(r, (first + j + 1) % r->par.n)) * kt_dt;
     memset(push, 0, m * sizeof *push);
+    const uint64_t seed = r->par.seed, step = r->step;
+    /* A short batch that listed gaps in its last step draws its bytes and first low digits
+     * before the tests: the generator's chain of multiplies (latency) then runs beside them. */
+    uint8_t *listed_last = &r->batch_listed[first / GAP_CHUNK];
+    const size_t early = m <= EARLY_GAPS && *listed_last ? EARLY_DIGITS : 0;
+    if (early)
+        hsbd_rng_bytes_and_four(seed, step, HSBD_STREAM_CONTACT, first / GAP_BLOCK, counting,
+                                (m + GAP_BLOCK - 1) / GAP_BLOCK, bytes, HSBD_STREAM_CONTACT_DEPTH,
+                                first, u);
     const size_t nblocks = gap_blocks_may_cross(z, y, dd, d_one, m, mask, blocks, g0g1);
+    *listed_last = (uint8_t)(nblocks < 255 ? nblocks : 255);
     if (nblocks == 0) return; /* the common case in small dilute systems */
-    hsbd_rng_bytes_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first / GAP_BLOCK, blocks, nblocks,
-                      bytes);
+    if (!early)
+        hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, first / GAP_BLOCK, blocks, nblocks,
+                          bytes);
     const size_t count = gap_candidates(g0g1, dd, d_one, m, mask, blocks, nblocks, bytes, idx);
     if (count == 0) return;
-    if (count > 3 * GAP_BLOCK) /* a run of counters, two uniforms each */
-        hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT_DEPTH, r->step, first, count, u);
-    else /* few: one counter each, the same numbers (less to set up than a run) */
-        hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT_DEPTH, r->step, first, counting,
-                             count, u);
+    if (count > early + 3 * GAP_BLOCK) /* a run of counters, two uniforms each */
+        hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT_DEPTH, step, first + early, count - early,
+                          u + early);
+    else if (count > early) /* few: one counter each, the same numbers (less to set up) */
+        hsbd_rng_uniforms_at(seed, HSBD_STREAM_CONTACT_DEPTH, step, first + early, counting,
+                             count - early, u + early);
     double *sum = g0g1; /* the products are used up; the candidates' values packed in order */
     for (size_t k = 0; k < count; ++k) {
         const size_t j = idx[k]; /* >= k: d[j] is read before d[k] is written */
