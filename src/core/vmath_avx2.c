@@ -53,12 +53,12 @@ void hsbd_vmath_scaled_sinpi_avx2(size_t n, const double *restrict t, double sca
 void hsbd_vmath_log_avx2(size_t n, double *x) {
     size_t i = 0;
     for (; i + 4 <= n; i += 4)
-        _mm256_storeu_pd(x + i, Sleef_logd4_u10avx2(_mm256_loadu_pd(x + i)));
+        _mm256_storeu_pd(x + i, Sleef_logd4_u35avx2(_mm256_loadu_pd(x + i)));
     if (i < n) { /* the tail through a padded vector: one function for every element */
         double pad[4] = {1, 1, 1, 1};
         for (size_t j = i; j < n; ++j)
             pad[j - i] = x[j];
-        _mm256_storeu_pd(pad, Sleef_logd4_u10avx2(_mm256_loadu_pd(pad)));
+        _mm256_storeu_pd(pad, Sleef_logd4_u35avx2(_mm256_loadu_pd(pad)));
         for (size_t j = i; j < n; ++j)
             x[j] = pad[j - i];
     }

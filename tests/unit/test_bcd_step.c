@@ -11,7 +11,9 @@
 #include "hsbd/isotonic.h"
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
+#include "core/serial.h"
 #include "core/vmath.h"
+#include "rods1d/checkpoint.h"
 #include "rods1d/gaps.h"
 
 enum { NMAX = 12 };
@@ -406,6 +408,58 @@ static void test_reflect_in_place(int boundary, int threads) {
     hsbd_rods_free(in_place);
 }
 
+/* A short batch of gaps that listed gaps in its last step draws its random bytes and first
+ * low digits before its tests, in one call (push_gap_batch); a fresh system, which has no
+ * last step, draws them after: both must give the same bits. A dense ring of 100 rods (one
+ * short batch, gaps listed every step) is stepped on; before each step its state is loaded
+ * into a fresh system, stepped once beside it, and positions, free end points and pushes
+ * compared. */
+static void test_reflect_early_draws(void) {
+    hsbd_rods_params par = {.n = 100,
+                            .length = 100.0,
+                            .sigma = 0.9,
+                            .diffusion = 1,
+                            .kT = 1,
+                            .dt = 1e-3,
+                            .seed = 23,
+                            .hard_core = 1,
+                            .contact_rule = HSBD_CONTACT_REFLECT};
+    hsbd_field_add(&par.field, hsbd_field_cosine(6.0, 1.0));
+    hsbd_error err;
+    hsbd_rods *on = hsbd_rods_alloc(&par, &err);
+    if (!on) {
+        CHECK(0, "alloc");
+        return;
+    }
+    hsbd_rods_init_equilibrium(on);
+    int same = 1, first_diff = -1;
+    size_t pushed = 0;
+    for (int s = 0; s < 200 && same; ++s) {
+        hsbd_writer w;
+        hsbd_writer_init(&w);
+        hsbd_rods_save(on, &w);
+        hsbd_reader rd;
+        hsbd_reader_init(&rd, w.data, w.len);
+        hsbd_rods *fresh = hsbd_rods_alloc(&par, &err);
+        CHECK(fresh && hsbd_rods_load(fresh, &rd) == 0, "load at step %d", s);
+        hsbd_writer_free(&w);
+        if (!fresh) break;
+        hsbd_rods_step(on, NULL);
+        hsbd_rods_step(fresh, NULL);
+        const hsbd_rods_view a = hsbd_rods_get_view(on), b = hsbd_rods_get_view(fresh);
+        same = memcmp(a.z, b.z, par.n * sizeof *a.z) == 0 &&
+               memcmp(a.y, b.y, par.n * sizeof *a.y) == 0 &&
+               memcmp(a.push, b.push, (par.n + 1) * sizeof *a.push) == 0;
+        if (!same) first_diff = s;
+        for (size_t i = 0; i <= par.n; ++i)
+            pushed += a.push[i] > 0;
+        hsbd_rods_free(fresh);
+    }
+    CHECK(same, "early draws differ from late ones at step %d", first_diff);
+    CHECK(pushed > 1000, "only %zu pushes in 200 steps", pushed);
+    hsbd_rods_free(on);
+}
+
 /* The library's default contact rule (a zero-initialised parameter struct) is the one the
  * CLI's configuration defaults to: a benchmark or a library user then times and runs what
  * `hsbd run` runs (the library once defaulted to the paper's sticky rule). */
@@ -555,6 +609,7 @@ int main(void) {
     test_gap_passes();
     test_byte_candidate_bound();
     test_default_contact_rule();
+    test_reflect_early_draws();
     test_fragmentation_brute_force();
     test_ring_step_vs_oracle();
     test_library_step_vs_oracle();

@@ -123,6 +123,25 @@ static void test_bytes_at_match_random123(void) {
         }
 }
 
+/* bytes and four uniforms in one call (the reflect rule's short batches) are those of the two
+ * calls apart: one to eight blocks, even and odd first indices */
+static void test_bytes_and_four(void) {
+    const unsigned block[8] = {5, 0, 7, 2, 9, 1, 3, 11};
+    int bad = 0;
+    for (size_t n = 1; n <= 8; ++n)
+        for (uint64_t index = 1022; index <= 1025; ++index) {
+            uint8_t got[16 * 12], want[16 * 12];
+            double four[4], want_four[4];
+            memset(got, 0, sizeof got), memset(want, 0, sizeof want);
+            hsbd_rng_bytes_and_four(9, 44, HSBD_STREAM_CONTACT, 100, block, n, got,
+                                    HSBD_STREAM_CONTACT_DEPTH, index, four);
+            hsbd_rng_bytes_at(9, HSBD_STREAM_CONTACT, 44, 100, block, n, want);
+            hsbd_rng_uniforms(9, HSBD_STREAM_CONTACT_DEPTH, 44, index, 4, want_four);
+            bad += memcmp(got, want, sizeof got) != 0 || memcmp(four, want_four, sizeof four) != 0;
+        }
+    CHECK(bad == 0, "%d of 32 calls differ from the two calls apart", bad);
+}
+
 static void test_normal_moments(void) {
     static double g[NDRAW];
     hsbd_rng_normals(123456789, HSBD_STREAM_NOISE, 1, 0, NDRAW, g);
@@ -201,6 +220,7 @@ int main(void) {
     test_uniforms_match_random123();
     test_uniforms_at_listed_indices();
     test_bytes_at_match_random123();
+    test_bytes_and_four();
     test_normal_moments();
     test_uniform_moments();
     test_vector_math_matches_libm();
