@@ -658,13 +658,17 @@ static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
         hsbd_rng_bytes_and_four(seed, step, HSBD_STREAM_CONTACT, first / GAP_BLOCK, counting,
                                 (m + GAP_BLOCK - 1) / GAP_BLOCK, bytes, HSBD_STREAM_CONTACT_DEPTH,
                                 first, u);
-    const size_t nblocks = gap_blocks_may_cross(z, y, dd, d_one, m, mask, blocks, g0g1);
-    *listed_last = (uint8_t)(nblocks < 255 ? nblocks : 255);
-    if (nblocks == 0) return; /* the common case in small dilute systems */
-    if (!early)
-        hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, first / GAP_BLOCK, blocks, nblocks,
-                          bytes);
-    const size_t count = gap_candidates(g0g1, dd, d_one, m, mask, blocks, nblocks, bytes, idx);
+    size_t count, listed;
+    if (early) { /* every block's bytes at hand: both tests in one pass */
+        count = gap_candidates_all(z, y, dd, d_one, m, bytes, idx, &listed);
+    } else {
+        listed = gap_blocks_may_cross(z, y, dd, d_one, m, mask, blocks, g0g1);
+        if (listed > 0)
+            hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, first / GAP_BLOCK, blocks, listed,
+                              bytes);
+        count = listed ? gap_candidates(g0g1, dd, d_one, m, mask, blocks, listed, bytes, idx) : 0;
+    }
+    *listed_last = (uint8_t)(listed < 255 ? listed : 255);
     if (count == 0) return;
     if (count > early + 3 * GAP_BLOCK) /* a run of counters, two uniforms each */
         hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT_DEPTH, step, first + early, count - early,

@@ -53,6 +53,24 @@ size_t gap_candidates_scalar(const double *g0g1, const double *d, double d_one, 
     return count;
 }
 
+size_t gap_candidates_all_scalar(const double *z, const double *y, const double *d, double d_one,
+                                 size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed) {
+    size_t count = 0;
+    *listed = 0;
+    for (size_t j0 = 0; j0 < m; j0 += GAP_BLOCK) {
+        int any = 0;
+        for (size_t j = j0; j < m && j < j0 + GAP_BLOCK; ++j) {
+            const double g0 = z[j + 1] - z[j], g1 = y[j + 1] - y[j], dj = d ? d[j] : d_one;
+            const int may = bridge_may_cross(g0, g1, dj);
+            any |= may;
+            idx[count] = (unsigned)j;
+            count += (size_t)(may & bridge_byte_candidate(g0 * g1, dj, bytes[j]));
+        }
+        *listed += (size_t)any;
+    }
+    return count;
+}
+
 /* the push of one gap (gap_pushes), -m or 0 */
 static inline double bridge_push_of(double sum, double sq, double d_rel_dt, double ln_u) {
     const double push = 0.5 * (sqrt(sq - 4.0 * d_rel_dt * ln_u) - sum); /* -m, Skorokhod */
@@ -130,21 +148,48 @@ may_cross4(const double *restrict z, const double *restrict y, const double *res
     return (unsigned)_mm256_movemask_pd(may);
 }
 
-/* bridge_byte_candidate of gaps j .. j + 3 as four bits, given 2^23 log2(e) / d_one for one
- * species: the same operations lane by lane (the bytes of the whole block are there,
- * products only below j + valid) */
+/* bridge_byte_candidate of four gaps, given their products, their 2^23 log2(e) / D_rel dt and
+ * their bytes: the same operations lane by lane */
 __attribute__((target("avx2,no-fma"))) static inline unsigned
-candidate4(const double *restrict g0g1, const double *restrict d, __m256d scale_one, size_t j,
-           int valid, const uint8_t *restrict bytes) {
-    const double c = 0x1p23 * 1.4426950408889634; /* 2^23 log2(e) */
-    const __m256d scale = d ? _mm256_div_pd(_mm256_set1_pd(c), load4(d + j, valid)) : scale_one;
-    const __m256d e = _mm256_mul_pd(load4(g0g1 + j, valid), scale);
+candidate_of(__m256d product, __m256d scale, const uint8_t *restrict bytes) {
+    const __m256d e = _mm256_mul_pd(product, scale);
     int four;
-    __builtin_memcpy(&four, bytes + j, sizeof four);
+    __builtin_memcpy(&four, bytes, sizeof four);
     const __m128 b = _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(four)));
     const __m256d bits = _mm256_cvtepi32_pd(_mm_castps_si128(b)); /* < 2^31: exact */
     return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(
         _mm256_add_pd(e, bits), _mm256_set1_pd(0x1p23 * (135.0 + 0x1p-16)), _CMP_LT_OQ));
+}
+
+/* 2^23 log2(e) / D_rel dt of gaps j .. j + 3: per gap, or scale_one for one species */
+__attribute__((target("avx2,no-fma"))) static inline __m256d
+candidate_scale(const double *restrict d, __m256d scale_one, size_t j, int valid) {
+    return d ? _mm256_div_pd(_mm256_set1_pd(0x1p23 * 1.4426950408889634), load4(d + j, valid))
+             : scale_one;
+}
+
+/* bridge_byte_candidate of gaps j .. j + 3 as four bits, from their stored products (the
+ * bytes of the whole block are there, products only below j + valid) */
+__attribute__((target("avx2,no-fma"))) static inline unsigned
+candidate4(const double *restrict g0g1, const double *restrict d, __m256d scale_one, size_t j,
+           int valid, const uint8_t *restrict bytes) {
+    return candidate_of(load4(g0g1 + j, valid), candidate_scale(d, scale_one, j, valid), bytes + j);
+}
+
+/* both tests of gaps j .. j + 3 from the positions: the may-cross bits into *may, the
+ * candidates returned (gap_candidates_all) */
+__attribute__((target("avx2,no-fma"))) static inline unsigned
+both4(const double *restrict z, const double *restrict y, const double *restrict d, double d_one,
+      __m256d scale_one, size_t j, int valid, const uint8_t *restrict bytes, unsigned *may) {
+    const __m256d g0 = _mm256_sub_pd(load4(z + j + 1, valid), load4(z + j, valid));
+    const __m256d g1 = _mm256_sub_pd(load4(y + j + 1, valid), load4(y + j, valid));
+    const __m256d dj = d ? load4(d + j, valid) : _mm256_set1_pd(d_one);
+    const __m256d product = _mm256_mul_pd(g0, g1);
+    const __m256d may_cross = /* !(g1 > 0) | !(g0 g1 > 20 d) */
+        _mm256_or_pd(_mm256_cmp_pd(g1, _mm256_setzero_pd(), _CMP_NGT_UQ),
+                     _mm256_cmp_pd(product, _mm256_mul_pd(_mm256_set1_pd(20.0), dj), _CMP_NGT_UQ));
+    *may = (unsigned)_mm256_movemask_pd(may_cross);
+    return *may & candidate_of(product, candidate_scale(d, scale_one, j, valid), bytes + j);
 }
 
 /* the bits of the gaps j = GAP_BLOCK b .. j + valid - 1 of a block (valid <= GAP_BLOCK, the
@@ -167,8 +212,8 @@ block_candidates4(const double *restrict g0g1, const double *restrict d, __m256d
     return bits;
 }
 
-__attribute__((target("avx2,popcnt,no-fma"))) size_t
-gap_blocks_may_cross_avx2(const double *restrict z, const double *restrict y,
+__attribute__((target("avx2,popcnt,no-fma"), always_inline)) static inline size_t
+gap_blocks_may_cross_with(const double *restrict z, const double *restrict y,
                           const double *restrict d, double d_one, size_t m, uint16_t *restrict mask,
                           unsigned *restrict blocks, double *restrict g0g1) {
     size_t count = 0, b = 0;
@@ -184,8 +229,17 @@ gap_blocks_may_cross_avx2(const double *restrict z, const double *restrict y,
     return count;
 }
 
+/* one species (d NULL) and mixtures in two copies: no test of d per vector */
 __attribute__((target("avx2,popcnt,no-fma"))) size_t
-gap_candidates_avx2(const double *restrict g0g1, const double *restrict d, double d_one, size_t m,
+gap_blocks_may_cross_avx2(const double *restrict z, const double *restrict y,
+                          const double *restrict d, double d_one, size_t m, uint16_t *restrict mask,
+                          unsigned *restrict blocks, double *restrict g0g1) {
+    return d ? gap_blocks_may_cross_with(z, y, d, d_one, m, mask, blocks, g0g1)
+             : gap_blocks_may_cross_with(z, y, NULL, d_one, m, mask, blocks, g0g1);
+}
+
+__attribute__((target("avx2,popcnt,no-fma"), always_inline)) static inline size_t
+gap_candidates_with(const double *restrict g0g1, const double *restrict d, double d_one, size_t m,
                     const uint16_t *restrict mask, const unsigned *restrict blocks, size_t nblocks,
                     const uint8_t *restrict bytes, unsigned *restrict idx) {
     const __m256d scale_one = _mm256_set1_pd(0x1p23 * 1.4426950408889634 / d_one);
@@ -203,6 +257,56 @@ gap_candidates_avx2(const double *restrict g0g1, const double *restrict d, doubl
     }
     return count;
 }
+
+/* one species (d NULL) and mixtures in two copies: no test of d per vector */
+__attribute__((target("avx2,popcnt,no-fma"))) size_t
+gap_candidates_avx2(const double *restrict g0g1, const double *restrict d, double d_one, size_t m,
+                    const uint16_t *restrict mask, const unsigned *restrict blocks, size_t nblocks,
+                    const uint8_t *restrict bytes, unsigned *restrict idx) {
+    return d ? gap_candidates_with(g0g1, d, d_one, m, mask, blocks, nblocks, bytes, idx)
+             : gap_candidates_with(g0g1, NULL, d_one, m, mask, blocks, nblocks, bytes, idx);
+}
+__attribute__((target("avx2,popcnt,no-fma"), always_inline)) static inline size_t
+gap_candidates_all_with(const double *restrict z, const double *restrict y,
+                        const double *restrict d, double d_one, size_t m,
+                        const uint8_t *restrict bytes, unsigned *restrict idx, size_t *listed) {
+    const __m256d scale_one = _mm256_set1_pd(0x1p23 * 1.4426950408889634 / d_one);
+    size_t count = 0, blocks = 0;
+    for (size_t j = 0; j < m; j += GAP_BLOCK) {
+        unsigned bits = 0, may = 0, may4;
+        if (j + GAP_BLOCK <= m) { /* a whole block: four vectors, unrolled */
+            for (int h = 0; h < GAP_BLOCK; h += 4) {
+                bits |= both4(z, y, d, d_one, scale_one, j + (size_t)h, 4, bytes, &may4) << h;
+                may |= may4 << h;
+            }
+        } else { /* a short last block */
+            const int valid = (int)(m - j);
+            for (int h = 0; h < valid; h += 4) {
+                bits |= both4(z, y, d, d_one, scale_one, j + (size_t)h, valid - h, bytes, &may4)
+                        << h;
+                may |= may4 << h;
+            }
+            bits &= (1u << valid) - 1u;
+            may &= (1u << valid) - 1u;
+        }
+        blocks += may != 0;
+        if (!bits) continue;
+        count = store_places(bits & 0xffu, j, count, idx);
+        count = store_places(bits >> 8, j + 8, count, idx);
+    }
+    *listed = blocks;
+    return count;
+}
+
+/* one species (d NULL) and mixtures in two copies: no test of d per vector */
+__attribute__((target("avx2,popcnt,no-fma"))) size_t
+gap_candidates_all_avx2(const double *restrict z, const double *restrict y,
+                        const double *restrict d, double d_one, size_t m,
+                        const uint8_t *restrict bytes, unsigned *restrict idx, size_t *listed) {
+    return d ? gap_candidates_all_with(z, y, d, d_one, m, bytes, idx, listed)
+             : gap_candidates_all_with(z, y, NULL, d_one, m, bytes, idx, listed);
+}
+
 __attribute__((target("avx2,no-fma"))) void gap_pushes_avx2(size_t count, const double *sum,
                                                             const double *sq, const double *d,
                                                             double d_one, double *ln_u) {
@@ -237,6 +341,10 @@ void gap_pushes_avx2(size_t count, const double *sum, const double *sq, const do
 }
 void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out) {
     gap_half_pushes_scalar(n, y, push, out);
+}
+size_t gap_candidates_all_avx2(const double *z, const double *y, const double *d, double d_one,
+                               size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed) {
+    return gap_candidates_all_scalar(z, y, d, d_one, m, bytes, idx, listed);
 }
 size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double *d, double d_one,
                                  size_t m, uint16_t *mask, unsigned *blocks, double *g0g1) {
@@ -290,4 +398,12 @@ void gap_half_pushes(size_t n, const double *y, const double *push, double *out)
     }
 #endif
     gap_half_pushes_scalar(n, y, push, out);
+}
+
+size_t gap_candidates_all(const double *z, const double *y, const double *d, double d_one, size_t m,
+                          const uint8_t *bytes, unsigned *idx, size_t *listed) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (hsbd_cpu_has_avx2()) return gap_candidates_all_avx2(z, y, d, d_one, m, bytes, idx, listed);
+#endif
+    return gap_candidates_all_scalar(z, y, d, d_one, m, bytes, idx, listed);
 }

@@ -52,6 +52,13 @@ size_t gap_candidates(const double *g0g1, const double *d, double d_one, size_t 
                       const uint16_t *mask, const unsigned *blocks, size_t nblocks,
                       const uint8_t *bytes, unsigned *idx);
 
+/* Both at once for all gaps j < m, given the bytes of every block: the candidates of
+ * gap_blocks_may_cross then gap_candidates, in order into idx[] (room for m rounded up to a
+ * whole block); returns their number, and in *listed the number of blocks that hold a gap
+ * that may cross. */
+size_t gap_candidates_all(const double *z, const double *y, const double *d, double d_one, size_t m,
+                          const uint8_t *bytes, unsigned *idx, size_t *listed);
+
 /* The pushes -m > 0 of `count` gaps (0 where the bridge minimum m >= 0), in place of their
  * ln U: m = (a - sqrt(s - 4 D_rel dt ln U)) / 2 from their sums a = g0 + g1, squared
  * differences s = (g1 - g0)^2 and D_rel dt (d[k], or d_one when d is NULL). */
@@ -71,6 +78,10 @@ size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double 
 size_t gap_candidates_scalar(const double *g0g1, const double *d, double d_one, size_t m,
                              const uint16_t *mask, const unsigned *blocks, size_t nblocks,
                              const uint8_t *bytes, unsigned *idx);
+size_t gap_candidates_all_scalar(const double *z, const double *y, const double *d, double d_one,
+                                 size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed);
+size_t gap_candidates_all_avx2(const double *z, const double *y, const double *d, double d_one,
+                               size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed);
 void gap_half_pushes_scalar(size_t n, const double *y, const double *push, double *out);
 void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out);
 void gap_pushes_scalar(size_t count, const double *sum, const double *sq, const double *d,
