@@ -629,37 +629,40 @@ static const unsigned counting[3 * GAP_BLOCK] = {
     0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23,
     24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47};
 
-/* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1; first a
- * multiple of GAP_CHUNK), with the uniforms of bridge_push: the blocks of GAP_BLOCK gaps that
- * hold a gap that may cross (gaps.h), their random bytes (one Philox counter per block), the
- * candidates among the gaps that may cross (byte below the bound), then for these alone the
- * low digits (the k-th candidate of the batch takes the uniform of index first + k), the
- * logarithms (vectorised) and the bridge minima. */
+/* Pushes of the rod-rod gaps first .. first+m-1 (first a multiple of GAP_CHUNK), with the
+ * uniforms of bridge_push: the candidates among the gaps that may cross (gaps.h), then for
+ * these alone the low digits (the k-th candidate of the batch takes the uniform of index
+ * first + k), the logarithms (vectorised) and the bridge minima. The candidates come in one
+ * of two ways, with the same answer: a short batch (m <= EARLY_GAPS) that listed gaps in its
+ * last step draws the bytes of all its blocks and its first four low digits first, in one
+ * generator call whose chain of multiplies runs beside the tests, and makes both tests in one
+ * pass; any other lists the blocks of GAP_BLOCK gaps that hold a gap that may cross, then
+ * draws their bytes alone (one Philox counter per block). The batch notes how many blocks it
+ * listed (its own entry: no race on threads). With one species (out not NULL) the rods
+ * between two of its gaps take half of each push into out at once, while the batch is in
+ * cache (z is read no more by then, so out may be z). */
 static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
-                           double *restrict push) {
+                           double *restrict push, double *out) {
     double u[GAP_CHUNK], d[GAP_CHUNK], g0g1[GAP_CHUNK], sq[GAP_CHUNK];
     unsigned blocks[GAP_CHUNK / GAP_BLOCK], idx[GAP_CHUNK];
     uint16_t mask[GAP_CHUNK / GAP_BLOCK];
     uint8_t bytes[GAP_CHUNK];
-    const double *restrict z = r->z + first, *restrict y = r->y + first;
+    const double *z = r->z + first, *y = r->y + first;
     const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
-    const double *dd = r->species ? d : NULL;
+    double *dd = r->species ? d : NULL;
     if (r->species)
         for (size_t j = 0; j < m; ++j)
             d[j] =
                 (rod_mobility(r, first + j) + rod_mobility(r, (first + j + 1) % r->par.n)) * kt_dt;
     memset(push, 0, m * sizeof *push);
     const uint64_t seed = r->par.seed, step = r->step;
-    /* A short batch that listed gaps in its last step draws its bytes and first low digits
-     * before the tests: the generator's chain of multiplies (latency) then runs beside them. */
     uint8_t *listed_last = &r->batch_listed[first / GAP_CHUNK];
     const size_t early = m <= EARLY_GAPS && *listed_last ? EARLY_DIGITS : 0;
-    if (early)
+    size_t count, listed;
+    if (early) {
         hsbd_rng_bytes_and_four(seed, step, HSBD_STREAM_CONTACT, first / GAP_BLOCK, counting,
                                 (m + GAP_BLOCK - 1) / GAP_BLOCK, bytes, HSBD_STREAM_CONTACT_DEPTH,
                                 first, u);
-    size_t count, listed;
-    if (early) { /* every block's bytes at hand: both tests in one pass */
         count = gap_candidates_all(z, y, dd, d_one, m, bytes, idx, &listed);
     } else {
         listed = gap_blocks_may_cross(z, y, dd, d_one, m, mask, blocks, g0g1);
@@ -669,7 +672,6 @@ static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
         count = listed ? gap_candidates(g0g1, dd, d_one, m, mask, blocks, listed, bytes, idx) : 0;
     }
     *listed_last = (uint8_t)(listed < 255 ? listed : 255);
-    if (count == 0) return;
     if (count > early + 3 * GAP_BLOCK) /* a run of counters, two uniforms each */
         hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT_DEPTH, step, first + early, count - early,
                           u + early);
@@ -689,6 +691,11 @@ static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
     gap_pushes(count, sum, sq, dd, d_one, u);
     for (size_t k = 0; k < count; ++k)
         push[idx[k]] = u[k];
+    if (!out || m < 2) return;
+    if (8 * count > m) /* many pushes: every rod's halves, vectorised */
+        gap_half_pushes(m - 1, y + 1, push + 1, out + first + 1);
+    else /* few: y, then the pushes' halves */
+        gap_half_pushes_at(m, y, push, idx, count, out + first);
 }
 
 /* The part of a gap's push that rod i takes: mu_i / (mu_i + mu_nb) against rod nb, all of
@@ -698,12 +705,6 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
     if (!r->species) return 0.5;
     const double mi = rod_mobility(r, i);
     return mi / (mi + rod_mobility(r, nb));
-}
-
-/* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push:
- * their pushed end points into out. */
-static void take_half_pushes(const hsbd_rods *r, size_t lo, size_t hi, double *restrict out) {
-    if (lo < hi) gap_half_pushes(hi - lo, r->y + lo, r->push + lo, out + lo);
 }
 
 /* The rod-rod gaps the batches take: on a ring all n, the last one (rod n - 1 to rod 0) through
@@ -720,16 +721,15 @@ static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt, d
     if (hi > batch_gaps(r)) hi = batch_gaps(r);
     for (size_t first = lo; first < hi; first += GAP_CHUNK) {
         const size_t m = hi - first < GAP_CHUNK ? hi - first : GAP_CHUNK;
-        push_gap_batch(r, first, m, kt_dt, r->push + first);
-        if (!r->species) take_half_pushes(r, first + 1, first + m, out);
+        push_gap_batch(r, first, m, kt_dt, r->push + first, r->species ? NULL : out);
     }
 }
 
 /* One species: the first rod of every batch but the first (its left gap is the last of
- * the batch before) takes its halves. */
+ * the batch before) takes half of each push. */
 static void take_batch_edges(const hsbd_rods *r, double *out) {
-    for (size_t first = GAP_CHUNK; first < batch_gaps(r); first += GAP_CHUNK)
-        take_half_pushes(r, first, first + 1, out);
+    for (size_t i = GAP_CHUNK; i < batch_gaps(r); i += GAP_CHUNK)
+        gap_half_pushes(1, r->y + i, r->push + i, out + i);
 }
 
 /* The pushed end point of rod i from its two gaps' pushes, shared by the mobilities

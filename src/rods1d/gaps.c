@@ -5,6 +5,7 @@
 #include "rods1d/gaps.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "core/vmath.h"
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -86,7 +87,17 @@ void gap_pushes_scalar(size_t count, const double *sum, const double *sq, const 
 void gap_half_pushes_scalar(size_t n, const double *restrict y, const double *restrict push,
                             double *restrict out) {
     for (size_t i = 0; i < n; ++i)
-        out[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
+        out[i] = y[i] + 0.5 * push[i - 1] - 0.5 * push[i];
+}
+
+void gap_half_pushes_at(size_t m, const double *restrict y, const double *restrict push,
+                        const unsigned *restrict idx, size_t count, double *restrict out) {
+    memcpy(out + 1, y + 1, (m - 1) * sizeof *out);
+    for (size_t k = 0; k < count; ++k) { /* rod j + 1 gets gap j's half before gap j + 1's */
+        const size_t j = idx[k];
+        if (j > 0) out[j] -= 0.5 * push[j];
+        if (j + 1 < m) out[j + 1] += 0.5 * push[j];
+    }
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -307,6 +318,20 @@ gap_candidates_all_avx2(const double *restrict z, const double *restrict y,
              : gap_candidates_all_with(z, y, NULL, d_one, m, bytes, idx, listed);
 }
 
+__attribute__((target("avx2,no-fma"))) void gap_half_pushes_avx2(size_t n, const double *restrict y,
+                                                                 const double *restrict push,
+                                                                 double *restrict out) {
+    const __m256d half = _mm256_set1_pd(0.5);
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) { /* the same operations in the same order */
+        const __m256d left = _mm256_mul_pd(half, _mm256_loadu_pd(push + i - 1));
+        const __m256d right = _mm256_mul_pd(half, _mm256_loadu_pd(push + i));
+        _mm256_storeu_pd(out + i,
+                         _mm256_sub_pd(_mm256_add_pd(_mm256_loadu_pd(y + i), left), right));
+    }
+    gap_half_pushes_scalar(n - i, y + i, push + i, out + i);
+}
+
 __attribute__((target("avx2,no-fma"))) void gap_pushes_avx2(size_t count, const double *sum,
                                                             const double *sq, const double *d,
                                                             double d_one, double *ln_u) {
@@ -322,29 +347,17 @@ __attribute__((target("avx2,no-fma"))) void gap_pushes_avx2(size_t count, const 
     }
     gap_pushes_scalar(count - k, sum + k, sq + k, d ? d + k : NULL, d_one, ln_u + k);
 }
-__attribute__((target("avx2,no-fma"))) void gap_half_pushes_avx2(size_t n, const double *restrict y,
-                                                                 const double *restrict push,
-                                                                 double *restrict out) {
-    size_t i = 0;
-    for (; i + 4 <= n; i += 4) {
-        const __m256d half =
-            _mm256_mul_pd(_mm256_set1_pd(0.5),
-                          _mm256_sub_pd(_mm256_loadu_pd(push + i - 1), _mm256_loadu_pd(push + i)));
-        _mm256_storeu_pd(out + i, _mm256_add_pd(_mm256_loadu_pd(y + i), half));
-    }
-    gap_half_pushes_scalar(n - i, y + i, push + i, out + i);
-}
 #else
 void gap_pushes_avx2(size_t count, const double *sum, const double *sq, const double *d,
                      double d_one, double *ln_u) {
     gap_pushes_scalar(count, sum, sq, d, d_one, ln_u);
 }
-void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out) {
-    gap_half_pushes_scalar(n, y, push, out);
-}
 size_t gap_candidates_all_avx2(const double *z, const double *y, const double *d, double d_one,
                                size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed) {
     return gap_candidates_all_scalar(z, y, d, d_one, m, bytes, idx, listed);
+}
+void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out) {
+    gap_half_pushes_scalar(n, y, push, out);
 }
 size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double *d, double d_one,
                                  size_t m, uint16_t *mask, unsigned *blocks, double *g0g1) {
@@ -390,6 +403,14 @@ void gap_pushes(size_t count, const double *sum, const double *sq, const double 
     gap_pushes_scalar(count, sum, sq, d, d_one, ln_u);
 }
 
+size_t gap_candidates_all(const double *z, const double *y, const double *d, double d_one, size_t m,
+                          const uint8_t *bytes, unsigned *idx, size_t *listed) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (hsbd_cpu_has_avx2()) return gap_candidates_all_avx2(z, y, d, d_one, m, bytes, idx, listed);
+#endif
+    return gap_candidates_all_scalar(z, y, d, d_one, m, bytes, idx, listed);
+}
+
 void gap_half_pushes(size_t n, const double *y, const double *push, double *out) {
 #if defined(__x86_64__) && defined(__GNUC__)
     if (hsbd_cpu_has_avx2()) {
@@ -398,12 +419,4 @@ void gap_half_pushes(size_t n, const double *y, const double *push, double *out)
     }
 #endif
     gap_half_pushes_scalar(n, y, push, out);
-}
-
-size_t gap_candidates_all(const double *z, const double *y, const double *d, double d_one, size_t m,
-                          const uint8_t *bytes, unsigned *idx, size_t *listed) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (hsbd_cpu_has_avx2()) return gap_candidates_all_avx2(z, y, d, d_one, m, bytes, idx, listed);
-#endif
-    return gap_candidates_all_scalar(z, y, d, d_one, m, bytes, idx, listed);
 }

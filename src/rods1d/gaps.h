@@ -65,9 +65,13 @@ size_t gap_candidates_all(const double *z, const double *y, const double *d, dou
 void gap_pushes(size_t count, const double *sum, const double *sq, const double *d, double d_one,
                 double *ln_u);
 
-/* out[i] = y[i] + (push[i - 1] - push[i]) / 2, i < n: rods of one species between two gaps
- * take half of each gap's push */
+/* out[i] = y[i] + push[i - 1] / 2 - push[i] / 2, i < n (in this order): rods of one species
+ * between two gaps take half of each gap's push */
 void gap_half_pushes(size_t n, const double *y, const double *push, double *out);
+/* The same for rods 1 .. m - 1 of a batch of gaps 0 .. m - 1 whose pushes are 0 but at the
+ * `count` gaps idx[] (in order): y, then their halves; the same numbers when few. */
+void gap_half_pushes_at(size_t m, const double *y, const double *push, const unsigned *idx,
+                        size_t count, double *out);
 
 /* The two versions of each (the plain names call the AVX2 ones when the CPU has it; the
  * AVX2 ones return 0 elsewhere, for the test): */
@@ -78,12 +82,12 @@ size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double 
 size_t gap_candidates_scalar(const double *g0g1, const double *d, double d_one, size_t m,
                              const uint16_t *mask, const unsigned *blocks, size_t nblocks,
                              const uint8_t *bytes, unsigned *idx);
+void gap_half_pushes_scalar(size_t n, const double *y, const double *push, double *out);
+void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out);
 size_t gap_candidates_all_scalar(const double *z, const double *y, const double *d, double d_one,
                                  size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed);
 size_t gap_candidates_all_avx2(const double *z, const double *y, const double *d, double d_one,
                                size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed);
-void gap_half_pushes_scalar(size_t n, const double *y, const double *push, double *out);
-void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out);
 void gap_pushes_scalar(size_t count, const double *sum, const double *sq, const double *d,
                        double d_one, double *ln_u);
 void gap_pushes_avx2(size_t count, const double *sum, const double *sq, const double *d,

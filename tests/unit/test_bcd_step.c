@@ -476,8 +476,10 @@ static void test_default_contact_rule(void) {
 
 /* The reflect rule's passes over a batch (gaps.h): the scalar and the AVX2 versions give what
  * a plain loop over bridge_may_cross and bridge_byte_candidate gives (the blocks that hold a
- * gap that may cross, their masks, every gap's product g0 g1, the candidates in order),
- * and the same bits for the pushes and the halves, for every batch length (whole blocks and
+ * gap that may cross, their masks, every gap's product g0 g1, the candidates in order, also
+ * from both tests in one pass),
+ * and the same bits for the pushes and the halves they give the rods (all rods', or only
+ * those next to a push), for every batch length (whole blocks and
  * short last ones), one diffusion for all or one per gap, gaps at the edges of the tests
  * (closed or overlapping at the end, -0, NaN, infinite, products on the listing's bound)
  * and bytes at the edges of theirs (0, 255, the last byte that can cross and the next). */
@@ -547,12 +549,18 @@ static void test_gap_passes(void) {
                     const size_t n = (avx2 ? gap_candidates_avx2 : gap_candidates_scalar)(
                         g0g1, dd, d_one, m, mask, blocks, nb, bytes, got);
                     bad_candidates += n != count || memcmp(got, want, count * sizeof *got) != 0;
+                    size_t listed_blocks;
+                    const size_t n_all =
+                        (avx2 ? gap_candidates_all_avx2 : gap_candidates_all_scalar)(
+                            z, y, dd, d_one, m, bytes, got, &listed_blocks);
+                    bad_candidates += n_all != count || listed_blocks != nblocks ||
+                                      memcmp(got, want, count * sizeof *got) != 0;
                 }
             }
         }
-        /* the pushes and the halves of the first gaps, as if all were candidates */
+        /* the pushes of the first gaps, as if all were candidates, and their halves */
         if (hsbd_cpu_has_avx2()) {
-            double sum[M], sq[M], lu[2][M], half[2][M - 1];
+            double sum[M], sq[M], lu[2][M];
             for (size_t k = 0; k < M; ++k) {
                 const double g0 = z[k + 1] - z[k], g1 = y[k + 1] - y[k];
                 sum[k] = g0 + g1, sq[k] = (g1 - g0) * (g1 - g0);
@@ -561,16 +569,25 @@ static void test_gap_passes(void) {
             const size_t count = (size_t)(M - trial);
             gap_pushes_scalar(count, sum, sq, trial % 2 ? d : NULL, d_one, lu[0]);
             gap_pushes_avx2(count, sum, sq, trial % 2 ? d : NULL, d_one, lu[1]);
-            gap_half_pushes_scalar(count - 1, y + 1, lu[0] + 1, half[0]);
-            gap_half_pushes_avx2(count - 1, y + 1, lu[0] + 1, half[1]);
-            bad_pushes += memcmp(lu[0], lu[1], sizeof lu[0]) != 0 ||
-                          memcmp(half[0], half[1], (count - 1) * sizeof half[0][0]) != 0;
+            bad_pushes += memcmp(lu[0], lu[1], sizeof lu[0]) != 0;
+            /* the halves of sparse pushes (every seventh gap) three ways */
+            double push[M], half[3][M];
+            unsigned at[M];
+            size_t count_at = 0;
+            for (size_t k = 0; k < M; ++k) {
+                push[k] = k % 7 == (size_t)trial % 7 ? lu[0][k] : 0.0;
+                if (push[k] != 0) at[count_at++] = (unsigned)k;
+            }
+            gap_half_pushes_scalar(M - 1, y + 1, push + 1, half[0] + 1);
+            gap_half_pushes_avx2(M - 1, y + 1, push + 1, half[1] + 1);
+            gap_half_pushes_at(M, y, push, at, count_at, half[2]);
+            bad_pushes += memcmp(half[0] + 1, half[1] + 1, (M - 1) * sizeof half[0][0]) != 0 ||
+                          memcmp(half[0] + 1, half[2] + 1, (M - 1) * sizeof half[0][0]) != 0;
         }
     }
     CHECK(bad_blocks == 0, "blocks, masks or products wrong in %d batches", bad_blocks);
     CHECK(bad_candidates == 0, "candidates wrong in %d batches", bad_candidates);
-    CHECK(bad_pushes == 0, "AVX2 pushes or halves differ from the scalar ones in %d trials",
-          bad_pushes);
+    CHECK(bad_pushes == 0, "pushes or halves differ between the versions in %d trials", bad_pushes);
     CHECK(listed > total / 10 && listed < total && candidates > listed / 10 && candidates < listed,
           "%d of %d gaps listed, %d candidates: the test is not mixed", listed, total, candidates);
 }
