@@ -605,8 +605,8 @@ static void recenter(hsbd_rods *r) {
 /* A gap's uniform is U = (b + V) / 256: its random byte b (stream HSBD_STREAM_CONTACT, byte
  * `gap` of hsbd_rng_bytes_at) and, only when b leaves a crossing possible
  * (bridge_byte_candidate), its low digits V (stream HSBD_STREAM_CONTACT_DEPTH). The push of
- * one gap outside the batches (the ring's last gap, the walls'), whose V is the uniform of
- * index `gap`. */
+ * one gap outside the batches (a wall's: gap n - 1 on the right, n on the left), whose V is
+ * the uniform of index `gap` (the batches' candidates take indices below n - 1). */
 static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, uint64_t step,
                           size_t gap) {
     if (!bridge_may_cross(g0, g1, d_rel_dt)) return 0.0;
@@ -624,7 +624,8 @@ static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, 
     return u;
 }
 
-/* 0, 1, 2, ...: the indices of the first candidates' low digits, relative to the batch */
+/* 0, 1, 2, ...: the blocks of a short batch, the indices of a batch's first candidates'
+ * low digits */
 static const unsigned counting[3 * GAP_BLOCK] = {
     0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23,
     24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47};
@@ -654,7 +655,7 @@ static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
         for (size_t j = 0; j < m; ++j)
             d[j] =
                 (rod_mobility(r, first + j) + rod_mobility(r, (first + j + 1) % r->par.n)) * kt_dt;
-    memset(push, 0, m * sizeof *push);
+    gap_copy(m, NULL, push);
     const uint64_t seed = r->par.seed, step = r->step;
     uint8_t *listed_last = &r->batch_listed[first / GAP_CHUNK];
     const size_t early = m <= EARLY_GAPS && *listed_last ? EARLY_DIGITS : 0;

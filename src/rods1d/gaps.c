@@ -92,7 +92,7 @@ void gap_half_pushes_scalar(size_t n, const double *restrict y, const double *re
 
 void gap_half_pushes_at(size_t m, const double *restrict y, const double *restrict push,
                         const unsigned *restrict idx, size_t count, double *restrict out) {
-    memcpy(out + 1, y + 1, (m - 1) * sizeof *out);
+    gap_copy(m - 1, y + 1, out + 1);
     for (size_t k = 0; k < count; ++k) { /* rod j + 1 gets gap j's half before gap j + 1's */
         const size_t j = idx[k];
         if (j > 0) out[j] -= 0.5 * push[j];
@@ -332,6 +332,14 @@ __attribute__((target("avx2,no-fma"))) void gap_half_pushes_avx2(size_t n, const
     gap_half_pushes_scalar(n - i, y + i, push + i, out + i);
 }
 
+__attribute__((target("avx2"))) void gap_copy_avx2(size_t n, const double *from, double *to) {
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+        _mm256_storeu_pd(to + i, from ? _mm256_loadu_pd(from + i) : _mm256_setzero_pd());
+    for (; i < n; ++i) /* not masked stores: slow on some CPUs */
+        to[i] = from ? from[i] : 0.0;
+}
+
 __attribute__((target("avx2,no-fma"))) void gap_pushes_avx2(size_t count, const double *sum,
                                                             const double *sq, const double *d,
                                                             double d_one, double *ln_u) {
@@ -347,29 +355,32 @@ __attribute__((target("avx2,no-fma"))) void gap_pushes_avx2(size_t count, const 
     }
     gap_pushes_scalar(count - k, sum + k, sq + k, d ? d + k : NULL, d_one, ln_u + k);
 }
-#else
-void gap_pushes_avx2(size_t count, const double *sum, const double *sq, const double *d,
-                     double d_one, double *ln_u) {
-    gap_pushes_scalar(count, sum, sq, d, d_one, ln_u);
+#else /* built without AVX2: the scalar versions */
+size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double *d, double d_one,
+                                 size_t m, uint16_t *mask, unsigned *blocks, double *g0g1) {
+    return gap_blocks_may_cross_scalar(z, y, d, d_one, m, mask, blocks, g0g1);
+}
+size_t gap_candidates_avx2(const double *g0g1, const double *d, double d_one, size_t m,
+                           const uint16_t *mask, const unsigned *blocks, size_t nblocks,
+                           const uint8_t *bytes, unsigned *idx) {
+    return gap_candidates_scalar(g0g1, d, d_one, m, mask, blocks, nblocks, bytes, idx);
 }
 size_t gap_candidates_all_avx2(const double *z, const double *y, const double *d, double d_one,
                                size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed) {
     return gap_candidates_all_scalar(z, y, d, d_one, m, bytes, idx, listed);
 }
+void gap_pushes_avx2(size_t count, const double *sum, const double *sq, const double *d,
+                     double d_one, double *ln_u) {
+    gap_pushes_scalar(count, sum, sq, d, d_one, ln_u);
+}
 void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out) {
     gap_half_pushes_scalar(n, y, push, out);
 }
-size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double *d, double d_one,
-                                 size_t m, uint16_t *mask, unsigned *blocks, double *g0g1) {
-    (void)z, (void)y, (void)d, (void)d_one, (void)m, (void)mask, (void)blocks, (void)g0g1;
-    return 0;
-}
-size_t gap_candidates_avx2(const double *g0g1, const double *d, double d_one, size_t m,
-                           const uint16_t *mask, const unsigned *blocks, size_t nblocks,
-                           const uint8_t *bytes, unsigned *idx) {
-    (void)g0g1, (void)d, (void)d_one, (void)m, (void)mask, (void)blocks, (void)nblocks;
-    (void)bytes, (void)idx;
-    return 0;
+void gap_copy_avx2(size_t n, const double *from, double *to) {
+    if (from)
+        memcpy(to, from, n * sizeof *to);
+    else
+        memset(to, 0, n * sizeof *to);
 }
 #endif
 
@@ -419,4 +430,17 @@ void gap_half_pushes(size_t n, const double *y, const double *push, double *out)
     }
 #endif
     gap_half_pushes_scalar(n, y, push, out);
+}
+
+void gap_copy(size_t n, const double *from, double *to) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (hsbd_cpu_has_avx2()) {
+        gap_copy_avx2(n, from, to);
+        return;
+    }
+#endif
+    if (from)
+        memcpy(to, from, n * sizeof *to);
+    else
+        memset(to, 0, n * sizeof *to);
 }

@@ -1,14 +1,15 @@
 /* The reflect rule's passes over a batch of gaps (internal to src/rods1d): which gaps may
- * have touched zero during the step, and which of those the top byte of their uniform
- * leaves as candidates for a crossing. A scalar and an AVX2 version of each, chosen at run
- * time; both evaluate the same IEEE operations (no FMA), so they give the same lists
+ * have touched zero during the step, which of those the top byte of their uniform leaves
+ * as candidates for a crossing, the candidates' pushes and the rods' shares of them. A
+ * scalar and an AVX2 version of each, chosen at run time; both evaluate the same IEEE
+ * operations in the same order (no FMA), so they give the same bits
  * (tests/unit/test_bcd_step.c checks it). */
 #ifndef HSBD_RODS1D_GAPS_H
 #define HSBD_RODS1D_GAPS_H
 
-#include <string.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 /* gaps per block: one Philox counter gives a random byte to each (hsbd_rng_bytes_at) */
 enum { GAP_BLOCK = 16 };
@@ -21,12 +22,13 @@ static inline int bridge_may_cross(double g0, double g1, double d_rel_dt) {
 
 /* Whether a gap that may cross, given its product g0 g1, is a candidate for a crossing
  * with its random byte b, the top eight bits of its uniform U = (b + V) / 256. It crosses
- * when U < p = 2^-E, E = g0 g1 log2(e) / D_rel dt, which needs b / 256 < p, i.e.
- * log2 b < 8 - E. A float's bits read as a whole number, 2^23 (127 + k + f) for
- * b = 2^k (1 + f), give a lower bound of log2 b, k + f <= k + log2(1 + f), within 0.086; so
- * b is no candidate when E + k + f >= 8, and a candidate, E 2^23 + bits < 135 2^23 (plus a
- * margin of 2^-16 for the rounding here and in the bridge minimum's formula), lets through
- * at most 6 % more gaps than cross. b = 0 (bits 0): a candidate unless E >= 135. */
+ * when U < p = 2^-E, E = g0 g1 log2(e) / D_rel dt (the bridge minimum's law), which needs
+ * b / 256 < p, i.e. log2 b < 8 - E. A float's bits read as a whole number are
+ * 2^23 (127 + k + f) for b = 2^k (1 + f), and k + f <= k + log2(1 + f) = log2 b (within
+ * 0.086): so b is no candidate when E + k + f >= 8, and the candidates,
+ * E 2^23 + bits < 135 2^23 (with a margin of 2^-16 in E for the rounding here and in the
+ * bridge minimum's formula), are at most 6 % (2^0.086) more bytes than can cross. b = 0
+ * (bits 0) is a candidate unless E >= 135. */
 static inline int bridge_byte_candidate(double g0g1, double d_rel_dt, unsigned b) {
     const double e = g0g1 * (0x1p23 * 1.4426950408889634 / d_rel_dt); /* 2^23 E */
     const float fb = (float)b;
@@ -65,6 +67,10 @@ size_t gap_candidates_all(const double *z, const double *y, const double *d, dou
 void gap_pushes(size_t count, const double *sum, const double *sq, const double *d, double d_one,
                 double *ln_u);
 
+/* to[0 .. n) = from[0 .. n), or 0 when from is NULL: with AVX2 in vectors, where memset and
+ * memcpy become `rep` string instructions whose start costs more than a batch of 80 */
+void gap_copy(size_t n, const double *from, double *to);
+
 /* out[i] = y[i] + push[i - 1] / 2 - push[i] / 2, i < n (in this order): rods of one species
  * between two gaps take half of each gap's push */
 void gap_half_pushes(size_t n, const double *y, const double *push, double *out);
@@ -73,8 +79,8 @@ void gap_half_pushes(size_t n, const double *y, const double *push, double *out)
 void gap_half_pushes_at(size_t m, const double *y, const double *push, const unsigned *idx,
                         size_t count, double *out);
 
-/* The two versions of each (the plain names call the AVX2 ones when the CPU has it; the
- * AVX2 ones return 0 elsewhere, for the test): */
+/* The two versions of each (the plain names call the AVX2 ones when the CPU has it; built
+ * without AVX2, those fall back to the scalar ones, for the test): */
 size_t gap_blocks_may_cross_scalar(const double *z, const double *y, const double *d, double d_one,
                                    size_t m, uint16_t *mask, unsigned *blocks, double *g0g1);
 size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double *d, double d_one,
@@ -82,8 +88,9 @@ size_t gap_blocks_may_cross_avx2(const double *z, const double *y, const double 
 size_t gap_candidates_scalar(const double *g0g1, const double *d, double d_one, size_t m,
                              const uint16_t *mask, const unsigned *blocks, size_t nblocks,
                              const uint8_t *bytes, unsigned *idx);
-void gap_half_pushes_scalar(size_t n, const double *y, const double *push, double *out);
-void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out);
+size_t gap_candidates_avx2(const double *g0g1, const double *d, double d_one, size_t m,
+                           const uint16_t *mask, const unsigned *blocks, size_t nblocks,
+                           const uint8_t *bytes, unsigned *idx);
 size_t gap_candidates_all_scalar(const double *z, const double *y, const double *d, double d_one,
                                  size_t m, const uint8_t *bytes, unsigned *idx, size_t *listed);
 size_t gap_candidates_all_avx2(const double *z, const double *y, const double *d, double d_one,
@@ -92,8 +99,8 @@ void gap_pushes_scalar(size_t count, const double *sum, const double *sq, const 
                        double d_one, double *ln_u);
 void gap_pushes_avx2(size_t count, const double *sum, const double *sq, const double *d,
                      double d_one, double *ln_u);
-size_t gap_candidates_avx2(const double *g0g1, const double *d, double d_one, size_t m,
-                           const uint16_t *mask, const unsigned *blocks, size_t nblocks,
-                           const uint8_t *bytes, unsigned *idx);
+void gap_half_pushes_scalar(size_t n, const double *y, const double *push, double *out);
+void gap_half_pushes_avx2(size_t n, const double *y, const double *push, double *out);
+void gap_copy_avx2(size_t n, const double *from, double *to);
 
 #endif
