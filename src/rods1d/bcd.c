@@ -624,22 +624,25 @@ static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, 
     return u;
 }
 
-/* 0, 1, 2, ...: the blocks of a short batch, the indices of a batch's first candidates'
- * low digits */
-static const unsigned counting[3 * GAP_BLOCK] = {
-    0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23,
-    24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47};
+/* 0, 1, 2, ...: the blocks of a batch, the indices of a batch's first candidates' low
+ * digits */
+static const unsigned counting[GAP_CHUNK / GAP_BLOCK] = {
+    0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
+    22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43,
+    44, 45, 46, 47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63};
 
 /* Pushes of the rod-rod gaps first .. first+m-1 (first a multiple of GAP_CHUNK), with the
  * uniforms of bridge_push: the candidates among the gaps that may cross (gaps.h), then for
  * these alone the low digits (the k-th candidate of the batch takes the uniform of index
  * first + k), the logarithms (vectorised) and the bridge minima. The candidates come in one
- * of two ways, with the same answer: a short batch (m <= EARLY_GAPS) that listed gaps in its
- * last step draws the bytes of all its blocks and its first four low digits first, in one
+ * of three ways, with the same answer: a short batch (m <= EARLY_GAPS) that listed gaps in
+ * its last step draws the bytes of all its blocks and its first four low digits first, in one
  * generator call whose chain of multiplies runs beside the tests, and makes both tests in one
- * pass; any other lists the blocks of GAP_BLOCK gaps that hold a gap that may cross, then
- * draws their bytes alone (one Philox counter per block). The batch notes how many blocks it
- * listed (its own entry: no race on threads). With one species (out not NULL) the rods
+ * pass; a batch that listed at least 3/4 of its blocks in its last step (dense systems) draws
+ * the bytes of all its blocks, then makes both tests in one pass; any other lists the blocks
+ * of GAP_BLOCK gaps that hold a gap that may cross, then draws their bytes alone (one Philox
+ * counter per block). The batch notes how many blocks it listed (its own entry: no race on
+ * threads). With one species (out not NULL) the rods
  * between two of its gaps take half of each push into out at once, while the batch is in
  * cache (z is read no more by then, so out may be z). */
 static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
@@ -658,12 +661,16 @@ static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
     gap_copy(m, NULL, push);
     const uint64_t seed = r->par.seed, step = r->step;
     uint8_t *listed_last = &r->batch_listed[first / GAP_CHUNK];
+    const size_t nblocks = (m + GAP_BLOCK - 1) / GAP_BLOCK;
     const size_t early = m <= EARLY_GAPS && *listed_last ? EARLY_DIGITS : 0;
     size_t count, listed;
     if (early) {
         hsbd_rng_bytes_and_four(seed, step, HSBD_STREAM_CONTACT, first / GAP_BLOCK, counting,
-                                (m + GAP_BLOCK - 1) / GAP_BLOCK, bytes, HSBD_STREAM_CONTACT_DEPTH,
-                                first, u);
+                                nblocks, bytes, HSBD_STREAM_CONTACT_DEPTH, first, u);
+        count = gap_candidates_all(z, y, dd, d_one, m, bytes, idx, &listed);
+    } else if (4 * (size_t)*listed_last >= 3 * nblocks) { /* dense: (nearly) every block */
+        hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, first / GAP_BLOCK, counting, nblocks,
+                          bytes);
         count = gap_candidates_all(z, y, dd, d_one, m, bytes, idx, &listed);
     } else {
         listed = gap_blocks_may_cross(z, y, dd, d_one, m, mask, blocks, g0g1);

@@ -300,8 +300,7 @@ gap_candidates_all_with(const double *restrict z, const double *restrict y,
             bits &= (1u << valid) - 1u;
             may &= (1u << valid) - 1u;
         }
-        blocks += may != 0;
-        if (!bits) continue;
+        blocks += may != 0; /* no branch on bits: their pattern is random here */
         count = store_places(bits & 0xffu, j, count, idx);
         count = store_places(bits >> 8, j + 8, count, idx);
     }
