@@ -227,15 +227,20 @@ static void test_reflect_two_rods(void) {
  * gap from g0 to its free end g1 (relative diffusion D_rel dt = d): P(m < a) =
  * exp(-(g0 - a)(g1 - a) / d) for a <= min(g0, g1). So a gap crosses with probability
  * p = exp(-g0 g1 / d) (1 when g0 g1 <= 0), and for a crossing gap pushed by h = -m the
- * probability transform w = exp(-(g0 + h)(g1 + h) / d) / p is uniform on (0, 1): its mean
- * is 1/2 and its mean square 1/3, over all crossings and over the rare ones (p < 1/100, where
- * the low digits of the uniform decide). Checked on every gap of every step, the positions reset
- * before each step so that the start gaps run over closed ones, ones that cross often, rarely
- * (most gaps near 0.1, where crossings with p < 1/100 come from) and (beyond the listing's
- * bound, p < 2e-9) never: a ring of one species (2100 rods: two
+ * probability transform w = exp(-(g0 + h)(g1 + h) / d) / p = P(m < -h | m < 0) is uniform
+ * on (0, 1). Checked on every gap of every step, the positions reset before each step so
+ * that the start gaps run over closed ones, ones that cross often, rarely (most gaps near
+ * 0.1, where crossings with p < 1/100 come from: there the low digits of the uniform decide)
+ * and (beyond the listing's bound, p < 2e-9) never: a ring of one species (2100 rods: two
  * whole batches of gaps, a short one and the ring's last gap apart) and a mixture of two
- * species between walls (the wall gaps with the rod's own D). Tolerances: 4 standard
- * errors of the binomial count and of the uniform's moments (exact variances), fixed seeds. */
+ * species between walls (the wall gaps with the rod's own D). Against the exact law, over
+ * all crossings and over the rare ones (p < 1/100): the number of crossings (against the
+ * sum of p), the mean and mean square of w (1/2, 1/3) and the fraction of w in each fifth
+ * of (0, 1) (1/5). Each is a sum per step of terms of mean zero under the exact law
+ * (crossing - p; w - 1/2 per crossing; ...), divided by the mean count it is relative to;
+ * its error comes from 20 block averages over the steps (the steps are independent). Fixed
+ * seeds; within 4 standard errors. */
+enum { BRIDGE_BINS = 5, BRIDGE_VALUES = 3 + BRIDGE_BINS };
 static void test_reflect_bridge_law(int walls) {
     enum { N = 2100, NG = 12 };
     const double start_gaps[NG] = {0.0, 0.002, 0.01, 0.03, 0.06, 0.09,
@@ -276,7 +281,10 @@ static void test_reflect_bridge_law(int walls) {
     CHECK(rods != NULL, "%s", err.message);
     if (!rods) return;
     const double lf = pos - occupied;
-    double crossed[2] = {0}, expected[2] = {0}, variance[2] = {0}, w1[2] = {0}, w2[2] = {0};
+    /* per step, for all gaps (set 0) and the rare ones (set 1): BRIDGE_VALUES sums of terms
+     * of mean zero, then the crossings and the sum of p */
+    enum { PER_SET = BRIDGE_VALUES + 2 };
+    hsbd_blocks *blocks = hsbd_blocks_alloc(2 * PER_SET, 20, steps);
     static double z0[N];
     for (uint64_t s = 0; s < steps; ++s) {
         CHECK(hsbd_rods_set_positions(rods, x, &err) == HSBD_OK, "%s", err.message);
@@ -284,6 +292,7 @@ static void test_reflect_bridge_law(int walls) {
         memcpy(z0, v.z, sizeof z0);
         CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
         v = hsbd_rods_get_view(rods);
+        double *acc = hsbd_blocks_acc(blocks);
         for (size_t k = 0; k <= N; ++k) { /* gap k right of rod k; N: left wall (walls only) */
             double g0, g1, mu_sum;
             if (k + 1 < N) {
@@ -303,28 +312,45 @@ static void test_reflect_bridge_law(int walls) {
             const double d = mu_sum * v.kT * dt, h = v.push[k];
             const double p = g0 * g1 <= 0 ? 1.0 : exp(-g0 * g1 / d);
             for (int rare = 0; rare <= (p < 0.01); ++rare) { /* all, then the rare ones */
-                expected[rare] += p, variance[rare] += p * (1 - p);
-                if (h > 0) {
-                    const double w = exp(-(g0 + h) * (g1 + h) / d) / p;
-                    crossed[rare] += 1, w1[rare] += w, w2[rare] += w * w;
-                }
+                double *a = acc + rare * PER_SET;
+                a[0] += (h > 0) - p;
+                a[BRIDGE_VALUES + 1] += p;
+                if (!(h > 0)) continue;
+                const double w = exp(-(g0 + h) * (g1 + h) / d) / p;
+                a[1] += w - 0.5;
+                a[2] += w * w - 1.0 / 3;
+                const int bin = (int)(w * BRIDGE_BINS);
+                for (int b = 0; b < BRIDGE_BINS; ++b)
+                    a[3 + b] += (b == (bin < BRIDGE_BINS ? bin : BRIDGE_BINS - 1)) - 0.2;
+                a[BRIDGE_VALUES] += 1;
             }
         }
+        hsbd_blocks_end_sample(blocks);
     }
+    double mean[2 * PER_SET], se[2 * PER_SET];
+    hsbd_blocks_result(blocks, mean, se);
+    int bad = 0;
     for (int rare = 0; rare <= 1; ++rare) {
-        char what[64];
-        snprintf(what, sizeof what, "%s%s", walls ? "mixture between walls" : "ring",
-                 rare ? ", p < 1/100" : "");
-        const double n = crossed[rare], m1 = w1[rare] / n, m2 = w2[rare] / n;
-        printf("  reflect, %s: %.0f crossings, %.1f expected (+- %.1f); transform mean %.5f, "
-               "mean square %.5f\n",
-               what, n, expected[rare], sqrt(variance[rare]), m1, m2);
-        CHECK(fabs(n - expected[rare]) < 4 * sqrt(variance[rare]),
-              "%s: %.0f crossings, %.1f expected", what, n, expected[rare]);
-        CHECK(fabs(m1 - 0.5) < 4 * sqrt(1.0 / 12 / n), "%s: transform mean %.5f", what, m1);
-        CHECK(fabs(m2 - 1.0 / 3) < 4 * sqrt(4.0 / 45 / n), "%s: transform mean square %.5f", what,
-              m2);
+        const double *m = mean + rare * PER_SET, *e = se + rare * PER_SET;
+        const double crossings = m[BRIDGE_VALUES], expected = m[BRIDGE_VALUES + 1];
+        const char *set = walls ? (rare ? "walls, mixture, p < 1/100:" : "walls, mixture:")
+                                : (rare ? "ring, p < 1/100:" : "ring:");
+        char what[80];
+        printf("  reflect, %s %.1f crossings per step\n", set, crossings);
+        snprintf(what, sizeof what, "%s crossings / expected", set);
+        bad += !within(what, 1 + m[0] / expected, e[0] / expected, 1.0);
+        snprintf(what, sizeof what, "%s mean of w", set);
+        bad += !within(what, 0.5 + m[1] / crossings, e[1] / crossings, 0.5);
+        snprintf(what, sizeof what, "%s mean of w^2", set);
+        bad += !within(what, 1.0 / 3 + m[2] / crossings, e[2] / crossings, 1.0 / 3);
+        for (int b = 0; b < BRIDGE_BINS; ++b) {
+            snprintf(what, sizeof what, "%s w in [%.1f, %.1f)", set, 0.2 * b, 0.2 * (b + 1));
+            bad += !within(what, 0.2 + m[3 + b] / crossings, e[3 + b] / crossings, 0.2);
+        }
     }
+    CHECK(bad == 0, "reflect, %s: %d values off the bridge minimum's law", walls ? "walls" : "ring",
+          bad);
+    hsbd_blocks_free(blocks);
     hsbd_rods_free(rods);
 }
 
