@@ -5,10 +5,10 @@ ASAN      ?= build-asan
 FUZZ      ?= build-fuzz
 # seconds each fuzz target runs in `make fuzz`
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS ?= config set positions xyz table checkpoint
+FUZZ_TARGETS ?= config set positions xyz gsd table checkpoint
 CMAKE_ARGS ?=
 
-.PHONY: all deps build asan demo check bench validate fuzz format clean
+.PHONY: all deps build asan demo check docs bench validate fuzz format clean
 
 all: build
 
@@ -40,6 +40,14 @@ check: build asan
 	@ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 	@ctest --test-dir $(ASAN) --output-on-failure -j $(JOBS)
 
+# The documentation site (Sphinx with MyST, Debian's packages) from docs/ into
+# $(BUILD)/docs/html; the Python API page imports the module of $(BUILD)/python. Any
+# warning or broken internal link fails it, as it fails test_docs in make check.
+docs: build
+	@HSBD_PYTHONPATH=$(abspath $(BUILD))/python /usr/bin/python3 -m sphinx -W -n -E --keep-going -q -b html \
+	    -d $(BUILD)/docs/.doctrees docs $(BUILD)/docs/html
+	@echo "documentation: $(BUILD)/docs/html/index.html"
+
 bench: build
 	@bench/run $(BUILD)/hsbd
 
@@ -50,7 +58,8 @@ validate: build
 	@$(BUILD)/hsbd validate --out runs/validate --jobs $(JOBS); rc=$$?; \
 	 /usr/bin/python3 tools/plot_validation.py runs/validate; \
 	 /usr/bin/python3 tools/plot_driven.py $(BUILD)/hsbd runs/validate/driven || rc=1; \
-	 tools/walls_dt_scan.sh $(BUILD)/hsbd || rc=1; exit $$rc
+	 tools/walls_dt_scan.sh $(BUILD)/hsbd || rc=1; \
+	 tools/validate_mips.sh $(BUILD)/hsbd runs/validate/mips || rc=1; exit $$rc
 
 # libFuzzer on each harness of tests/fuzz/ in turn for FUZZ_SECONDS (clang, installed on
 # demand); new inputs go to $(FUZZ)/corpus/, findings to $(FUZZ)/findings/ (README, fuzzing).

@@ -42,9 +42,11 @@ static void run_help(void) {
            "  --force     replace an earlier run's files in the run directory (never an\n"
            "              ensemble's: an ensemble's directory must be new or empty)\n"
            "  --check     verify the hard core after every step (slower)\n"
-           "  --quiet     no progress line\n\n"
-           "Writes density.tsv, contact.tsv, msd.tsv, clusters.tsv, summary.json (and\n"
-           "trajectory.xyz, current.tsv when asked) atomically. Exit status: 0 done, 2 bad\n"
+           "  --quiet     no progress (on a terminal one line; otherwise, as in a batch\n"
+           "              job's log, a whole line after 10 s, then at intervals doubling\n"
+           "              up to 10 minutes: stage, percent, simulated time, rate, ETA)\n\n"
+           "Writes density.tsv, contact.tsv, msd.tsv, clusters.tsv, log.tsv, summary.json\n"
+           "(and trajectory.xyz, current.tsv when asked) atomically. Exit status: 0 done, 2 bad\n"
            "input, 130 interrupted (results so far written), 1 other errors.\n\n"
            "Configuration keys:\n");
     hsbd_config_write_reference(stdout, 0);
@@ -260,6 +262,14 @@ static run_plan *run_read(int argc, char **argv, size_t *len) {
 
 /* ---- hsbd run: the run, or an ensemble over the ranks ---------------------------------- */
 
+/* progress on a terminal as one line, in a batch job's log (stderr no terminal) as whole
+ * lines; none with --quiet */
+static int progress_mode(int quiet) {
+    return quiet                   ? HSBD_PROGRESS_NONE
+           : isatty(STDERR_FILENO) ? HSBD_PROGRESS_TERMINAL
+                                   : HSBD_PROGRESS_LINES;
+}
+
 /* A single run (rank 0's) or an ensemble's replicas k = rank, rank + P, ... after rank 0
  * claimed its directory; rank 0 then merges them. Returns this rank's exit code. */
 static int run_on_ranks(const ranks *r, run_request *q) {
@@ -267,7 +277,7 @@ static int run_on_ranks(const ranks *r, run_request *q) {
     const size_t replicas = rundir_ensemble_size(&p->cfg, r->size);
     const hsbd_run_options opt = {.force = p->force,
                                   .check = p->check,
-                                  .progress = r->rank == 0 && !p->quiet && isatty(STDERR_FILENO),
+                                  .progress = progress_mode(r->rank != 0 || p->quiet),
                                   .stop = &cli_stop,
                                   .source = &q->source};
     hsbd_error err = {0};
@@ -382,8 +392,7 @@ int cmd_resume(int argc, char **argv) {
         sets ? resume_args(argc, argv, &dir, sets, &nsets, &quiet, threads_set, sizeof threads_set)
              : cli_fail(HSBD_ENOMEM, "out of memory");
     if (code == 0) {
-        const hsbd_run_options opt = {.progress = !quiet && isatty(STDERR_FILENO),
-                                      .stop = &cli_stop};
+        const hsbd_run_options opt = {.progress = progress_mode(quiet), .stop = &cli_stop};
         hsbd_error err;
         cli_catch_stop_signals();
         const int rc = hsbd_resume(dir, sets, nsets, &opt, &err);

@@ -88,7 +88,7 @@ static int box_write(const double *v, FILE *f) {
             "# wall_left = %.12g\n# wall_right = %.12g\n",
             p.n, length, p.sigma, v[BOX_U0], v[BOX_WAVELENGTH], v[BOX_FORCE], v[BOX_K], center,
             p.points, r.wall_left, r.wall_right);
-    fprintf(f, "x\trho\trho2\n");
+    fprintf(f, "# x\trho\trho2\n");
     for (size_t k = 0; k < r.nbins; ++k)
         fprintf(f, "%.10g\t%.12g\t%.12g\n", (k + 0.5) * bin, r.rho[k], r.rho2[k]);
     hsbd_box_result_free(&r);
@@ -132,7 +132,7 @@ static int percus_write(const double *v, FILE *f) {
             p.sigma, p.rho_mean, p.amplitude, p.wavelength, gamma, p.points, r.beta_mu,
             r.iterations, r.residual);
     if (gamma > 0) fprintf(f, "# rho2 is not available for gamma > 0 (nan)\n");
-    fprintf(f, "x\trho\trho2\n");
+    fprintf(f, "# x\trho\trho2\n");
     for (size_t j = 0; j < r.m; ++j)
         fprintf(f, "%.10g\t%.12g\t%.12g\n", r.x[j], r.rho[j], r.rho2[j]);
     hsbd_percus_result_free(&r);
@@ -187,7 +187,7 @@ static int washboard_write(const double *v, FILE *f) {
             "# kT = %.17g\n# critical_force = %.17g\n# rocking = %.17g\n",
             HSBD_VERSION_STRING, HSBD_GIT_COMMIT, u0, wavelength, p.diffusion, p.kT,
             3.141592653589793 * fabs(u0) / wavelength, rocking);
-    fprintf(f, "force\tvelocity\td_eff\trel_error%s\n", rocking > 0 ? "\tvelocity_rocking" : "");
+    fprintf(f, "# force\tvelocity\td_eff\trel_error%s\n", rocking > 0 ? "\tvelocity_rocking" : "");
     for (size_t k = 0; k < nf; ++k) {
         p.force = nf > 1 ? v[WB_FMIN] + (v[WB_FMAX] - v[WB_FMIN]) * (double)k / (double)(nf - 1)
                          : v[WB_FORCE];

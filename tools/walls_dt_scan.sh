@@ -44,7 +44,7 @@ slit)
         lo=$(field "$s" contact_density 1); loe=$(field "$s" contact_density_err 1)
         hi=$(field "$s" contact_density 3); hie=$(field "$s" contact_density_err 3)
         grep -v '^#' "$T/s$dt/density.tsv" | awk -v dt=$dt -v lo=$lo -v loe=$loe -v hi=$hi -v hie=$hie '
-            NR > 1 && $1 > 4 && $1 < 8 { r += $2; v += $3 * $3; n++ }
+            $1 > 4 && $1 < 8 { r += $2; v += $3 * $3; n++ }
             END { rho = r / n; re = sqrt(v) / n; pi = 3.14159265358979;
                   # Kolafa-Labik-Malijevsky Z (src/theory/hardspheres.c)
                   phi = rho * pi / 6; q = 1 - phi; z = (1 + phi + phi^2 - 2 / 3 * (phi^3 + phi^4)) / q^3;
@@ -59,7 +59,7 @@ cosine)
     printf '[system]\nmodel = spheres\nN = 2000\nsigma = 0.1\nbox = 4 4 4\nhard_core = off\nseed = 1\n[field]\ntype = cosine\namplitude = 4\nwavelength = 2\naxis = x\n[run]\nt_equil = 2\nt_total = 50\n[sample]\nbin_width = 0.05\n[output]\ntrajectory = none\n' >"$T/cos.ini"
     for dt in 1e-2 3e-3 1e-3 3e-4; do
         "$HSBD" run "$T/cos.ini" --set run.dt=$dt --out "$T/c$dt" --quiet 2>/dev/null || { echo "cosine dt $dt failed"; continue; }
-        grep -v '^#' "$T/c$dt/density.tsv" | awk -v dt=$dt 'BEGIN { n = 0 } NR > 1 { x[n] = $1; r[n] = $2; e[n] = $3; n++ }
+        grep -v '^#' "$T/c$dt/density.tsv" | awk -v dt=$dt 'BEGIN { n = 0 } { x[n] = $1; r[n] = $2; e[n] = $3; n++ }
             END { pi = 3.14159265358979; w = 0.05; m = 2000 / 64;
                   # Boltzmann: m exp(-2 cos(pi x)) / I0(2), averaged over each bin (Simpson)
                   i0 = 2.2795853023360673;

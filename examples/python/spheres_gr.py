@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """A hard-sphere fluid at packing fraction 0.3: g(r) measured by hsbd next to the contact
 value g(sigma+) of the Carnahan-Starling equation of state.
-Run: PYTHONPATH=build/python examples/python/spheres_gr.py [out.png]"""
+Run: examples/python/spheres_gr.py [out.png] with the package installed (pip install .)
+or PYTHONPATH=build/python."""
 import sys
 
 import matplotlib
@@ -14,8 +15,7 @@ phi = 0.3
 sim = hsbd.Simulation(system={"model": "spheres", "N": 1000, "packing_fraction": phi},
                       run={"dt": 1e-3, "t_equil": 0.5, "t_total": 3},
                       sample={"gr_every": 10})
-while sim.stage != "done":
-    sim.step(500)
+sim.run()  # to the end: 0.5 of equilibration, then 3 of production
 r, g, err = sim.gr()
 contact = sim.gr_pairs()[0]
 cs = hsbd.hs_contact_cs(phi)

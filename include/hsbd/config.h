@@ -127,6 +127,14 @@ typedef struct hsbd_config {
         int coupling_law;
     } species;
     struct {
+        /* spheres: active Brownian particles (docs/active.md); the keys' texts, one value or
+         * one per species, parsed by hsbd_config_finalize into per-species values (on = 0:
+         * none active; rotational_default: D_r = 3 D_i / sigma_i^2 of each particle) */
+        char v0_text[HSBD_PATH_MAX], rotational_text[HSBD_PATH_MAX];
+        int on, rotational_default;
+        double v0[HSBD_MAX_SPECIES], rotational[HSBD_MAX_SPECIES];
+    } active;
+    struct {
         double dt, t_equil, t_total, dt_equil;
         /* ensembles: replicas in all (0: one per MPI rank), and this run's replica index
          * (-1: not one replica of an ensemble) */
@@ -135,6 +143,7 @@ typedef struct hsbd_config {
         int64_t threads;
         int events;     /* spheres: hsbd_spheres_event_order */
         int field_step; /* enum hsbd_field_step of hsbd/field.h */
+        int pair_rule;  /* spheres: enum hsbd_pair_rule of hsbd/spheres.h */
     } run;
     struct {
         double bin_width, contact_width, period;
@@ -143,21 +152,26 @@ typedef struct hsbd_config {
         int blocking;
         int64_t gr_every;
         double gr_max, gr_bin, contact_fit, fs_k;
-        int64_t sk_every; /* S(k) every this many steps (0: off) */
-        double sk_max;    /* its largest |k| (0: 20 / system.sigma) */
-        int64_t phases;   /* profiles resolved by the drive's phase: bins of its period */
+        int64_t sk_every;            /* S(k) every this many steps (0: off) */
+        double sk_max;               /* its largest |k| (0: 20 / system.sigma) */
+        int64_t local_density_every; /* the local packing fraction's histogram (0: off) */
+        double local_density_cell;   /* its cells' side (0: 5 system.sigma) */
+        int64_t phases; /* profiles resolved by the drive's phase: bins of its period */
     } sample;
     struct {
         char dir[HSBD_PATH_MAX];
         int trajectory;
         double trajectory_every;
+        double log_every;        /* log.tsv: time between its lines (0: none) */
         int checkpoints;         /* write checkpoints (resumable runs) */
         double checkpoint_every; /* simulated time between them (0: by wall time) */
         double checkpoint_wall;  /* wall-clock seconds between them (the first: a tenth) */
     } output;
     struct {
         char positions[HSBD_PATH_MAX];
-        int method; /* enum hsbd_init_method */
+        int method;    /* enum hsbd_init_method */
+        int64_t frame; /* of a GSD file (-1: the last) */
+        int gsd;       /* init.positions is a GSD file (set by hsbd_config_finalize) */
     } init;
     hsbd_origins origins;     /* where each schema key got its value */
     char file[HSBD_PATH_MAX]; /* the configuration file read, if any */
@@ -185,6 +199,12 @@ HSBD_API int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err);
  * until the configuration changes or is asked for HSBD_ORIGIN_RING more origins. */
 HSBD_API const char *hsbd_config_origin(const hsbd_config *cfg, const char *section,
                                         const char *key);
+
+/* Spheres: each particle's propulsion speed v0 and rotational diffusion coefficient D_r
+ * from [active] (0 for every particle when it is not set), given the particles' species,
+ * diameters and D (as hsbd_config_particles gives them). */
+HSBD_API void hsbd_config_active(const hsbd_config *cfg, const int *species, const double *sigma,
+                                 const double *diffusion, double *v0, double *rotational);
 
 /* Number of production / equilibration steps. */
 HSBD_API uint64_t hsbd_config_steps(const hsbd_config *cfg);

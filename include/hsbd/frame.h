@@ -25,6 +25,8 @@ typedef struct hsbd_frame {
     size_t nspecies;                        /* species of the configuration (0: one, unnamed) */
     const char (*names)[HSBD_SPECIES_NAME]; /* their names, or NULL */
     const char *one_name; /* the particles' name without species: "R" rods, "S" spheres */
+    /* active particles: 3 n unit vectors, their orientations (z = 0 in 2D); else NULL */
+    const double *orientation;
 } hsbd_frame;
 
 #endif

@@ -76,10 +76,23 @@ typedef struct hsbd_xyz_expect {
  * HSBD_EINPUT with the file and line for anything that does not fit. */
 HSBD_API int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, double *x,
                                    int *species, double *radius, hsbd_error *err);
+/* The head of an extended-XYZ frame: its count *n (with at least that many particle lines
+ * after the comment line) and, when the comment line has Lattice="...", its box (*has_box;
+ * an axis-aligned lattice of lengths > 0). */
+HSBD_API int hsbd_xyz_read_head(FILE *f, const char *name, size_t *n, double box[3], int *has_box,
+                                hsbd_error *err);
 /* init.positions of a finalized spheres configuration: x (3 N), species (N) and, when
  * species.polydispersity > 0, each diameter sigma (N) from the file's radii. */
 HSBD_API int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
                                      hsbd_error *err);
+
+/* Active particles: the orientations (3 N unit vectors, z = 0 in 2D) of the frame in
+ * init.positions when its Properties=... has an orientation:R:4 column (a quaternion x y z
+ * w, as hsbd writes it: e = q (1, 0, 0) q*; in 2D its part in the plane), *found = 1; else
+ * *found = 0 and e is untouched. For a file hsbd_xyz_read_positions accepted; HSBD_EINPUT
+ * with the file and line for a quaternion that is not one. */
+HSBD_API int hsbd_xyz_read_orientations(const hsbd_config *cfg, double *e, int *found,
+                                        hsbd_error *err);
 
 /* ---- GSD trajectories (src/io/gsd.c; docs/trajectories.md) ---- */
 
@@ -114,5 +127,48 @@ HSBD_API void hsbd_gsd_free(hsbd_gsd *g);
  * the frame's one_name), typeid, diameter. Rods are a 2D box of height
  * HSBD_GSD_RODS_HEIGHT. */
 HSBD_API int hsbd_gsd_write(hsbd_gsd *g, const hsbd_frame *frame, hsbd_error *err);
+
+/* ---- GSD input (src/io/gsd_read.c; docs/trajectories.md) ---- */
+
+/* One frame of a GSD file read back: what the HOOMD schema gives a configuration, with
+ * the schema's defaults (frame 0's chunk, else its default value) for chunks the frame
+ * lacks. Arrays are allocated; hsbd_gsd_snapshot_free releases them. */
+typedef struct hsbd_gsd_snapshot {
+    uint64_t frame, frames; /* the frame read, and the frames of the file */
+    int dimension;          /* configuration/dimensions: 2 or 3 */
+    double box[3];          /* Lx Ly Lz of configuration/box (its tilt factors are 0) */
+    size_t n, ntypes;       /* particles/N; the names of particles/types */
+    char (*types)[HSBD_SPECIES_NAME];
+    uint32_t *typeid;    /* n, each < ntypes */
+    double *diameter;    /* n, >= 0 (default 1) */
+    double *x;           /* 3 n, centred at the origin as stored */
+    int exact;           /* x from hsbd's log/hsbd/position (float64), else particles/position */
+    double *orientation; /* 4 n quaternions of particles/orientation, or NULL without */
+} hsbd_gsd_snapshot;
+
+/* Frame `frame` (-1: the last) of the GSD file at path (GSD 1.x or 2.x): HSBD_EINPUT with
+ * the file's name and the reason for a file that is not GSD, is cut short, lacks the
+ * positions, has no such frame, a tilted box or values out of range. */
+HSBD_API int hsbd_gsd_read(const char *path, int64_t frame, hsbd_gsd_snapshot *s, hsbd_error *err);
+/* The same from a seekable stream; `name` stands for the file in messages. */
+HSBD_API int hsbd_gsd_read_stream(FILE *f, const char *name, int64_t frame, hsbd_gsd_snapshot *s,
+                                  hsbd_error *err);
+HSBD_API void hsbd_gsd_snapshot_free(hsbd_gsd_snapshot *s);
+/* Whether path names a GSD file: it begins with GSD's magic number, or its name ends in
+ * ".gsd" (then reading it says what is wrong). */
+HSBD_API int hsbd_gsd_file(const char *path);
+/* init.positions of a finalized configuration whose file is GSD (cfg->init.gsd), frame
+ * init.frame: the positions moved from the file's box centred at the origin into hsbd's
+ * (rods: N values of x, the file's y and z 0; disks and spheres: 3 N, z = 0 in 2D; wrapped
+ * along periodic axes), and each particle's species (its type's place in species.names;
+ * species may be NULL). Its orientations: hsbd_gsd_read_orientations. */
+HSBD_API int hsbd_gsd_read_positions(const hsbd_config *cfg, double *x, int *species,
+                                     hsbd_error *err);
+/* Active particles: the orientations (3 N unit vectors, z = 0 in 2D) of that frame when it
+ * has particles/orientation (quaternions w x y z; e = q (1, 0, 0) q*, HOOMD's body x axis;
+ * in 2D its part in the plane), *found = 1; else *found = 0 and e is untouched. HSBD_EINPUT
+ * naming the file, frame and particle for a quaternion that is not a rotation. */
+HSBD_API int hsbd_gsd_read_orientations(const hsbd_config *cfg, double *e, int *found,
+                                        hsbd_error *err);
 
 #endif

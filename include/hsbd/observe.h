@@ -91,6 +91,10 @@ HSBD_API double hsbd_profile_min_gap(const hsbd_profile *p);
  * mean is the pair density at contact): out[i] for the gap right of rod i (i = N-1: across
  * the ring, or the right wall), out[N] the left wall; 0 for open gaps. N + 1 entries. */
 HSBD_API void hsbd_contact_impulses(const hsbd_rods_view *v, double *out);
+/* Between walls: the walls' entries of hsbd_contact_impulses (out[0] the left wall, its
+ * out[N]; out[1] the right wall, its out[N-1]) from the chains of rods linked to them
+ * only, so in time of the order of those chains; 0 on a ring. */
+HSBD_API void hsbd_wall_impulses(const hsbd_rods_view *v, double out[2]);
 
 typedef struct hsbd_contacts hsbd_contacts;
 /* n rods of nspecies species (1 for a single species), block averages */
@@ -256,8 +260,8 @@ typedef struct hsbd_scheme_check {
                              * hexagonal) minus <sigma>; NaN at or beyond close packing */
     double collisions_per_particle_step; /* as measured (NaN: not yet) */
 } hsbd_scheme_check;
-/* From the view's diameters and D (<|dr_i|> = E|N_d| sqrt(2 D_i dt)) and a measured
- * collision rate (NaN when not yet measured). */
+/* From the view's diameters and D (<|dr_i|> = E|N_d| sqrt(2 D_i dt), plus v0_i dt for an
+ * active particle) and a measured collision rate (NaN when not yet measured). */
 HSBD_API void hsbd_scheme_check_compute(const hsbd_spheres_view *v,
                                         double collisions_per_particle_step,
                                         hsbd_scheme_check *out);

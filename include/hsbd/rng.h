@@ -18,7 +18,12 @@ enum hsbd_stream {
                                  random bytes), spheres' walls (uniforms) */
     HSBD_STREAM_COMPRESS = 4, /* Brownian steps that compress dense initial states (spheres) */
     HSBD_STREAM_COMPRESS_CONTACT = 5, /* their bridge minima at walls (spheres) */
-    HSBD_STREAM_CONTACT_DEPTH = 6     /* rods, reflect rule: the low digits of the bridge minima */
+    HSBD_STREAM_CONTACT_DEPTH = 6,    /* rods, reflect rule: the low digits of the bridge minima */
+    /* active particles (spheres): the rotational noise (normals), the acceptance of a 3D
+     * rotation (uniforms), the initial orientations */
+    HSBD_STREAM_ROTATION = 8,
+    HSBD_STREAM_ROTATION_ACCEPT = 9,
+    HSBD_STREAM_ORIENTATION_INIT = 10
 };
 
 /* Standard normals for indices first .. first+n-1 at counter `step` of `stream`. */

@@ -18,10 +18,19 @@ typedef struct hsbd_run_source {
     size_t nsets;
 } hsbd_run_source;
 
+/* hsbd_run_options.progress: how a run reports its progress on stderr (each report: the
+ * stage, percentage and ETA of the whole run, simulated time, rate) */
+enum hsbd_progress_mode {
+    HSBD_PROGRESS_NONE = 0,
+    HSBD_PROGRESS_TERMINAL = 1, /* one line rewritten in place, twice a second */
+    HSBD_PROGRESS_LINES = 2     /* whole lines for a batch job's log: after 10 s, then at
+                                   intervals doubling up to 10 minutes */
+};
+
 typedef struct hsbd_run_options {
     int force;    /* replace the files of an earlier run in the run directory */
     int check;    /* verify the hard core after every step (min gap >= -1e-9 sigma) */
-    int progress; /* progress line with rate and ETA on stderr */
+    int progress; /* enum hsbd_progress_mode */
     /* set asynchronously (by a signal handler, to the signal's number) to stop: a
      * checkpoint and the results so far are written */
     const volatile sig_atomic_t *stop;

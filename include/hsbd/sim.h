@@ -27,6 +27,8 @@ typedef struct hsbd_sim_parts {
     const hsbd_msd *msd;         /* every particle */
     const hsbd_msd *msd_species[HSBD_MAX_SPECIES]; /* mixtures: per species */
     const hsbd_gr *gr; /* spheres: g(r) per pair (NULL when sample.gr_every = 0) */
+    /* spheres: the density profile along each axis with walls or the field (else NULL) */
+    const hsbd_slab *slab[3];
 } hsbd_sim_parts;
 
 enum hsbd_sim_stage { HSBD_SIM_EQUILIBRATING = 0, HSBD_SIM_PRODUCING = 1, HSBD_SIM_DONE = 2 };
@@ -34,6 +36,13 @@ enum hsbd_sim_stage { HSBD_SIM_EQUILIBRATING = 0, HSBD_SIM_PRODUCING = 1, HSBD_S
 /* A simulation of a finalized configuration (copied); HSBD_EINPUT with the message of
  * `hsbd run` for what the model refuses (e.g. an initial state that cannot be made). */
 HSBD_API hsbd_sim *hsbd_sim_alloc(const hsbd_config *cfg, hsbd_error *err);
+/* The same from the caller's initial state instead of init.positions or init.method:
+ * positions x (N x 3, rods x[3 i]; checked as init.positions is: overlaps, walls), and
+ * each particle's species (N, or NULL: as configured) and diameter (spheres with
+ * polydispersity, N, or NULL: as drawn). Rods are kept in line order (particle i is the
+ * i-th from the left, its species follows its position). */
+HSBD_API hsbd_sim *hsbd_sim_alloc_from(const hsbd_config *cfg, const double *x, const int *species,
+                                       const double *sigma, hsbd_error *err);
 HSBD_API void hsbd_sim_free(hsbd_sim *s);
 /* At most `steps` more steps of the run (fewer when it ends). */
 HSBD_API int hsbd_sim_advance(hsbd_sim *s, uint64_t steps, hsbd_error *err);
@@ -43,5 +52,9 @@ HSBD_API uint64_t hsbd_sim_production_steps(const hsbd_sim *s);
 HSBD_API uint64_t hsbd_sim_equilibration_steps(const hsbd_sim *s);
 HSBD_API hsbd_sim_parts hsbd_sim_get_parts(const hsbd_sim *s);
 HSBD_API const hsbd_config *hsbd_sim_config(const hsbd_sim *s);
+/* The results so far as the text of summary.json (what `hsbd run` writes at the end: the
+ * model's and every observer's lines, e.g. Z_virial, D_long, walls, clusters, drift; the
+ * parameters), into *json (malloc'ed, the caller frees it). HSBD_OK or HSBD_ENOMEM. */
+HSBD_API int hsbd_sim_summary(hsbd_sim *s, char **json, hsbd_error *err);
 
 #endif

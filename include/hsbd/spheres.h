@@ -39,6 +39,22 @@ typedef enum hsbd_spheres_event_order {
  * last bits (shells far below the default: docs/spheres.md). */
 #define HSBD_SPHERES_GROUPS_MIN_N_THREADS 65536
 
+/* How a pair collides when the two particles' drifts differ (a field with per-particle
+ * couplings or a force that varies in space, immobile obstacles in a field; docs/spheres.md,
+ * "Pair collisions under a relative drift"). */
+typedef enum hsbd_pair_rule {
+    /* A pair whose drifts differ keeps the mirror rule's events, but its free end gap Y
+     * first becomes sign(Y) X, X the gap at which the law of the pair's normal gap reflected
+     * with its relative drift (Scala Eq. 9, in the pair's Brownian centre-of-mass frame) has
+     * the quantile that the mirror's law of |Y| has at |Y|; the change is shared in
+     * proportion to D_i and D_j. Eq. 9 exactly for a pair alone in the flat-contact limit;
+     * a pair without relative drift is not touched (the same bits as HSBD_PAIR_MIRROR). */
+    HSBD_PAIR_EXACT = 0,
+    /* Elastic collisions of the fictive velocities, drifts included (Scala Sec. III): the
+     * image method, exact in the flat-contact limit only without relative drift. */
+    HSBD_PAIR_MIRROR = 1
+} hsbd_pair_rule;
+
 typedef struct hsbd_spheres_params {
     size_t n;         /* number of particles N */
     int dimension;    /* 2 (disks) or 3 (spheres) */
@@ -90,11 +106,22 @@ typedef struct hsbd_spheres_params {
     int field_axis;
     const double *species_coupling, *particle_coupling;
     int field_step;
+    int pair_rule; /* enum hsbd_pair_rule (0: exact) */
     /* threads for the step's loops over all particles (noise, the start-of-step scan, the
      * final move) and for the first pass of the event groups (slabs of the box; the global
      * calendar runs on one); <= 1: one. The results do not depend on it (docs/spheres.md,
      * "Threads") */
     int threads;
+    /* Active Brownian particles (docs/active.md): per particle, in the user's order (N values
+     * each, copied at alloc; NULL: no particle is active), the propulsion speed v0_i >= 0
+     * (length / time) along the particle's orientation e_i, a unit vector, and the
+     * rotational diffusion coefficient D_r,i >= 0 (1 / time) of e_i; both arrays or none.
+     * A step adds the drift v0_i e_i (e_i at the step's start) to the particle's velocity,
+     * then turns e_i by an exactly distributed rotation (2D: a Gaussian angle of variance
+     * 2 D_r dt; 3D: Brownian motion on the sphere, <e(0).e(t)> = exp(-2 D_r t) at any dt).
+     * Orientations start uniformly random (the seed's stream); particles with D_i = 0
+     * cannot be active. */
+    const double *particle_v0, *particle_rotational_diffusion;
 } hsbd_spheres_params;
 
 /* Collision statistics accumulated since the last reset. */
@@ -102,11 +129,21 @@ typedef struct hsbd_spheres_stats {
     uint64_t steps, collisions, shell_updates, stale_events;
     /* groups that met another group already moved, and ran again from the step's start */
     uint64_t group_reruns;
-    /* sum over collisions of sigma_ij n . (impulse on j) / kT, in the units of length^2:
+    /* sum over collisions and pair pushes of sigma_ij n . (impulse on j) / kT, in the units
+     * of length^2:
      * its mean per unit time gives the collisional virial (docs/spheres.md) */
     double virial;
     uint64_t wall_collisions; /* wall events in the calendar (not the bridge pushes) */
     uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */
+    /* pairs whose free end gap the exact pair rule changed (HSBD_PAIR_EXACT) */
+    uint64_t pair_corrections;
+    /* active particles with D_r > 0: the sum over steps and particles of w_i e_i . (the
+     * displacement collisions, the exact pair rule and wall events gave i in the step; not
+     * the walls' bridge pushes, which come before), w_i = v0_i kT / ((d - 1) D_i D_r,i)
+     * (energy x time / length): its mean per unit time over d V is the collisional part of
+     * the swim pressure, P_swim = (1 / d V) sum_i w_i (v0_i + <e_i . v_i,collisions>)
+     * (docs/active.md) */
+    double swim_collisional;
 } hsbd_spheres_stats;
 
 /* Read-only view of the state for observers. Unwrapped position of particle i along axis
@@ -125,6 +162,9 @@ typedef struct hsbd_spheres_view {
     double kT, dt, time;
     uint64_t step;
     int hard_core;
+    /* active particles (NULL when none are): N orientations (3 each, unit vectors, z = 0
+     * in 2D), propulsion speeds and rotational diffusion coefficients, in the user's order */
+    const double *orientation, *v0, *rotational_diffusion;
 } hsbd_spheres_view;
 
 typedef struct hsbd_spheres hsbd_spheres;
@@ -170,6 +210,11 @@ HSBD_API int hsbd_spheres_draw_diameters(uint64_t seed, size_t n, const double *
  * volume pi s^3/6 per particle over the box). */
 HSBD_API double hsbd_spheres_packing_fraction(int dimension, const double box[3], size_t n,
                                               const double *sigma);
+
+/* Active particles: their orientations (3 N values, user order; z ignored in 2D), each
+ * normalised; HSBD_EINPUT for a non-finite or zero vector (naming the particle) or a system
+ * without active particles. */
+HSBD_API int hsbd_spheres_set_orientations(hsbd_spheres *s, const double *e, hsbd_error *err);
 
 /* One EDBD step of length dt. Returns HSBD_OK, or HSBD_ENOMEM when an allocation failed
  * inside the step. A step is exact or fails as a whole: after an error the object holds

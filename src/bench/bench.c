@@ -230,27 +230,48 @@ void hsbd_bench_threads(const char *only, double seconds, FILE *out) {
     sphere_bench_threads(only, seconds, all, out);
 }
 
-/* EDBD of monodisperse spheres: 3D, D = sigma = 1, from an fcc lattice. */
+/* EDBD of monodisperse spheres: 3D, D = sigma = 1, from an fcc lattice (2D: disks from a
+ * centred rectangular one). */
 typedef struct sphere_bench_case {
     const char *name;
     size_t n;
     double phi, dt;
     int sediment; /* walls at z = 0 and L, gravity force -0.5 kT / sigma along z */
     hsbd_spheres_event_order events;
+    /* 1: two species alternating, D 1 and 0.5, couplings 1 and 3 (drifts -0.5 and -0.75:
+     * the pair rule acts), with the pair rule below */
+    int mixture;
+    hsbd_pair_rule pair_rule;
+    int dimension;
+    double v0; /* active particles: propulsion speed (Pe = v0 sigma / D), D_r = 3 */
 } sphere_bench_case;
 
 static const sphere_bench_case sphere_bench_cases[] = {
-    {"spheres-N4000-phi0.3-dt1e-3", 4000, 0.3, 1e-3, 0, HSBD_EVENTS_AUTO},
-    {"spheres-N4000-phi0.3-dt1e-3-sediment", 4000, 0.3, 1e-3, 1, HSBD_EVENTS_AUTO},
-    {"spheres-N4000-phi0.3-dt1e-4", 4000, 0.3, 1e-4, 0, HSBD_EVENTS_AUTO},
-    {"spheres-N4000-phi0.5-dt1e-3", 4000, 0.5, 1e-3, 0, HSBD_EVENTS_AUTO},
-    {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4, 0, HSBD_EVENTS_AUTO},
-    {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3, 0, HSBD_EVENTS_AUTO},
+    {"spheres-N4000-phi0.3-dt1e-3", 4000, 0.3, 1e-3, 0, HSBD_EVENTS_AUTO, 0, HSBD_PAIR_EXACT, 3, 0},
+    {"spheres-N4000-phi0.3-dt1e-3-sediment", 4000, 0.3, 1e-3, 1, HSBD_EVENTS_AUTO, 0,
+     HSBD_PAIR_EXACT, 3, 0},
+    /* a sediment whose pairs have relative drifts: the exact pair rule and the mirror */
+    {"spheres-N4000-sediment-mix", 4000, 0.3, 1e-3, 1, HSBD_EVENTS_AUTO, 1, HSBD_PAIR_EXACT, 3, 0},
+    {"spheres-N4000-sediment-mix-mirror", 4000, 0.3, 1e-3, 1, HSBD_EVENTS_AUTO, 1, HSBD_PAIR_MIRROR,
+     3, 0},
+    {"spheres-N4000-phi0.3-dt1e-4", 4000, 0.3, 1e-4, 0, HSBD_EVENTS_AUTO, 0, HSBD_PAIR_EXACT, 3, 0},
+    {"spheres-N4000-phi0.5-dt1e-3", 4000, 0.5, 1e-3, 0, HSBD_EVENTS_AUTO, 0, HSBD_PAIR_EXACT, 3, 0},
+    {"spheres-N4000-phi0.5-dt1e-4", 4000, 0.5, 1e-4, 0, HSBD_EVENTS_AUTO, 0, HSBD_PAIR_EXACT, 3, 0},
+    {"spheres-N1e5-phi0.3-dt1e-3", 100000, 0.3, 1e-3, 0, HSBD_EVENTS_AUTO, 0, HSBD_PAIR_EXACT, 3,
+     0},
     /* the same with the events group by group (run.events = groups), which run on threads */
-    {"spheres-N1e5-phi0.3-dt1e-3-groups", 100000, 0.3, 1e-3, 0, HSBD_EVENTS_GROUPS},
-    {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4, 0, HSBD_EVENTS_AUTO},
-    {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3, 0,
-     HSBD_EVENTS_AUTO}, /* scaling in N; events by group */
+    {"spheres-N1e5-phi0.3-dt1e-3-groups", 100000, 0.3, 1e-3, 0, HSBD_EVENTS_GROUPS, 0,
+     HSBD_PAIR_EXACT, 3, 0},
+    {"spheres-N1e5-phi0.5-dt1e-4", 100000, 0.5, 1e-4, 0, HSBD_EVENTS_AUTO, 0, HSBD_PAIR_EXACT, 3,
+     0},
+    {"spheres-N1e6-phi0.3-dt1e-3", 1000000, 0.3, 1e-3, 0, HSBD_EVENTS_AUTO, 0, HSBD_PAIR_EXACT, 3,
+     0}, /* scaling in N; events by group */
+    /* active Brownian disks at the density and Peclet number of motility-induced phase
+     * separation (docs/active.md), with the exact pair rule and with the mirror */
+    {"active-disks-N4000-phi0.6-Pe100-dt1e-4", 4000, 0.6, 1e-4, 0, HSBD_EVENTS_AUTO, 0,
+     HSBD_PAIR_EXACT, 2, 100},
+    {"active-disks-N4000-phi0.6-Pe100-dt1e-4-mirror", 4000, 0.6, 1e-4, 0, HSBD_EVENTS_AUTO, 0,
+     HSBD_PAIR_MIRROR, 2, 100},
 };
 
 /* The case's system on `threads` threads after 0.3 Brownian times of warm-up from the
@@ -259,10 +280,25 @@ static const sphere_bench_case sphere_bench_cases[] = {
  * entry) must live as long as the system. */
 static hsbd_spheres *sphere_bench_system(const sphere_bench_case *c, int hard_core, int threads,
                                          hsbd_field *gravity) {
-    const double side = cbrt((double)c->n * 3.14159265358979323846 / 6 / c->phi);
+    const int dim = c->dimension;
+    const double pi = 3.14159265358979323846;
+    const double side =
+        dim == 3 ? cbrt((double)c->n * pi / 6 / c->phi) : sqrt((double)c->n * pi / 4 / c->phi);
     hsbd_field_add(gravity, hsbd_field_tilt(-0.5));
+    static const double sp_sigma[2] = {1, 1}, sp_diffusion[2] = {1, 0.5}, sp_coupling[2] = {1, 3};
+    int *species = c->mixture ? malloc(c->n * sizeof *species) : NULL;
+    if (c->mixture && !species) return NULL;
+    for (size_t i = 0; species && i < c->n; ++i)
+        species[i] = (int)(i % 2);
+    double *v0 = NULL, *dr = NULL;
+    if (c->v0 > 0 && (v0 = malloc(2 * c->n * sizeof *v0))) {
+        dr = v0 + c->n;
+        for (size_t i = 0; i < c->n; ++i)
+            v0[i] = c->v0, dr[i] = 3; /* 3 D / sigma^2 */
+    }
+    if (c->v0 > 0 && !v0) return free(species), NULL;
     const hsbd_spheres_params p = {.n = c->n,
-                                   .dimension = 3,
+                                   .dimension = dim,
                                    .box = {side, side, side},
                                    .sigma = 1,
                                    .diffusion = 1,
@@ -274,9 +310,19 @@ static hsbd_spheres *sphere_bench_system(const sphere_bench_case *c, int hard_co
                                    .field = c->sediment ? gravity : NULL,
                                    .field_axis = 2,
                                    .event_order = c->events,
-                                   .threads = threads};
+                                   .threads = threads,
+                                   .nspecies = c->mixture ? 2 : 0,
+                                   .species = species,
+                                   .species_sigma = sp_sigma,
+                                   .species_diffusion = sp_diffusion,
+                                   .species_coupling = c->mixture ? sp_coupling : NULL,
+                                   .pair_rule = c->pair_rule,
+                                   .particle_v0 = v0,
+                                   .particle_rotational_diffusion = dr};
     hsbd_error err;
     hsbd_spheres *s = hsbd_spheres_alloc(&p, &err);
+    free(species); /* copied */
+    free(v0);
     if (!s || hsbd_spheres_init_lattice(s, &err) != HSBD_OK) {
         hsbd_spheres_free(s);
         return NULL;
@@ -298,13 +344,18 @@ static void sphere_bench(const char *only, double seconds, FILE *out) {
         const sphere_bench_case *c = &sphere_bench_cases[k];
         if (only && strcmp(only, c->name)) continue;
         if (!header++)
-            fprintf(out,
-                    "# EDBD, 3D monodisperse spheres, D = sigma = 1, from an fcc lattice after 0.3 "
-                    "Brownian times of warm-up;\n# sediment: walls at z = 0 and L, gravity -0.5 "
-                    "kT/sigma along z (phi 0.3 on average);\n# BT/s = Brownian times (sigma^2/D) "
-                    "simulated per CPU-second; free = hard core off; the two measured in turns\n"
-                    "%-30s %7s %9s %9s %10s %9s %9s %7s\n",
-                    "case", "N", "BT/s", "ns/p-step", "ns/coll", "coll/p-st", "free BT/s", "ratio");
+            fprintf(
+                out,
+                "# EDBD, 3D monodisperse spheres, D = sigma = 1, from an fcc lattice after 0.3 "
+                "Brownian times of warm-up;\n# sediment: walls at z = 0 and L, gravity -0.5 "
+                "kT/sigma along z (phi 0.3 on average);\n# sediment-mix: two species "
+                "alternating, D 1 and 0.5, couplings 1 and 3, the exact pair rule or the "
+                "mirror;\n# active-disks: 2D active Brownian disks, v0 = Pe D / sigma, D_r = 3 D "
+                "/ sigma^2 (the free bound with propulsion and rotation);\n# BT/s = Brownian times "
+                "(sigma^2/D) simulated per CPU-second; free = "
+                "hard core off; the two measured in turns\n"
+                "%-30s %7s %9s %9s %10s %9s %9s %7s\n",
+                "case", "N", "BT/s", "ns/p-step", "ns/coll", "coll/p-st", "free BT/s", "ratio");
         hsbd_field gravity[2] = {{0}, {0}};
         bench_variant v[2] = {{.spheres = sphere_bench_system(c, 1, 1, &gravity[0]), .threads = 1},
                               {.spheres = sphere_bench_system(c, 0, 1, &gravity[1]), .threads = 1}};

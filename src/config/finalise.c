@@ -197,7 +197,9 @@ int config_parse_species(hsbd_config *cfg, hsbd_error *err) {
                               config_origin_of(cfg, "species", "count"), total,
                               (long long)cfg->system.n, config_origin_of(cfg, "system", "N"));
     static const char *const single[] = {"sigma", "D"};
-    for (int k = 0; k < 2 && !stokes; ++k) /* Stokes-Einstein: the reference D_0, sigma_0 */
+    /* Stokes-Einstein: the reference D_0, sigma_0; the species of an init.positions file:
+     * one value for every species */
+    for (int k = 0; k < 2 && !stokes && !config_from_input(cfg, "species", "names"); ++k)
         if (!config_is_default(cfg, "system", single[k]))
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "%s: system.%s is set, but with species.names the species.%s "
@@ -334,6 +336,16 @@ int config_check_run_keys(hsbd_config *cfg, hsbd_error *err) {
             replicas ? "a replica's time run.t_total/sample.blocks" : "run.t_total", lag_limit);
     if (cfg->output.trajectory_every == 0) /* the default never refuses a short run */
         cfg->output.trajectory_every = fmax(cfg->run.t_total / 100, cfg->run.dt);
+    if (isnan(cfg->output.log_every)) { /* derived like trajectory_every: never refuses */
+        cfg->output.log_every = fmax(cfg->run.t_total / 1000, cfg->run.dt);
+        config_origin_derived(cfg, "output", "log_every", "default (run.t_total/1000)");
+    }
+    if (cfg->output.log_every > 0 && cfg->output.log_every < cfg->run.dt)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: output.log_every = %g is shorter than run.dt = %g; allowed: 0 "
+                              "(no log.tsv) or log_every >= dt",
+                              config_origin_of(cfg, "output", "log_every"), cfg->output.log_every,
+                              cfg->run.dt);
     if (cfg->output.trajectory_every < cfg->run.dt)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s: output.trajectory_every = %g is shorter than run.dt = %g",
@@ -376,7 +388,10 @@ int hsbd_config_finalize(hsbd_config *cfg, hsbd_error *err) {
         return hsbd_error_set(err, HSBD_EINPUT, "%s: system.model = %d is not known; allowed: %s",
                               config_origin_of(cfg, "system", "model"), cfg->system.model, allowed);
     }
+    config_input in; /* what init.positions fixes: N first */
+    if (config_input_take(cfg, &in, err) != HSBD_OK) return err->status;
     if (config_check_memory(cfg, 1, err) != HSBD_OK) return err->status; /* before N-sized arrays */
     if (refuse_keys_of_other_model(cfg, err) != HSBD_OK) return err->status;
-    return model->finalise(cfg, err);
+    if (model->finalise(cfg, err) != HSBD_OK) return err->status;
+    return config_input_check(cfg, &in, err);
 }

@@ -182,6 +182,78 @@ static int refuse_moving_immobile(const hsbd_config *cfg, hsbd_error *err) {
     return HSBD_OK;
 }
 
+/* One [active] list: one value for every species or one per species, each finite and
+ * >= 0, into out[species]. */
+static int parse_active_list(hsbd_config *cfg, const char *key, const char *text, double *out,
+                             hsbd_error *err) {
+    char buf[HSBD_PATH_MAX], *words[HSBD_MAX_SPECIES + 1];
+    snprintf(buf, sizeof buf, "%s", text);
+    const size_t ns = cfg->species.n ? cfg->species.n : 1;
+    const size_t got = config_split_list(buf, words, HSBD_MAX_SPECIES);
+    if (got != 1 && got != ns)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "%s: active.%s has %zu values for %zu species; allowed: one value, "
+                              "or one per species (species.names)",
+                              config_origin_of(cfg, "active", key), key, got, ns);
+    for (size_t k = 0; k < ns; ++k) {
+        const char *w = words[got == 1 ? 0 : k], *why;
+        double v;
+        if (config_parse_number(w, &v, &why) != 0 || !(v >= 0))
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: active.%s value '%.40s'%s%s is out of range; allowed: "
+                                  "finite decimal numbers 0 <= %s < inf",
+                                  config_origin_of(cfg, "active", key), key, w,
+                                  got > 1 ? " of species " : "",
+                                  got > 1 ? cfg->species.name[k] : "", key);
+        out[k] = v;
+    }
+    return HSBD_OK;
+}
+
+/* [active]: v0 per species (none active when empty), D_r per species or 3 D_i / sigma_i^2;
+ * a species with D = 0 cannot be active. */
+static int parse_active(hsbd_config *cfg, hsbd_error *err) {
+    const size_t ns = cfg->species.n ? cfg->species.n : 1;
+    cfg->active.on = cfg->active.v0_text[0] != 0;
+    cfg->active.rotational_default = !cfg->active.rotational_text[0];
+    for (size_t k = 0; k < ns; ++k)
+        cfg->active.v0[k] = cfg->active.rotational[k] = 0;
+    if (!cfg->active.on) {
+        if (cfg->active.rotational_text[0])
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: active.rotational_D is set but active.v0 is empty; allowed: "
+                                  "active.v0 (0 for passive rotors) with it, or neither",
+                                  config_origin_of(cfg, "active", "rotational_D"));
+        return HSBD_OK;
+    }
+    if (parse_active_list(cfg, "v0", cfg->active.v0_text, cfg->active.v0, err) != HSBD_OK ||
+        (!cfg->active.rotational_default &&
+         parse_active_list(cfg, "rotational_D", cfg->active.rotational_text, cfg->active.rotational,
+                           err) != HSBD_OK))
+        return err->status;
+    for (size_t k = 0; k < ns; ++k) {
+        const double d = cfg->species.n ? cfg->species.diffusion[k] : cfg->system.diffusion;
+        if (d == 0 && cfg->active.v0[k] > 0)
+            return hsbd_error_set(err, HSBD_EINPUT,
+                                  "%s: active.v0 = %g for species %s, whose D = 0 cannot move; "
+                                  "allowed: v0 = 0 for it (one value per species)",
+                                  config_origin_of(cfg, "active", "v0"), cfg->active.v0[k],
+                                  cfg->species.n ? cfg->species.name[k] : "(one)");
+    }
+    return HSBD_OK;
+}
+
+void hsbd_config_active(const hsbd_config *cfg, const int *species, const double *sigma,
+                        const double *diffusion, double *v0, double *rotational) {
+    for (size_t i = 0; i < (size_t)cfg->system.n; ++i) {
+        const size_t k = species ? (size_t)species[i] : 0;
+        v0[i] = cfg->active.on ? cfg->active.v0[k] : 0.0;
+        rotational[i] = !cfg->active.on                  ? 0.0
+                        : cfg->active.rotational_default ? 3 * diffusion[i] / (sigma[i] * sigma[i])
+                                                         : cfg->active.rotational[k];
+    }
+}
+
 /* The profiles along field.axis: bins of sigma/20 unless set, over sample.period (the
  * field's wavelength or the box unless set) dividing a periodic box, the box between walls. */
 static int check_profiles(hsbd_config *cfg, hsbd_error *err) {
@@ -307,6 +379,7 @@ int config_finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
     if (check_field(cfg, err) != HSBD_OK) return err->status;
     if (parse_couplings(cfg, err) != HSBD_OK) return err->status;
     if (refuse_moving_immobile(cfg, err) != HSBD_OK) return err->status;
+    if (parse_active(cfg, err) != HSBD_OK) return err->status;
     if (check_profiles(cfg, err) != HSBD_OK) return err->status;
     if (choose_init_method(cfg, phi, err) != HSBD_OK) return err->status;
     if (check_gr_range(cfg, sigma_max, err) != HSBD_OK) return err->status;
@@ -318,6 +391,7 @@ int config_finalise_spheres(hsbd_config *cfg, hsbd_error *err) {
 
 int hsbd_config_particles(const hsbd_config *cfg, int *species, double *sigma, double *diffusion,
                           hsbd_error *err) {
+    if (cfg->init.gsd) return config_input_particles(cfg, species, sigma, diffusion, err);
     const size_t n = (size_t)cfg->system.n;
     double *mean = malloc(n * sizeof *mean);
     if (!mean) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory for N = %zu", n);

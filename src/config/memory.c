@@ -10,6 +10,9 @@
  * 700-850 B at phi 0.3 (N 2.5e5 .. 1e6), 2D 620-650 B, more at higher phi as the
  * neighbour lists fill (docs/config.md). The constants round those up. */
 enum { RODS_BYTES = 96, SPHERES_BYTES_2D = 900, SPHERES_BYTES_3D = 1300 };
+/* active particles add their orientation, v0, D_r, swim weight, the rotation's draws and
+ * the free velocities (src/spheres/active.c): 14 doubles */
+enum { ACTIVE_BYTES = 14 * 8 };
 /* the share of the machine's physical memory a run may plan to use */
 #define MEMORY_SHARE 0.8
 
@@ -66,9 +69,13 @@ size_t config_memory_rods(const hsbd_config *cfg, int particles_only, memory_par
  * species on), g(r)'s bins and the density profiles across walls or along the field */
 size_t config_memory_spheres(const hsbd_config *cfg, int particles_only, memory_part *parts) {
     const double n = (double)cfg->system.n, d = (double)cfg->system.dimension;
-    parts[0] = particles_part(cfg, d == 3 ? SPHERES_BYTES_3D : SPHERES_BYTES_2D);
+    parts[0] = particles_part(cfg, (d == 3 ? SPHERES_BYTES_3D : SPHERES_BYTES_2D) +
+                                       (cfg->active.on ? ACTIVE_BYTES : 0));
     if (particles_only) return 1;
     size_t np = 1 + msd_parts(cfg, d * n, 1, 2, parts + 1);
+    if (cfg->active.on) /* orientation.tsv: the MSD accumulators of the unit vectors */
+        msd_memory(cfg, d * n, 0, 1 + (cfg->species.n >= 2 ? (double)cfg->species.n : 0),
+                   parts + 1);
     const double blocks = (double)cfg->sample.blocks;
     const double pairs = cfg->species.n ? cfg->species.n * (cfg->species.n + 1) / 2.0 : 1;
     const double bins = ceil(cfg->sample.gr_max / cfg->sample.gr_bin) + 10;

@@ -6,7 +6,7 @@
 #include <string.h>
 
 /* hsbd_key_origin.kind; 0 (what hsbd_config_defaults' memset leaves) is the default */
-enum { ORIGIN_DEFAULT = 0, ORIGIN_FILE, ORIGIN_SET, ORIGIN_DERIVED };
+enum { ORIGIN_DEFAULT = 0, ORIGIN_FILE, ORIGIN_SET, ORIGIN_DERIVED, ORIGIN_INPUT };
 
 /* Where `text` (cut to HSBD_ORIGIN_MAX - 1 characters, like the origins it makes) starts
  * among the texts, held once. The pool's last byte stays NUL: a text beyond the pool's room
@@ -54,6 +54,14 @@ static char *ring_buffer(const hsbd_config *cfg) {
     return buffer;
 }
 
+void config_origin_from_input(hsbd_config *cfg, const key_spec *k, const char *what) {
+    record(cfg, k, ORIGIN_INPUT, what, 0);
+}
+
+int config_from_input(const hsbd_config *cfg, const char *section, const char *key) {
+    return cfg->origins.key[config_key_index(config_find_key(section, key))].kind == ORIGIN_INPUT;
+}
+
 const char *config_origin_text(const hsbd_config *cfg, const key_spec *k) {
     const hsbd_key_origin *r = &cfg->origins.key[config_key_index(k)];
     const char *text = cfg->origins.texts + r->text;
@@ -68,6 +76,7 @@ const char *config_origin_text(const hsbd_config *cfg, const key_spec *k) {
         snprintf(buffer, HSBD_ORIGIN_MAX, "%s %s.%s", text, k->section, k->key);
         return buffer;
     case ORIGIN_DERIVED:
+    case ORIGIN_INPUT:
         return text;
     default:
         return "default";

@@ -204,8 +204,9 @@ void hsbd_config_defaults(hsbd_config *cfg) {
         const key_spec *k = &config_schema[i];
         if (k->def[0] || k->type == K_STRING) config_parse_value(cfg, k, k->def, "default", NULL);
     }
-    cfg->sample.period = NAN; /* derived in finalize unless set */
-    cfg->field.center = NAN;  /* L/2 unless set */
+    cfg->sample.period = NAN;    /* derived in finalize unless set */
+    cfg->field.center = NAN;     /* L/2 unless set */
+    cfg->output.log_every = NAN; /* run.t_total/1000 unless set */
 }
 
 /* ---- INI files ---------------------------------------------------------------------- */

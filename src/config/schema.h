@@ -79,6 +79,10 @@ void config_origin_from_set(hsbd_config *cfg, const key_spec *k, const char *ori
 /* Records where a derived value came from ("default (L/2)"). */
 void config_origin_derived(hsbd_config *cfg, const char *section, const char *key,
                            const char *note);
+/* Records a value taken from the init.positions file (`what` names it): set, not a default. */
+void config_origin_from_input(hsbd_config *cfg, const key_spec *k, const char *what);
+/* Did the key take its value from the init.positions file? */
+int config_from_input(const hsbd_config *cfg, const char *section, const char *key);
 
 /* ---- parse.c: values ---------------------------------------------------------------- */
 
@@ -143,6 +147,36 @@ int config_parse_boundary(hsbd_config *cfg, int dim, int *walls, hsbd_error *err
 /* Checks of the run, sampling and output keys shared by every model (and their derived
  * defaults). */
 int config_check_run_keys(hsbd_config *cfg, hsbd_error *err);
+
+/* ---- init_file.c: what an init.positions file fixes ----------------------------------- */
+
+/* What the file fixes: N; a GSD frame also its dimension, box, the types that have
+ * particles (in the file's order: the species) with their counts and diameters; an
+ * extended-XYZ frame its box when it gives a Lattice. */
+typedef struct config_input {
+    int kind;                      /* 0: no such file (or rods' text); 1: XYZ; 2: GSD */
+    char what[HSBD_PATH_MAX + 64]; /* "init.positions 'x.gsd' (frame 3)", for messages */
+    size_t n;
+    int dimension, has_box; /* dimension 0: not given */
+    double box[3];
+    size_t ntypes;
+    char names[HSBD_MAX_SPECIES][HSBD_SPECIES_NAME];
+    int64_t count[HSBD_MAX_SPECIES];
+    double sigma[HSBD_MAX_SPECIES]; /* each type's diameter, or their mean when they vary */
+    int varies[HSBD_MAX_SPECIES];
+} config_input;
+
+/* Reads the file and fills the keys the configuration leaves unset with its values (their
+ * origin names the file); refuses a restated N, dimension or species.names that disagree
+ * (before the model's checks). */
+int config_input_take(hsbd_config *cfg, config_input *in, hsbd_error *err);
+/* After the model's checks: the box, counts and diameters the configuration restates
+ * agree with the file's (relative 1e-6, the precision of GSD's float32). */
+int config_input_check(const hsbd_config *cfg, const config_input *in, hsbd_error *err);
+/* hsbd_config_particles of spheres from a GSD file: each particle's species (its type's),
+ * diameter (its species' sigma, or the file's own where a type's diameters vary) and D. */
+int config_input_particles(const hsbd_config *cfg, int *species, double *sigma, double *diffusion,
+                           hsbd_error *err);
 
 /* ---- the models: what differs between them ------------------------------------------ */
 

@@ -13,6 +13,7 @@
 
 #include "hsbd/io.h"
 #include "hsbd_version.h"
+#include "io/orientation.h"
 
 enum {
     GSD_HEADER_BYTES = 256,
@@ -50,13 +51,14 @@ enum {
     ID_IMAGE,
     ID_TIME,
     ID_POSITION_DOUBLE,
+    ID_ORIENTATION,
     ID_COUNT
 };
 static const char *const chunk_name[ID_COUNT] = {
     "configuration/step", "configuration/dimensions", "configuration/box",
     "particles/N",        "particles/types",          "particles/typeid",
     "particles/diameter", "particles/position",       "particles/image",
-    "log/hsbd/time",      "log/hsbd/position"};
+    "log/hsbd/time",      "log/hsbd/position",        "particles/orientation"};
 
 /* One frame in the writer's terms: positions centred at the origin. */
 typedef struct gsd_frame {
@@ -66,11 +68,12 @@ typedef struct gsd_frame {
     double box[3]; /* Lx Ly Lz (Lz = 0 in 2D) */
     size_t n, ntypes;
     const char (*types)[HSBD_SPECIES_NAME];
-    const char *one_type;   /* ntypes == 0: every particle has this type */
-    const double *x;        /* 3 n, centred */
-    const int32_t *image;   /* 3 n */
-    const int *typeid;      /* n, or NULL (all 0) */
-    const double *diameter; /* n */
+    const char *one_type;      /* ntypes == 0: every particle has this type */
+    const double *x;           /* 3 n, centred */
+    const int32_t *image;      /* 3 n */
+    const int *typeid;         /* n, or NULL (all 0) */
+    const double *diameter;    /* n */
+    const double *orientation; /* 3 n unit vectors (active particles), or NULL */
 } gsd_frame;
 
 static void put_le(unsigned char *p, uint64_t v, int bytes) {
@@ -262,7 +265,15 @@ static int frame_chunks(hsbd_gsd *g, const gsd_frame *fr, chunk_list *c) {
     if (append_chunk(g, c, ID_TIME, 1, 1, GSD_DOUBLE, 8)) return -1;
     for (size_t i = 0; i < 3 * n; ++i)
         put_le(g->buf + 8 * i, double_bits(fr->x[i]), 8);
-    return append_chunk(g, c, ID_POSITION_DOUBLE, n, 3, GSD_DOUBLE, 8);
+    if (append_chunk(g, c, ID_POSITION_DOUBLE, n, 3, GSD_DOUBLE, 8)) return -1;
+    if (!fr->orientation) return 0;
+    for (size_t i = 0; i < n; ++i) { /* quaternions (w, x, y, z) taking the body's x to e */
+        double q[4];
+        hsbd_orientation_quaternion(fr->orientation + 3 * i, q);
+        for (int k = 0; k < 4; ++k)
+            put_le(g->buf + 16 * i + 4 * k, float_bits(q[k]), 4);
+    }
+    return append_chunk(g, c, ID_ORIENTATION, n, 4, GSD_FLOAT, 4);
 }
 
 static int write_frame(hsbd_gsd *g, const gsd_frame *fr, hsbd_error *err) {
@@ -311,7 +322,8 @@ int hsbd_gsd_write(hsbd_gsd *g, const hsbd_frame *f, hsbd_error *err) {
                           .x = x,
                           .image = image,
                           .typeid = f->species,
-                          .diameter = f->diameter};
+                          .diameter = f->diameter,
+                          .orientation = rods ? NULL : f->orientation};
     const int rc = write_frame(g, &fr, err);
     free(x), free(image);
     return rc;

@@ -11,7 +11,7 @@ void hsbd_write_table_header(FILE *f, const hsbd_config *cfg, const char *what,
                              const char *columns) {
     fprintf(f, "# hsbd %s (git %s): %s\n", HSBD_VERSION_STRING, HSBD_GIT_COMMIT, what);
     hsbd_config_write_header(cfg, f, "# ");
-    fprintf(f, "%s\n", columns);
+    fprintf(f, "# %s\n", columns); /* numpy.loadtxt skips it */
 }
 
 void hsbd_write_value_columns(FILE *f, size_t rows, const double *x, size_t pairs,
@@ -73,7 +73,7 @@ int hsbd_write_blocks_table(const char *dir, const char *name, const hsbd_config
     if (hsbd_outfile_open(&o, dir, name, err) != HSBD_OK) return err->status;
     fprintf(o.f, "# hsbd %s (git %s): %s\n", HSBD_VERSION_STRING, HSBD_GIT_COMMIT, what);
     hsbd_config_write_header(cfg, o.f, "# ");
-    fprintf(o.f, "x");
+    fprintf(o.f, "# x");
     for (size_t b = 0; b < nblocks; ++b)
         fprintf(o.f, "\tblock_%zu", b + 1);
     fputc('\n', o.f);

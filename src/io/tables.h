@@ -1,4 +1,4 @@
-/* Result tables: TSV files with a '#' header (version, every parameter), written
+/* Result tables: TSV files with a '#' header (version, every parameter, the column names), written
  * atomically into the run directory, and the pieces of summary.json. Writers only: the
  * values come from the observers, through the run's models (src/run/). */
 #ifndef HSBD_IO_TABLES_H
@@ -11,7 +11,8 @@
 #include "hsbd/config.h"
 #include "hsbd/error.h"
 
-/* "# hsbd <version> (git ...): what", every configuration key, then the column names. */
+/* "# hsbd <version> (git ...): what", every configuration key, then "# " and the column
+ * names (every header line a comment: numpy.loadtxt reads the table as it is). */
 void hsbd_write_table_header(FILE *f, const hsbd_config *cfg, const char *what,
                              const char *columns);
 /* Table rows: x[k], then `pairs` value/error columns laid out as val[2 p rows + k] (value)

@@ -8,11 +8,15 @@
 
 #include "core/input.h"
 #include "hsbd/io.h"
+#include "io/orientation.h"
 
 /* rods: positions on x, their radius, the exact unwrapped position; disks and spheres:
- * positions, radius, image counters (OVITO and ASE read both) */
+ * positions, radius, image counters (OVITO and ASE read both); active ones also their
+ * orientation, as OVITO's Orientation quaternion (x y z w: the rotation of the body's x
+ * axis onto e) and as the unit vector e in OVITO's dipole column (drawn as arrows) */
 void hsbd_xyz_write(FILE *f, const hsbd_frame *fr) {
     const int rods = fr->dimension == 1, three = fr->dimension == 3;
+    const char *active = fr->orientation ? ":orientation:R:4:dipoles:R:3" : "";
     fprintf(f, "%zu\n", fr->n);
     if (rods)
         fprintf(f,
@@ -22,10 +26,10 @@ void hsbd_xyz_write(FILE *f, const hsbd_frame *fr) {
     else
         fprintf(f,
                 "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"%c %c %c\" Time=%.17g Step=%llu "
-                "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1\n",
+                "Properties=species:S:1:pos:R:3:radius:R:1:image:I:3:id:I:1%s\n",
                 fr->box[0], fr->box[1], three ? fr->box[2] : 1.0, fr->periodic[0] ? 'T' : 'F',
                 fr->periodic[1] ? 'T' : 'F', three && fr->periodic[2] ? 'T' : 'F', fr->time,
-                (unsigned long long)fr->step);
+                (unsigned long long)fr->step, active);
     for (size_t i = 0; i < fr->n; ++i) {
         const char *name = fr->names && fr->species ? fr->names[fr->species[i]] : fr->one_name;
         const double *x = fr->x + 3 * i;
@@ -33,9 +37,17 @@ void hsbd_xyz_write(FILE *f, const hsbd_frame *fr) {
             fprintf(f, "%s %.10g 0 0 %.10g %.15g %zu\n", name, x[0], 0.5 * fr->diameter[i],
                     fr->unwrapped[i], i + 1);
         else
-            fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu\n", name, x[0], x[1], x[2],
+            fprintf(f, "%s %.10g %.10g %.10g %.10g %lld %lld %lld %zu", name, x[0], x[1], x[2],
                     0.5 * fr->diameter[i], (long long)fr->image[3 * i],
                     (long long)fr->image[3 * i + 1], (long long)fr->image[3 * i + 2], i + 1);
+        if (fr->orientation && !rods) {
+            const double *e = fr->orientation + 3 * i;
+            double q[4];
+            hsbd_orientation_quaternion(e, q);
+            fprintf(f, " %.10g %.10g %.10g %.10g %.10g %.10g %.10g", q[1], q[2], q[3], q[0], e[0],
+                    e[1], e[2]);
+        }
+        if (!rods) fputc('\n', f);
     }
 }
 
@@ -81,9 +93,8 @@ static long particle_lines_left(hsbd_lines *in, hsbd_error *err) {
     return got < 0 ? -1 : lines;
 }
 
-/* line 1: the particle count, a whole number alone on its line, equal to system.N (when
- * not: the particle lines counted, to say which of the two is off) */
-static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+/* line 1: the particle count, a whole number alone on its line */
+static int parse_count(hsbd_lines *in, size_t *count, hsbd_error *err) {
     const int got = hsbd_lines_next(in, err);
     if (got < 0) return err->status;
     if (got == 0)
@@ -93,17 +104,25 @@ static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err)
                               in->name);
     char *w[2];
     const size_t nw = split_words(in->text, w, 2);
-    size_t count = 0;
+    *count = 0;
     int ok = nw == 1 && w[0][0] >= '0' && w[0][0] <= '9' && strlen(w[0]) <= 18;
     for (const char *c = ok ? w[0] : ""; ok && *c; ++c) {
         ok = *c >= '0' && *c <= '9';
-        count = 10 * count + (size_t)(*c - '0');
+        *count = 10 * *count + (size_t)(*c - '0');
     }
     if (!ok)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s:1: expected the number of particles (a whole number alone on "
                               "the line) at the start of an XYZ frame",
                               in->name);
+    return HSBD_OK;
+}
+
+/* line 1: the count, equal to system.N (when not: the particle lines counted, to say which
+ * of the two is off) */
+static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+    size_t count;
+    if (parse_count(in, &count, err) != HSBD_OK) return err->status;
     if (count == e->n) return HSBD_OK;
     const long lines = particle_lines_left(in, err);
     if (lines < 0) return err->status;
@@ -117,13 +136,13 @@ static int read_count(hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err)
                           count, e->n);
 }
 
-/* Lattice="a1 a2 a3 b1 b2 b3 c1 c2 c3" on the comment line, when present: a diagonal box
- * equal to the configuration's (the third vector of a 2D frame is not a length). */
-static int check_lattice(const hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+/* Lattice="a1 a2 a3 b1 b2 b3 c1 c2 c3" on the comment line: *has (0 without one) and its
+ * nine numbers */
+static int parse_lattice(const hsbd_lines *in, double m[9], int *has, hsbd_error *err) {
     const char *p = strstr(in->text, "Lattice=\"");
+    *has = p != NULL;
     if (!p) return HSBD_OK;
     p += strlen("Lattice=\"");
-    double m[9];
     for (int k = 0; k < 9; ++k) {
         while (is_space(*p))
             ++p;
@@ -141,6 +160,15 @@ static int check_lattice(const hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_er
         return hsbd_error_set(err, HSBD_EINPUT,
                               "%s:2: Lattice=\"...\" needs 9 finite numbers and a closing '\"'",
                               in->name);
+    return HSBD_OK;
+}
+
+/* the Lattice, when present: a diagonal box equal to the configuration's (the third vector
+ * of a 2D frame is not a length) */
+static int check_lattice(const hsbd_lines *in, const hsbd_xyz_expect *e, hsbd_error *err) {
+    double m[9];
+    int has;
+    if (parse_lattice(in, m, &has, err) != HSBD_OK || !has) return err->status;
     int same = 1;
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) {
@@ -295,6 +323,44 @@ int hsbd_xyz_read_spheres(FILE *f, const char *name, const hsbd_xyz_expect *e, d
     return rc;
 }
 
+int hsbd_xyz_read_head(FILE *f, const char *name, size_t *n, double box[3], int *has_box,
+                       hsbd_error *err) {
+    hsbd_error_clear(err);
+    hsbd_lines in;
+    hsbd_lines_init(&in, f, name);
+    double m[9];
+    int rc = parse_count(&in, n, err);
+    const int got = rc == HSBD_OK ? hsbd_lines_next(&in, err) : 0;
+    if (rc == HSBD_OK && got < 0) rc = err->status;
+    if (rc == HSBD_OK && got == 0)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "%s:1: the file ends after the count; expected a comment line "
+                            "(Lattice=...) and %zu particles",
+                            name, *n);
+    *has_box = 0;
+    if (rc == HSBD_OK && got > 0) rc = parse_lattice(&in, m, has_box, err);
+    for (int a = 0; rc == HSBD_OK && *has_box && a < 3; ++a) {
+        box[a] = m[4 * a];
+        if (!(box[a] > 0) || m[3 * a + (a + 1) % 3] != 0 || m[3 * a + (a + 2) % 3] != 0)
+            rc = hsbd_error_set(err, HSBD_EINPUT,
+                                "%s:2: the frame's Lattice is not an axis-aligned box of lengths "
+                                "> 0; allowed: Lattice=\"Lx 0 0 0 Ly 0 0 0 Lz\"",
+                                name);
+    }
+    long lines = 0; /* fewer particle lines than the count: the count is wrong */
+    for (int more = got; rc == HSBD_OK && more > 0 && (size_t)lines < *n;) {
+        more = hsbd_lines_next(&in, err);
+        if (more < 0) rc = err->status;
+        lines += more > 0 && !blank(in.text);
+    }
+    if (rc == HSBD_OK && (size_t)lines < *n)
+        rc = hsbd_error_set(err, HSBD_EINPUT,
+                            "%s:1: the count line says %zu, the file has %ld particle lines", name,
+                            *n, lines);
+    hsbd_lines_free(&in);
+    return rc;
+}
+
 int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, double *sigma,
                             hsbd_error *err) {
     const char *path = cfg->init.positions;
@@ -315,5 +381,81 @@ int hsbd_xyz_read_positions(const hsbd_config *cfg, double *x, int *species, dou
     fclose(f);
     for (size_t i = 0; rc == HSBD_OK && poly && i < e.n; ++i)
         sigma[i] *= 2; /* the file holds radii */
+    return rc;
+}
+
+/* ---- orientations (active particles) ---------------------------------------------------- */
+
+/* The first column of `name` with `count` real values in Properties=... of the comment
+ * line (columns counted from 0, the species' name being column 0), or -1. */
+static long properties_column(const char *comment, const char *name, long count) {
+    const char *p = strstr(comment, "Properties=");
+    if (!p) return -1;
+    p += strlen("Properties=");
+    long column = 0;
+    while (*p && !is_space(*p)) {
+        char field[3][64];
+        for (int k = 0; k < 3; ++k) { /* name:type:count */
+            size_t len = 0;
+            while (*p && *p != ':' && !is_space(*p) && len < sizeof field[k] - 1)
+                field[k][len++] = *p++;
+            field[k][len] = '\0';
+            if (*p == ':') ++p;
+        }
+        const long n = strtol(field[2], NULL, 10);
+        if (n < 1 || n > 64) return -1;
+        if (!strcmp(field[0], name) && field[1][0] == 'R' && n == count) return column;
+        column += n;
+    }
+    return -1;
+}
+
+int hsbd_xyz_read_orientations(const hsbd_config *cfg, double *e, int *found, hsbd_error *err) {
+    hsbd_error_clear(err);
+    *found = 0;
+    const char *path = cfg->init.positions;
+    const size_t n = (size_t)cfg->system.n;
+    FILE *f = hsbd_input_open(path, "init.positions file", err);
+    if (!f) return err->status;
+    hsbd_lines in;
+    hsbd_lines_init(&in, f, path);
+    int rc = HSBD_OK;
+    long column = -1;
+    for (int line = 0; line < 2 && rc == HSBD_OK; ++line) /* the count, the comment */
+        if (hsbd_lines_next(&in, err) <= 0)
+            rc = err->status ? err->status
+                             : hsbd_error_set(err, HSBD_EINPUT, "%s: no XYZ frame", path);
+    if (rc == HSBD_OK) column = properties_column(in.text, "orientation", 4);
+    for (size_t i = 0; rc == HSBD_OK && column > 0 && i < n; ++i) {
+        if (hsbd_lines_next(&in, err) <= 0) {
+            rc = err->status
+                     ? err->status
+                     : hsbd_error_set(err, HSBD_EINPUT, "%s: fewer than %zu particles", path, n);
+            break;
+        }
+        char *w[80];
+        const size_t nw = split_words(in.text, w, 80);
+        double q[4]; /* the file's x y z w (OVITO's order) into w x y z */
+        int ok = nw >= (size_t)column + 4;
+        for (int k = 0; ok && k < 4; ++k)
+            ok = word_number(w[column + k], &q[(k + 1) % 4]);
+        double *ei = e + 3 * i;
+        ok = ok && hsbd_orientation_of_quaternion(q, ei);
+        if (ok && cfg->system.dimension == 2) { /* disks turn in the plane */
+            const double norm = hypot(ei[0], ei[1]);
+            ok = norm > 1e-6;
+            if (ok) ei[0] /= norm, ei[1] /= norm, ei[2] = 0;
+        }
+        if (!ok)
+            rc =
+                hsbd_error_set(err, HSBD_EINPUT,
+                               "%s:%ld: the orientation (columns %ld-%ld, quaternion x y z w) "
+                               "is not four finite numbers of a rotation%s",
+                               path, in.number, column + 1, column + 4,
+                               cfg->system.dimension == 2 ? " about z (system.dimension = 2)" : "");
+    }
+    hsbd_lines_free(&in);
+    fclose(f);
+    *found = rc == HSBD_OK && column > 0;
     return rc;
 }

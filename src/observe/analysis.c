@@ -19,7 +19,9 @@ void hsbd_scheme_check_compute(const hsbd_spheres_view *v, double collisions_per
     const double c = mean_norm(v->dimension);
     double worst_sigma = 0, worst_step = 0, sum_sigma = 0, volume = 1;
     for (size_t i = 0; i < v->n; ++i) {
-        const double step = c * sqrt(2.0 * v->diffusion[i] * v->dt); /* <|dr_i|>, Eq. 2 */
+        /* <|dr_i|>, Eq. 2, and an active particle's propulsion v0 dt on top */
+        const double step =
+            c * sqrt(2.0 * v->diffusion[i] * v->dt) + (v->v0 ? v->v0[i] * v->dt : 0);
         worst_sigma = fmax(worst_sigma, step / v->sigma[i]);
         worst_step = fmax(worst_step, step);
         sum_sigma += v->sigma[i];

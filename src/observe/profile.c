@@ -166,6 +166,24 @@ void hsbd_contact_impulses(const hsbd_rods_view *v, double *out) {
     }
 }
 
+void hsbd_wall_impulses(const hsbd_rods_view *v, double out[2]) {
+    const size_t n = v->n;
+    const double tol = 1e-12 * v->length;
+    out[0] = out[1] = 0.0;
+    if (!v->hard_core || !v->y || v->periodic || n == 0) return;
+    const double scale = 1.0 / (v->kT * v->dt), left = left_wall_impulse(v, tol);
+    out[0] = left * scale;
+    const int linked = (v->push && v->push[n - 1] > 0) || v->free_length - v->z[n - 1] <= tol;
+    if (!linked) return;
+    size_t start = n - 1; /* the chain's first rod: after its last open gap (as above) */
+    while (start > 0 && ((v->push && v->push[start - 1] > 0) || ring_gap(v, start - 1) <= tol))
+        --start;
+    double j = start == 0 ? left : 0.0;
+    for (size_t i = start; i < n; ++i)
+        j += (v->y[i] - v->z[i]) / view_mobility(v, i);
+    out[1] = j * scale;
+}
+
 static void sample_impulses(hsbd_profile *p, const hsbd_rods_view *v, double *impulse) {
     const size_t n = v->n;
     double *j = p->scratch;

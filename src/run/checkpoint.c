@@ -12,7 +12,7 @@
 #include "hsbd_version.h"
 
 static const char magic[8] = {'H', 'S', 'B', 'D', 'C', 'K', 'P', 'T'};
-enum { CHECKPOINT_FORMAT = 2 };
+enum { CHECKPOINT_FORMAT = 3 }; /* 3: the log observer's section */
 
 /* Where the configuration came from, and the input files it read. */
 static void save_source(const run *r, hsbd_writer *w) {

@@ -17,20 +17,26 @@ static hsbd_field_term driven(const hsbd_config *cfg, hsbd_field_term term, int 
     return term;
 }
 
-double run_euler_density_error(double k, double dt) {
-    return 0.25 * k * dt;
+double run_step_density_error(int heun, double k, double dt) {
+    return heun ? 0.125 * (k * dt) * (k * dt) : 0.25 * k * dt;
 }
 
-int run_euler_warning(double k, double dt, const char *what, const char *where,
-                      const char *curvature, char *msg, size_t len) {
-    const double e = run_euler_density_error(k, dt);
-    if (!(e > RUN_EULER_ERROR_MAX)) return 0;
+/* the dt at which the estimate is `error` */
+static double step_dt_for(int heun, double k, double error) {
+    return heun ? sqrt(8 * error) / k : 4 * error / k;
+}
+
+int run_step_warning(int heun, double k, double dt, const char *what, const char *where,
+                     const char *curvature, char *msg, size_t len) {
+    const double e = run_step_density_error(heun, k, dt);
+    if (!(e > RUN_STEP_ERROR_MAX)) return 0;
     snprintf(msg, len,
-             "run.dt = %g: the %s's Euler step distorts the %s by about %.2g %% (%s = %.3g, "
+             "run.dt = %g: the %s's %s step distorts the %s by about %.2g %% (%s %s = %.3g, "
              "a harmonic estimate; warned above %g %%); run.dt <= %.2g gives about 1 %%, <= "
              "%.2g about 0.1 %%",
-             dt, what, where, 100 * e, curvature, e, 100 * RUN_EULER_ERROR_MAX, 0.04 / k,
-             0.004 / k);
+             dt, what, heun ? "Heun" : "Euler", where, 100 * e,
+             heun ? "(dt k)^2 / 8 with k =" : "dt k / 4 with k =", curvature, k,
+             100 * RUN_STEP_ERROR_MAX, step_dt_for(heun, k, 0.01), step_dt_for(heun, k, 0.001));
     return 1;
 }
 

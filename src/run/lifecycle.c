@@ -179,6 +179,21 @@ static void account(run *r, stage_clock *t) {
     t->wall = w, t->cpu = c;
 }
 
+/* The run's progress now: its stage, the steps of the whole run (of `total`), the stage's
+ * simulated time. */
+static void report(const run *r, hsbd_progress *pr, uint64_t total, int when) {
+    const hsbd_config *cfg = r->cfg;
+    const int eq = r->stage == RUN_EQUILIBRATING;
+    hsbd_progress_update(pr,
+                         r->stage == RUN_DONE ? "done"
+                         : eq                 ? "equilibrating"
+                                              : "production",
+                         r->equil_done + r->steps_done, total,
+                         eq ? (double)r->stage_steps * hsbd_config_dt_equil(cfg)
+                            : (double)r->steps_done * cfg->run.dt,
+                         eq ? cfg->run.t_equil : cfg->run.t_total, when);
+}
+
 /* The loop: equilibration, then production with its operations, replicas and
  * checkpoints, until done, stopped, failed or `budget` steps are taken. Resumable: it
  * continues from whatever stage and counters the run holds (a fresh run, one loaded from
@@ -190,18 +205,21 @@ static int run_loop(run *r, uint64_t budget, hsbd_error *err) {
                            .every_steps = run_every(cfg, cfg->output.checkpoint_every),
                            .wall_last = hsbd_wall_seconds(),
                            .wall_every = cfg->output.checkpoint_wall};
+    /* progress over the whole run: every equilibration (one per replica block) and the
+     * production */
+    const uint64_t equilibrations =
+        cfg->sample.blocking == HSBD_BLOCKS_REPLICAS ? (uint64_t)cfg->sample.blocks : 1;
+    const uint64_t total = nequil * equilibrations + nprod;
+    char label[48] = "";
+    if (cfg->run.replica >= 0)
+        snprintf(label, sizeof label, "replica %lld: ", (long long)cfg->run.replica);
     hsbd_progress pr;
-    int shown = -1;
+    hsbd_progress_start(&pr, r->opt->progress, label, r->model.particles,
+                        r->equil_done + r->steps_done);
+    report(r, &pr, total, HSBD_PROGRESS_START);
     stage_clock clock = {hsbd_wall_seconds(), cpu_seconds()};
     int rc = HSBD_OK;
     for (uint64_t iter = 0, taken = 0; rc == HSBD_OK && r->stage != RUN_DONE; ++iter) {
-        if (shown != r->stage) { /* a progress line per stage */
-            if (shown >= 0) hsbd_progress_end(&pr);
-            hsbd_progress_start(&pr, r->opt->progress,
-                                r->stage == RUN_PRODUCING ? "running" : "equilibrating",
-                                r->model.particles);
-            shown = r->stage;
-        }
         const int equilibrating = r->stage == RUN_EQUILIBRATING;
         if (equilibrating && r->stage_steps == nequil) {
             account(r, &clock);
@@ -237,15 +255,15 @@ static int run_loop(run *r, uint64_t budget, hsbd_error *err) {
         const int poll = (iter & 255) == 0;
         if (poll) {
             account(r, &clock);
-            hsbd_progress_update(&pr, equilibrating ? r->stage_steps : r->steps_done,
-                                 equilibrating ? nequil : nprod);
+            report(r, &pr, total, HSBD_PROGRESS_POLL);
             if ((rc = r->model.check(r, 0, err)) != HSBD_OK) break;
         }
         if (checkpoint_due(&ck, poll) && (rc = take_checkpoint(r, &ck, err)) != HSBD_OK) break;
         if (poll && stop_requested(r)) break;
     }
     account(r, &clock);
-    if (shown >= 0) hsbd_progress_end(&pr);
+    if (r->stage == RUN_DONE) report(r, &pr, total, HSBD_PROGRESS_END);
+    hsbd_progress_end(&pr);
     if (rc == HSBD_OK && r->stage == RUN_DONE) rc = r->model.check(r, 0, err);
     r->completed = rc == HSBD_OK && r->stage == RUN_DONE;
     /* a stopped or finished run leaves a checkpoint to continue or extend from */
@@ -281,6 +299,15 @@ void run_write_summary_head(const run *r, FILE *f, const char *stop_reason) {
     fprintf(f, "},\n");
 }
 
+void run_write_summary(run *r, FILE *f, const char *stop_reason) {
+    run_write_summary_head(r, f, stop_reason);
+    r->model.write_summary(r, f);
+    run_observers_write_summary(r, f);
+    fprintf(f, "  \"parameters\": ");
+    hsbd_config_write_json(r->cfg, f, 2);
+    fprintf(f, "\n}\n");
+}
+
 /* Final tables, streams and summary.json. Every file is committed on its own: one that
  * fails to write (a full disk) leaves the others and is named in the message. */
 static int finish(run *r, int run_rc, hsbd_error *err) {
@@ -305,12 +332,7 @@ static int finish(run *r, int run_rc, hsbd_error *err) {
         hsbd_outfile o;
         rc = hsbd_outfile_open(&o, r->cfg->output.dir, "summary.json", &werr);
         if (rc == HSBD_OK) {
-            run_write_summary_head(r, o.f, reason);
-            r->model.write_summary(r, o.f);
-            run_observers_write_summary(r, o.f);
-            fprintf(o.f, "  \"parameters\": ");
-            hsbd_config_write_json(r->cfg, o.f, 2);
-            fprintf(o.f, "\n}\n");
+            run_write_summary(r, o.f, reason);
             rc = hsbd_outfile_commit(&o, &werr);
         }
     }
@@ -528,10 +550,11 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
     if (rc == HSBD_OK && src.cwd[0] && chdir(src.cwd) != 0)
         rc = hsbd_error_set(err, HSBD_EINPUT, "resume: the run started in '%s', which is gone: %s",
                             src.cwd, strerror(errno));
-    /* an extension keeps the lag grid of the MSD and the trajectory's interval, which by
-     * default follow run.t_total: their values of the run as it was go first */
-    char kept[2][HSBD_PATH_MAX + 64];
-    const char *ext[RUN_MAX_RESUME_SETS + 2] = {0};
+    /* an extension keeps the lag grid of the MSD and the intervals of the trajectory and
+     * of log.tsv, which by default follow run.t_total: their values of the run as it was
+     * go first */
+    char kept[3][HSBD_PATH_MAX + 64];
+    const char *ext[RUN_MAX_RESUME_SETS + 3] = {0};
     size_t next = 0;
     double planned_t = 0; /* with --set: the run's own run.t_total, and its steps */
     uint64_t planned_steps = 0;
@@ -555,7 +578,8 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
             snprintf(kept[0], sizeof kept[0], "sample.msd_max_lag=%.17g", old->sample.msd_max_lag);
             snprintf(kept[1], sizeof kept[1], "output.trajectory_every=%.17g",
                      old->output.trajectory_every);
-            ext[next++] = kept[0], ext[next++] = kept[1];
+            snprintf(kept[2], sizeof kept[2], "output.log_every=%.17g", old->output.log_every);
+            ext[next++] = kept[0], ext[next++] = kept[1], ext[next++] = kept[2];
             planned_t = old->run.t_total, planned_steps = hsbd_config_steps(old);
             if (old->sample.blocking == HSBD_BLOCKS_REPLICAS)
                 rc = hsbd_error_set(err, HSBD_EINPUT,
@@ -574,8 +598,7 @@ static int load_checkpoint(run *r, hsbd_config *cfg, resumed_source *rs, const c
                             "allowed: run.t_total >= %g (a run is continued or extended, never "
                             "cut)",
                             cfg->run.t_total, planned_t, planned_t);
-    if (rc == HSBD_OK &&
-        strcmp(src.model, run_model_name(cfg)))
+    if (rc == HSBD_OK && strcmp(src.model, run_model_name(cfg)))
         rc = hsbd_error_set(err, HSBD_EINPUT, "%s: a checkpoint of model %s", ck.path, src.model);
     if (rc == HSBD_OK) rc = check_inputs(&src, err);
     if (rc == HSBD_OK) {

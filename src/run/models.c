@@ -4,12 +4,17 @@
 
 #include "run/observers.h"
 
-static const run_observer_ops *const rods_observers[] = {
-    &run_observe_profile,    &run_observe_phases,
-    &run_observe_msd,        &run_observe_clusters,
-    &run_observe_contacts,   &run_observe_drift,
-    &run_observe_trap,       &run_observe_current,
-    &run_observe_trajectory, NULL};
+static const run_observer_ops *const rods_observers[] = {&run_observe_profile,
+                                                         &run_observe_phases,
+                                                         &run_observe_msd,
+                                                         &run_observe_clusters,
+                                                         &run_observe_contacts,
+                                                         &run_observe_drift,
+                                                         &run_observe_trap,
+                                                         &run_observe_current,
+                                                         &run_observe_trajectory,
+                                                         &run_observe_log,
+                                                         NULL};
 
 static const run_observer_ops *const spheres_observers[] = {&run_observe_gr,
                                                             &run_observe_virial,
@@ -17,6 +22,10 @@ static const run_observer_ops *const spheres_observers[] = {&run_observe_gr,
                                                             &run_observe_msd,
                                                             &run_observe_trajectory,
                                                             &run_observe_sk,
+                                                            &run_observe_log,
+                                                            &run_observe_orientation,
+                                                            &run_observe_active,
+                                                            &run_observe_local_density,
                                                             NULL};
 
 typedef struct run_model_spec {

@@ -129,20 +129,21 @@ static int check_sticky_step(run *r, rods_model *m, const hsbd_rods_params *par,
     return HSBD_OK;
 }
 
-/* The Euler step of the field and of the continuous pair force (the sticky term apart:
- * Eq. 33 above) against their time scales, 1 / (mu max|U''|) and 1 / (2 mu max|V''|) (the
- * gap of two rods diffuses with both mobilities): estimates in the summary, warnings
- * beyond 1 %. */
+/* The step of the field (run.field_step) and the Euler step of the continuous pair force
+ * (the sticky term apart: Eq. 33 above) against their time scales, 1 / (mu max|U''|) and
+ * 1 / (2 mu max|V''|) (the gap of two rods diffuses with both mobilities): estimates in the
+ * summary, warnings beyond 1 %. */
 static void check_field_step(run *r, rods_model *m, const hsbd_rods_params *par) {
     const hsbd_config *cfg = r->cfg;
     const double mu = mobility_max(cfg), dt = cfg->run.dt;
+    const int heun = cfg->run.field_step == HSBD_FIELD_STEP_HEUN;
     char msg[HSBD_WARNING_LEN];
     m->field_error = m->pair_error = NAN;
     if (par->field.nterms) {
         const double k = mu * hsbd_field_max_curvature(&par->field);
-        m->field_error = run_euler_density_error(k, dt);
-        if (run_euler_warning(k, dt, "field", "stationary density", "dt mu max|U''| / 4", msg,
-                              sizeof msg))
+        m->field_error = run_step_density_error(heun, k, dt);
+        if (run_step_warning(heun, k, dt, "field", "stationary density", "mu max|U''|", msg,
+                             sizeof msg))
             run_warn(r, "%s", msg);
     }
     hsbd_pair smooth = {0}; /* the continuous terms */
@@ -152,9 +153,9 @@ static void check_field_step(run *r, rods_model *m, const hsbd_rods_params *par)
         const double k = 2 * mu *
                          hsbd_pair_max_curvature(&smooth, cfg->system.sigma,
                                                  fmax(hsbd_pair_range(&smooth), cfg->system.sigma));
-        m->pair_error = run_euler_density_error(k, dt);
-        if (run_euler_warning(k, dt, "pair force", "pair distribution", "dt 2 mu max|V''| / 4", msg,
-                              sizeof msg))
+        m->pair_error = run_step_density_error(0, k, dt);
+        if (run_step_warning(0, k, dt, "pair force", "pair distribution", "2 mu max|V''|", msg,
+                             sizeof msg))
             run_warn(r, "%s", msg);
     }
 }
@@ -191,21 +192,31 @@ static int arrange_species(const hsbd_config *cfg, rods_model *m, hsbd_rods_para
     return HSBD_OK;
 }
 
-/* init.positions: positions (and a mixture's species, which must match the counts). */
-static int read_initial_positions(const hsbd_config *cfg, rods_model *m, double *x,
-                                  hsbd_error *err) {
+/* init.positions, or the caller's initial state (hsbd_sim_alloc_from): positions and a
+ * mixture's species, which must match the counts. */
+static int initial_positions(const run *r, rods_model *m, double *x, hsbd_error *err) {
+    const hsbd_config *cfg = r->cfg;
     const size_t n = (size_t)cfg->system.n;
-    int rc = hsbd_read_positions(cfg, x, m->species, err);
+    int rc = HSBD_OK;
+    if (r->start_x) {
+        for (size_t i = 0; i < n; ++i)
+            x[i] = r->start_x[3 * i];
+        if (r->start_species && m->species)
+            memcpy(m->species, r->start_species, n * sizeof *m->species);
+    } else {
+        rc = cfg->init.gsd ? hsbd_gsd_read_positions(cfg, x, m->species, err)
+                           : hsbd_read_positions(cfg, x, m->species, err);
+    }
+    const char *source = r->start_x ? "the positions given" : cfg->init.positions;
     for (size_t k = 0; k < cfg->species.n && rc == HSBD_OK; ++k) {
         int64_t c = 0;
         for (size_t i = 0; i < n; ++i)
             c += m->species[i] == (int)k;
         if (c != cfg->species.count[k])
             rc = hsbd_error_set(err, HSBD_EINPUT,
-                                "%s (init.positions): %lld rods of species %s, but species.count "
-                                "says %lld",
-                                cfg->init.positions, (long long)c, cfg->species.name[k],
-                                (long long)cfg->species.count[k]);
+                                "%s%s: %lld rods of species %s, but species.count says %lld",
+                                source, r->start_x ? "" : " (init.positions)", (long long)c,
+                                cfg->species.name[k], (long long)cfg->species.count[k]);
     }
     return rc;
 }
@@ -223,14 +234,19 @@ static int build_system(run *r, rods_model *m, hsbd_error *err) {
     if (rc != HSBD_OK) return rc;
     check_field_step(r, m, &par);
     double *x = NULL;
-    if (cfg->init.positions[0]) { /* before the rods copy the species */
+    if (r->start_x || cfg->init.positions[0]) { /* before the rods copy the species */
         x = malloc(par.n * sizeof *x);
         if (!x) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-        rc = read_initial_positions(cfg, m, x, err);
+        rc = initial_positions(r, m, x, err);
     }
     if (rc == HSBD_OK) m->rods = hsbd_rods_alloc(&par, err);
     if (rc == HSBD_OK && !m->rods) rc = err->status;
     if (rc == HSBD_OK && x) rc = hsbd_rods_set_positions(m->rods, x, err);
+    if (rc == HSBD_EINPUT && x && cfg->init.gsd) { /* a text file was checked as it was read */
+        char why[sizeof err->message];
+        snprintf(why, sizeof why, "%s", err->message);
+        hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
+    }
     if (rc == HSBD_OK && !x) hsbd_rods_init_equilibrium(m->rods);
     if (rc == HSBD_OK && x && cfg->sample.blocking == HSBD_BLOCKS_REPLICAS) {
         /* line order, so that setting them again keeps a mixture's species in place */
@@ -344,8 +360,8 @@ static void rods_write_summary(run *r, FILE *f) {
                      r->wall_prod > 0 ? n * (double)r->steps_done / r->wall_prod : NAN, 1);
     fprintf(f, "  \"vectorised_math\": %s,\n", hsbd_vmath_vectorised() ? "true" : "false");
     hsbd_json_number(f, "sticky_step_ratio", m->sticky_ratio, 1);
-    hsbd_json_number(f, "euler_field_error", m->field_error, 1);
-    hsbd_json_number(f, "euler_pair_error", m->pair_error, 1);
+    hsbd_json_number(f, "field_step_error", m->field_error, 1);
+    hsbd_json_number(f, "pair_step_error", m->pair_error, 1);
     run_write_warnings(r, f, NULL, 0);
     hsbd_json_number(f, "final_time", hsbd_rods_get_view(m->rods).time, 1);
 }

@@ -12,7 +12,7 @@ typedef struct rods_model {
     hsbd_table *pair_table;         /* pair.type = table */
     hsbd_table *field_table;        /* field.type with table */
     double sticky_ratio;            /* mu max|f| dt / epsilon, Eq. (33) (NaN without stickiness) */
-    double field_error, pair_error; /* Euler's distortion, dt k / 4 (NaN: no such force) */
+    double field_error, pair_error; /* the steps' distortion estimates (NaN: no such force) */
     int *species;                   /* mixtures: species of each rod, line order */
     hsbd_rods_step_stats stats;     /* of the last step, when it is sampled */
     double *x_start;                /* init.positions in line order (replicas) */

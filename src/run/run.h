@@ -155,8 +155,12 @@ struct run {
     uint64_t equil_done;     /* equilibration steps over all replicas */
     size_t replicas_started; /* sample.blocking = replicas: blocks begun */
     double wall_equil, wall_prod, cpu_equil, cpu_prod;
-    uint64_t resumes;    /* times this run was continued from a checkpoint */
-    int resuming;        /* built to load a checkpoint: no initial state is made */
+    uint64_t resumes; /* times this run was continued from a checkpoint */
+    int resuming;     /* built to load a checkpoint: no initial state is made */
+    /* hsbd_sim_alloc_from: the caller's initial state in place of init.positions and
+     * init.method (positions N x 3; species and diameters per particle, or NULL) */
+    const double *start_x, *start_sigma;
+    const int *start_species;
     int newest_unusable; /* resumed from checkpoint.prev.hsbd: the newest is not to be kept */
     int completed;
     int started; /* the dynamics began: stream files are kept for a resume */
@@ -181,19 +185,20 @@ uint64_t run_every(const hsbd_config *cfg, double period);
  * named length_key in messages; a table is loaded into *table (the caller frees it). */
 int run_build_field(const hsbd_config *cfg, double L, int periodic, const char *length_key,
                     hsbd_table **table, hsbd_field *field, hsbd_error *err);
-/* The Euler step's relative distortion of a stationary density in a force of curvature k =
- * mu max|U''| (1 / time): dt k / 4. Euler widens a harmonic well's variance by k dt / 2,
- * so its peak drops by k dt / 4 (docs/algorithms.md: the Percus case follows it within
- * 15 %, up to dt k = 1). */
-double run_euler_density_error(double k, double dt);
+/* The relative distortion of a stationary density by a step of the force frozen at its
+ * start (Euler) or averaged over the start and a free predictor's end (Heun), in a force of
+ * curvature k = mu max|U''| (1 / time). In a harmonic well Euler widens the variance by
+ * k dt / 2, so the peak drops by k dt / 4; Heun narrows it by (k dt)^2 / 4, so the peak
+ * rises by (k dt)^2 / 8 (docs/algorithms.md: the Percus case follows both). */
+double run_step_density_error(int heun, double k, double dt);
 /* Above this estimate a run warns (stderr at the start, "warnings" in summary.json). */
-#define RUN_EULER_ERROR_MAX 0.01
-/* The warning for an estimate above RUN_EULER_ERROR_MAX ("the field's Euler step ..."),
+#define RUN_STEP_ERROR_MAX 0.01
+/* The warning for an estimate above RUN_STEP_ERROR_MAX ("the field's Euler step ..."),
  * with the dt of 1 % and 0.1 %, into msg; 1 when written, 0 when below. `what` names the
  * force ("field"), `where` what it distorts ("stationary density"), `curvature` the
- * estimate's formula ("dt mu max|U''| / 4"). */
-int run_euler_warning(double k, double dt, const char *what, const char *where,
-                      const char *curvature, char *msg, size_t len);
+ * curvature's formula ("mu max|U''|"). */
+int run_step_warning(int heun, double k, double dt, const char *what, const char *where,
+                     const char *curvature, char *msg, size_t len);
 /* The threads a run uses: run.threads, or when 0 the default's value (the cores the
  * process may use, or what the CLI set for an MPI rank). */
 int run_threads(const hsbd_config *cfg);
@@ -241,6 +246,9 @@ int run_advance(run *r, uint64_t steps, hsbd_error *err);
 /* The common fields of summary.json (program, version, completion, steps, timings); the
  * model then adds its own. */
 void run_write_summary_head(const run *r, FILE *f, const char *stop_reason);
+/* The whole of summary.json: the head, the model's and the observers' lines, the
+ * parameters. */
+void run_write_summary(run *r, FILE *f, const char *stop_reason);
 
 /* The noise key of this run: system.seed mixed with run.replica (src/run/replica.c; the
  * ensembles themselves are src/rundir/). */

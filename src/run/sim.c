@@ -1,4 +1,5 @@
 /* hsbd_sim: the run lifecycle advanced by the caller (include/hsbd/sim.h). */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -10,7 +11,8 @@ struct hsbd_sim {
     run r;
 };
 
-hsbd_sim *hsbd_sim_alloc(const hsbd_config *cfg, hsbd_error *err) {
+static hsbd_sim *sim_build(const hsbd_config *cfg, const double *x, const int *species,
+                           const double *sigma, hsbd_error *err) {
     hsbd_error_clear(err);
     hsbd_sim *s = calloc(1, sizeof *s);
     if (!s) {
@@ -21,8 +23,14 @@ hsbd_sim *hsbd_sim_alloc(const hsbd_config *cfg, hsbd_error *err) {
     s->cfg.output.trajectory = HSBD_TRAJ_NONE;
     s->cfg.output.checkpoints = 0;
     s->cfg.sample.current_every = 0;
-    s->r = (run){.cfg = &s->cfg, .opt = &s->opt};
+    s->cfg.output.log_every = 0; /* no files: no stream */
+    s->r = (run){.cfg = &s->cfg,
+                 .opt = &s->opt,
+                 .start_x = x,
+                 .start_species = species,
+                 .start_sigma = sigma};
     const int rc = run_build(&s->r, err);
+    s->r.start_x = s->r.start_sigma = NULL, s->r.start_species = NULL; /* the caller's */
     if (rc != HSBD_OK) {
         hsbd_sim_free(s);
         return NULL;
@@ -30,6 +38,19 @@ hsbd_sim *hsbd_sim_alloc(const hsbd_config *cfg, hsbd_error *err) {
     run_warn_start(&s->r);
     run_begin(&s->r);
     return s;
+}
+
+hsbd_sim *hsbd_sim_alloc(const hsbd_config *cfg, hsbd_error *err) {
+    return sim_build(cfg, NULL, NULL, NULL, err);
+}
+
+hsbd_sim *hsbd_sim_alloc_from(const hsbd_config *cfg, const double *x, const int *species,
+                              const double *sigma, hsbd_error *err) {
+    if (!x) {
+        hsbd_error_set(err, HSBD_EINPUT, "hsbd_sim_alloc_from: no positions");
+        return NULL;
+    }
+    return sim_build(cfg, x, species, sigma, err);
 }
 
 void hsbd_sim_free(hsbd_sim *s) {
@@ -66,4 +87,19 @@ hsbd_sim_parts hsbd_sim_get_parts(const hsbd_sim *s) {
 
 const hsbd_config *hsbd_sim_config(const hsbd_sim *s) {
     return &s->cfg;
+}
+
+int hsbd_sim_summary(hsbd_sim *s, char **json, hsbd_error *err) {
+    hsbd_error_clear(err);
+    size_t len = 0;
+    *json = NULL;
+    FILE *f = open_memstream(json, &len);
+    if (!f) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory for the summary");
+    run_write_summary(&s->r, f, s->r.completed ? "completed" : "running");
+    if (fclose(f) != 0 || !*json) {
+        free(*json);
+        *json = NULL;
+        return hsbd_error_set(err, HSBD_ENOMEM, "out of memory for the summary");
+    }
+    return HSBD_OK;
 }

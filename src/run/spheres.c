@@ -27,7 +27,10 @@ static int place_particles(const run *r, spheres_model *m, double *x, hsbd_error
         rc = hsbd_spheres_set_positions(m->sys, x, err);
         if (rc != HSBD_OK) {
             snprintf(why, sizeof why, "%s", err->message);
-            hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
+            if (r->start_x)
+                hsbd_error_set(err, rc, "the positions given: %s", why);
+            else
+                hsbd_error_set(err, rc, "init.positions '%s': %s", cfg->init.positions, why);
         }
         return rc;
     }
@@ -43,16 +46,22 @@ static int place_particles(const run *r, spheres_model *m, double *x, hsbd_error
     return rc;
 }
 
-/* Particles of an XYZ input must lie between the walls: the file's line of the first
- * that does not (line i + 3 of particle i). */
-static int check_positions_walls(const hsbd_config *cfg, const double *x, const double *sigma,
-                                 hsbd_error *err) {
+/* Particles of an XYZ input (or the caller's positions: given = 1) must lie between the
+ * walls: the file's line of the first that does not (line i + 3 of particle i). */
+static int check_positions_walls(const hsbd_config *cfg, int given, const double *x,
+                                 const double *sigma, hsbd_error *err) {
     for (size_t i = 0; i < (size_t)cfg->system.n; ++i)
         for (int a = 0; a < (int)cfg->system.dimension; ++a) {
             const double half = 0.5 * sigma[i], top = cfg->system.box[a] - half, tol = 1e-9;
             if (!cfg->system.walls[a] || (x[3 * i + a] >= half * (1 - tol) &&
                                           x[3 * i + a] <= top + tol * cfg->system.box[a]))
                 continue;
+            if (given)
+                return hsbd_error_set(err, HSBD_EINPUT,
+                                      "the positions given: particle %zu at %c = %.9g is outside "
+                                      "the walls (system.boundary); allowed: sigma/2 = %.9g <= %c "
+                                      "<= box - sigma/2 = %.9g",
+                                      i, "xyz"[a], x[3 * i + a], half, "xyz"[a], top);
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "%s:%zu: particle %zu at %c = %.9g is outside the walls "
                                   "(system.boundary); allowed: sigma/2 = %.9g <= %c <= box - "
@@ -83,6 +92,31 @@ static int build_field_couplings(const hsbd_config *cfg, spheres_model *m, const
     return HSBD_OK;
 }
 
+/* the same number of particles of each species (0 .. ns - 1) in a as in b */
+static int same_composition(const int *a, const int *b, size_t n, size_t ns) {
+    int64_t count[HSBD_MAX_SPECIES] = {0};
+    for (size_t i = 0; i < n; ++i) {
+        if (b[i] < 0 || (size_t)b[i] >= ns) return 0;
+        ++count[a[i]], --count[b[i]];
+    }
+    for (size_t k = 0; k < ns; ++k)
+        if (count[k]) return 0;
+    return 1;
+}
+
+/* Active particles: the orientations of init.positions, when it has them (else they stay
+ * random). */
+static int read_orientations(const hsbd_config *cfg, spheres_model *m, hsbd_error *err) {
+    double *e = malloc(3 * (size_t)cfg->system.n * sizeof *e);
+    if (!e) return hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+    int found = 0;
+    int rc = cfg->init.gsd ? hsbd_gsd_read_orientations(cfg, e, &found, err)
+                           : hsbd_xyz_read_orientations(cfg, e, &found, err);
+    if (rc == HSBD_OK && found) rc = hsbd_spheres_set_orientations(m->sys, e, err);
+    free(e);
+    return rc;
+}
+
 static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     const hsbd_config *cfg = r->cfg;
     const size_t n = (size_t)cfg->system.n;
@@ -94,23 +128,52 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
     /* species in blocks (initial states place particles randomly), sizes and D */
     if (hsbd_config_particles(cfg, m->species, sigma, diffusion, err) != HSBD_OK)
         return free(sigma), err->status;
-    if (cfg->init.positions[0]) { /* resuming too: the file gives the sizes and species */
+    if (r->start_x || cfg->init.positions[0]) { /* resuming too: the file gives the sizes
+                                                 * and species */
         x = malloc(3 * n * sizeof *x);
         if (!x) return free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
-        if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK)
+        if (r->start_x) { /* the caller's, else as configured */
+            memcpy(x, r->start_x, 3 * n * sizeof *x);
+            if (r->start_species && !same_composition(m->species, r->start_species, n, m->ns))
+                return free(x), free(sigma),
+                       hsbd_error_set(err, HSBD_EINPUT,
+                                      "the positions given: the species' counts differ from "
+                                      "the configuration's (species.fraction)");
+            if (r->start_species) memcpy(m->species, r->start_species, n * sizeof *m->species);
+            if (r->start_sigma) memcpy(sigma, r->start_sigma, n * sizeof *sigma);
+            for (size_t i = 0; i < n; ++i)
+                if (m->species[i] < 0 || (size_t)m->species[i] >= m->ns || !(sigma[i] > 0)) {
+                    hsbd_error_set(err, HSBD_EINPUT,
+                                   "the positions given: particle %zu has species %d (allowed "
+                                   "0 .. %zu) and diameter %g (allowed > 0)",
+                                   i, m->species[i], m->ns - 1, sigma[i]);
+                    return free(x), free(sigma), err->status;
+                }
+        } else if (cfg->init.gsd) { /* species, sizes and D came with hsbd_config_particles */
+            if (hsbd_gsd_read_positions(cfg, x, NULL, err) != HSBD_OK)
+                return free(x), free(sigma), err->status;
+        } else if (hsbd_xyz_read_positions(cfg, x, m->species, sigma, err) != HSBD_OK) {
             return free(x), free(sigma), err->status;
-        for (size_t i = 0; i < n; ++i) { /* the file's species (and diameters) */
+        }
+        for (size_t i = 0; i < n && !cfg->init.gsd; ++i) { /* the file's species (sizes) */
             const size_t k = (size_t)m->species[i];
             const double sk = cfg->species.n ? cfg->species.sigma[k] : cfg->system.sigma;
             if (!(cfg->species.polydispersity > 0)) sigma[i] = sk;
             diffusion[i] = cfg->species.n ? cfg->species.diffusion[k] : cfg->system.diffusion;
             if (cfg->species.d_law == HSBD_D_STOKES_EINSTEIN) diffusion[i] *= sk / sigma[i];
         }
-        if (check_positions_walls(cfg, x, sigma, err) != HSBD_OK)
+        if (check_positions_walls(cfg, r->start_x != NULL, x, sigma, err) != HSBD_OK)
             return free(x), free(sigma), err->status;
     }
     if (build_field_couplings(cfg, m, sigma, err) != HSBD_OK)
         return free(x), free(sigma), err->status;
+    double *v0 = NULL, *rotational = NULL; /* [active]: per particle */
+    if (cfg->active.on) {
+        if (!(v0 = malloc(2 * n * sizeof *v0)))
+            return free(x), free(sigma), hsbd_error_set(err, HSBD_ENOMEM, "out of memory");
+        rotational = v0 + n;
+        hsbd_config_active(cfg, m->species, sigma, diffusion, v0, rotational);
+    }
     hsbd_spheres_params p = {.n = n,
                              .dimension = (int)cfg->system.dimension,
                              .sigma = cfg->system.sigma,
@@ -131,12 +194,16 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
                              .particle_coupling = m->coupling,
                              .event_order = (hsbd_spheres_event_order)cfg->run.events,
                              .field_step = cfg->run.field_step,
-                             .threads = run_threads(cfg)};
+                             .pair_rule = cfg->run.pair_rule,
+                             .threads = run_threads(cfg),
+                             .particle_v0 = v0,
+                             .particle_rotational_diffusion = rotational};
     for (int a = 0; a < 3; ++a)
         p.box[a] = cfg->system.box[a], p.drift[a] = cfg->system.drift[a],
         p.walls[a] = cfg->system.walls[a];
     m->sys = hsbd_spheres_alloc(&p, err);
     free(sigma);
+    free(v0);
     if (!m->sys) {
         free(x);
         char why[sizeof err->message];
@@ -146,8 +213,10 @@ static int build_system(const run *r, spheres_model *m, hsbd_error *err) {
             hsbd_config_origin(cfg, "system", cfg->system.box_text[0] ? "box" : "packing_fraction"),
             why, hsbd_config_origin(cfg, "system", "shell"));
     }
-    const int rc = r->resuming ? HSBD_OK : place_particles(r, m, x, err);
+    int rc = r->resuming ? HSBD_OK : place_particles(r, m, x, err);
     free(x);
+    if (rc == HSBD_OK && !r->resuming && cfg->active.on && cfg->init.positions[0])
+        rc = read_orientations(cfg, m, err);
     return rc;
 }
 
@@ -170,6 +239,44 @@ static void warn_scheme(const run *r, double collisions_per_particle_step) {
 
 static void spheres_warn_start(const run *r) {
     warn_scheme(r, NAN);
+}
+
+/* ---- D_L and the time step ---- */
+
+/* The step's deficit of the long-time self-diffusion of one-size hard spheres (3D) and
+ * disks (2D): 1 - D_L(dt) / D_L(0) = c(phi) x, x = D dt / sigma^2, c(phi) = a phi^p fitted
+ * to D_L at phi 0.1-0.5, dt 3e-4 to 1e-2 (spheres: a = 35.3 +- 5.9, p = 1.60 +- 0.18, c
+ * within 4-25 %) and at phi 0.4 and 0.6 (disks: a = 94, p = 5.75, c(0.6) = 5.0 +- 0.9,
+ * c(0.4) = 0.5 +- 0.8); scripts/validation/dl_step_scan.py, docs/spheres.md "D_L and the
+ * time step". Z and g(r) have no such error. */
+static double dl_step_slope(int dim, double phi) {
+    return dim == 3 ? 35.3 * pow(phi, 1.60) : 94.0 * pow(phi, 5.75);
+}
+
+/* A run whose step leaves D_L more than 1 % low is warned, with the dt that keeps it
+ * within 1 %. The reduced step is the mobile particles' mean D times dt over the square of
+ * the mean diameter (mixtures and size spreads: an estimate from the one-size fits); ideal
+ * particles (hard core off) have no such error. */
+static void warn_dl_step(run *r) {
+    const hsbd_spheres_view v = hsbd_spheres_get_view(spheres_model_of(r)->sys);
+    if (!v.hard_core) return;
+    double sum_d = 0, sum_sigma = 0;
+    size_t mobile = 0;
+    for (size_t i = 0; i < v.n; ++i) {
+        sum_sigma += v.sigma[i];
+        if (v.diffusion[i] > 0) sum_d += v.diffusion[i], ++mobile;
+    }
+    if (!mobile) return;
+    const double sigma = sum_sigma / (double)v.n;
+    const double rate = sum_d / (double)mobile / (sigma * sigma), x = rate * v.dt;
+    const double phi = hsbd_spheres_packing_fraction(v.dimension, v.box, v.n, v.sigma);
+    const double deficit = dl_step_slope(v.dimension, phi) * x, level = 0.01;
+    if (!(deficit > level)) return;
+    run_warn(r,
+             "run.dt = %g: D_L (D_long, the MSD's long-time slope) is about %.1f %% low at phi "
+             "%.3g from the step alone (Z and g(r) are exact at any dt; docs/spheres.md); "
+             "run.dt <= %.2g keeps it within 1 %%",
+             v.dt, 100 * deficit, phi, v.dt * level / deficit);
 }
 
 /* ---- the model's part of the lifecycle ---- */
@@ -230,7 +337,8 @@ static void spheres_frame(const run *r, hsbd_frame *f) {
                       .species = v.species,
                       .nspecies = cfg->species.n,
                       .names = cfg->species.n ? cfg->species.name : NULL,
-                      .one_name = HSBD_XYZ_ONE_SPECIES};
+                      .one_name = HSBD_XYZ_ONE_SPECIES,
+                      .orientation = v.orientation};
 }
 
 /* ---- results ---- */
@@ -289,6 +397,9 @@ static void spheres_write_summary(run *r, FILE *f) {
                        hsbd_scheme_check_warnings(&check, warnings, 3));
     hsbd_json_number(f, "shell_updates_per_particle_step",
                      steps > 0 ? (double)st.shell_updates / (n * steps) : NAN, 1);
+    /* pairs whose end gap the exact pair rule changed (run.pair_rule) */
+    hsbd_json_number(f, "pair_corrections_per_particle_step",
+                     steps > 0 ? (double)st.pair_corrections / (n * steps) : NAN, 1);
     int finite;
     hsbd_json_number(f, "min_gap", hsbd_spheres_min_gap(m->sys, &finite), 1);
 }
@@ -338,6 +449,7 @@ int run_spheres_build(run *r, hsbd_error *err) {
                            .warn_start = spheres_warn_start,
                            .release = spheres_release};
     int rc = build_system(r, m, err);
+    if (rc == HSBD_OK) warn_dl_step(r);
     const size_t dn = (size_t)(r->cfg->system.dimension * r->cfg->system.n);
     if (rc == HSBD_OK && !(m->frame_unwrapped = malloc(dn * sizeof *m->frame_unwrapped)))
         rc = hsbd_error_set(err, HSBD_ENOMEM, "out of memory");

@@ -296,6 +296,21 @@ static size_t comment_lines(const lines *t) {
     return c;
 }
 
+/* The line of column names, the rows after it: the header's last line, "# " and names
+ * between tabs (or, in tables written before the names became a comment, the first line
+ * after the header). */
+static size_t names_line(const lines *t) {
+    const size_t c = comment_lines(t);
+    const char *last = c ? t->line[c - 1] : "";
+    return !strncmp(last, "# ", 2) && strchr(last, '\t') && !strstr(last, " = ") ? c - 1 : c;
+}
+
+/* the names of that line, without its "# " */
+static char *names_text(const lines *t, size_t line) {
+    char *s = t->line[line];
+    return s[0] == '#' ? s + 2 : s;
+}
+
 /* The header of a merged table: the first line's description (or `what`), then the
  * configuration lines with the ensemble's run.replica and run.replicas. */
 static void write_comments(FILE *f, const lines *t, size_t nreplicas, const char *what) {
@@ -307,7 +322,7 @@ static void write_comments(FILE *f, const lines *t, size_t nreplicas, const char
                 "%s; merged over %zu replicas: means of the replicas' values, errors from "
                 "their scatter\n",
                 t->line[0], nreplicas);
-    for (size_t k = 1; k < comment_lines(t); ++k) {
+    for (size_t k = 1; k < names_line(t); ++k) {
         if (!strncmp(t->line[k], "# run.replica = ", 16))
             fprintf(f, "# run.replica = -1\n");
         else if (!strncmp(t->line[k], "# run.replicas = ", 17))
@@ -368,7 +383,7 @@ static int parse_row(table *t, const char *name, const char *dir, size_t k, size
 static int read_table(const char *name, const replica *src, size_t k, table *t, hsbd_error *err) {
     const lines *tx = &t->text[k];
     int rc = lines_read(src[k].dir, name, &t->text[k], err);
-    t->head[k] = comment_lines(tx);
+    t->head[k] = names_line(tx);
     if (rc == HSBD_OK && (t->head[k] == 0 || t->head[k] >= tx->n))
         rc = hsbd_error_set(err, HSBD_EINPUT,
                             "merge: '%s/%s' is not a table of hsbd (no header or no columns)",
@@ -384,7 +399,7 @@ static int read_table(const char *name, const replica *src, size_t k, table *t, 
 
 /* The columns from replica 0's line of names (cut at its tabs). */
 static int table_columns(table *t, size_t n, hsbd_error *err) {
-    char *p = t->text[0].line[t->head[0]];
+    char *p = names_text(&t->text[0], t->head[0]);
     t->ncol = 1;
     for (const char *c = p; (c = strchr(c, '\t')); ++c)
         ++t->ncol;
@@ -441,7 +456,7 @@ static int merge_plain_table(FILE *f, const char *name, const replica *src, size
     if (rc == HSBD_OK) {
         write_comments(f, &t.text[0], n, NULL);
         for (size_t j = 0; j < t.ncol; ++j)
-            fprintf(f, "%s%s", j ? "\t" : "", t.name[j]);
+            fprintf(f, "%s%s", j ? "\t" : "# ", t.name[j]);
         for (size_t i = 0; i < t.rows; ++i) {
             fprintf(f, "\n%s", abscissa(&t, i));
             for (size_t j = 1; j < t.ncol; ++j) {
@@ -475,7 +490,7 @@ static int merge_blocks_table(FILE *f, const char *name, const replica *src, siz
     lines b = {0};
     int rc = load_table(base, src, n, &t, err);
     if (rc == HSBD_OK) rc = lines_read(src[0].dir, name, &b, err);
-    if (rc == HSBD_OK && (t.ncol < 2 || !comment_lines(&b) || comment_lines(&b) >= b.n))
+    if (rc == HSBD_OK && (t.ncol < 2 || !names_line(&b) || names_line(&b) >= b.n))
         rc = hsbd_error_set(err, HSBD_EINPUT, "merge: '%s/%s' or its %s is not a table of hsbd",
                             src[0].dir, name, base);
     if (rc == HSBD_OK) {
@@ -484,8 +499,8 @@ static int merge_blocks_table(FILE *f, const char *name, const replica *src, siz
                  "covariance gives correlated errors)",
                  t.name[1], base);
         write_comments(f, &b, n, what);
-        const char *columns = b.line[comment_lines(&b)];
-        fprintf(f, "%.*s", (int)strcspn(columns, "\t"), columns);
+        const char *columns = names_text(&b, names_line(&b));
+        fprintf(f, "# %.*s", (int)strcspn(columns, "\t"), columns);
         for (size_t k = 0; k < n; ++k)
             fprintf(f, "\treplica_%ld", src[k].index);
         for (size_t i = 0; i < t.rows; ++i) {

@@ -13,13 +13,33 @@
 
 /* The files a run (or the tools beside it) writes into a run directory. */
 static int is_run_output(const char *name) {
-    static const char *const names[] = {
-        "density.tsv",     "contact.tsv",          "density_blocks.tsv", "contact_blocks.tsv",
-        "msd.tsv",         "clusters.tsv",         "current.tsv",        "gr.tsv",
-        "fs.tsv",          "summary.json",         "trajectory.xyz",     "trajectory.gsd",
-        "checkpoint.hsbd", "checkpoint.prev.hsbd", "theory.tsv",         "percus.tsv",
-        "plot.png",        ".hsbd-probe",          "density_phases.tsv", "density_x.tsv",
-        "density_y.tsv",   "density_z.tsv",        RUNDIR_LOCK_FILE};
+    static const char *const names[] = {"density.tsv",
+                                        "contact.tsv",
+                                        "density_blocks.tsv",
+                                        "contact_blocks.tsv",
+                                        "msd.tsv",
+                                        "clusters.tsv",
+                                        "current.tsv",
+                                        "gr.tsv",
+                                        "fs.tsv",
+                                        "summary.json",
+                                        "trajectory.xyz",
+                                        "trajectory.gsd",
+                                        "checkpoint.hsbd",
+                                        "checkpoint.prev.hsbd",
+                                        "theory.tsv",
+                                        "percus.tsv",
+                                        "plot.png",
+                                        ".hsbd-probe",
+                                        "density_phases.tsv",
+                                        "density_x.tsv",
+                                        "density_y.tsv",
+                                        "density_z.tsv",
+                                        "sk.tsv",
+                                        "log.tsv",
+                                        "orientation.tsv",
+                                        "local_density.tsv",
+                                        RUNDIR_LOCK_FILE};
     const size_t len = strlen(name);
     const size_t base = len > 5 && !strcmp(name + len - 5, ".part") ? len - 5 : len;
     for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)

@@ -54,6 +54,11 @@ void hsbd_spheres_save(const hsbd_spheres *s, hsbd_writer *w) {
         const uint64_t walls[2] = {s->stats.wall_collisions, s->stats.wall_pushes};
         hsbd_put_u64s(w, walls, 2);
     }
+    if (s->pair_exact) hsbd_put_u64(w, s->stats.pair_corrections); /* only then, as the walls */
+    if (s->active) { /* only then, too: the orientations (user order) and the swim sum */
+        hsbd_put_f64s(w, s->orient, 3 * n);
+        hsbd_put_f64(w, s->stats.swim_collisional);
+    }
     free(tmp), free(itmp), free(label);
 }
 
@@ -136,6 +141,17 @@ int hsbd_spheres_load(hsbd_spheres *s, hsbd_reader *r) {
         return -1;
     s->stats.wall_collisions = walls[0];
     s->stats.wall_pushes = walls[1];
+    if (s->pair_exact && hsbd_get_u64(r, &s->stats.pair_corrections)) return -1;
+    if (s->active) {
+        if (get_doubles(r, s->orient, 3 * n) || hsbd_get_f64(r, &s->stats.swim_collisional))
+            return -1;
+        for (size_t i = 0; i < n; ++i) {
+            const double *e = s->orient + 3 * i;
+            if (fabs(e[0] * e[0] + e[1] * e[1] + e[2] * e[2] - 1) > 1e-9 ||
+                (s->dim == 2 && e[2] != 0))
+                return hsbd_reader_fail(r, "spheres: an orientation is not a unit vector");
+        }
+    }
     if (stats[5] > 1000) return hsbd_reader_fail(r, "spheres: an unknown event-order state");
     if (sph_groups_set_pause(s, (unsigned)stats[5])) return hsbd_reader_oom(r, "the event groups");
     if (sph_rebuild_rows(s) != HSBD_OK) return hsbd_reader_oom(r, "the neighbour lists");

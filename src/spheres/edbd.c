@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "hsbd/rng.h"
+#include "spheres/active.h"
+#include "spheres/reflect.h"
 #include "spheres/events.h"
 #include "spheres/global.h"
 #include "spheres/groups.h"
@@ -95,6 +97,10 @@ static int check_params(const hsbd_spheres_params *p, hsbd_error *err) {
                               "spheres: field_step = %d; allowed: 0 (Euler), 1 "
                               "(Heun)",
                               p->field_step);
+    if (p->pair_rule != HSBD_PAIR_EXACT && p->pair_rule != HSBD_PAIR_MIRROR)
+        return hsbd_error_set(err, HSBD_EINPUT,
+                              "spheres: pair_rule = %d; allowed: 0 (exact), 1 (mirror)",
+                              p->pair_rule);
     if (p->field && (p->field_axis < 0 || p->field_axis >= p->dimension))
         return hsbd_error_set(err, HSBD_EINPUT, "spheres: field axis %d; allowed: 0 .. %d",
                               p->field_axis, p->dimension - 1);
@@ -162,6 +168,11 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->start_flag);
     free_hit_parts(s->hit_parts, s->hit_nparts);
     free_hit_parts(s->exit_parts, s->exit_nparts);
+    for (size_t k = 0; k < s->push_nparts; ++k)
+        free(s->push_parts[k].p), free(s->push_parts[k].near);
+    free(s->push_parts);
+    free(s->drift);
+    free(s->push_sum);
     free(s->normals);
     free(s->label);
     free(s->cell_rank);
@@ -177,6 +188,7 @@ void hsbd_spheres_free(hsbd_spheres *s) {
     free(s->field_x);
     free(s->field_f);
     free(s->field_fp);
+    sph_active_free(s);
     hsbd_cells_free(&s->cells);
     sph_calendar_free(&s->calendar);
     sph_groups_free(s->groups);
@@ -214,6 +226,30 @@ static int alloc_walls_and_field(hsbd_spheres *s) {
         s->drift_mu[i] = s->diffusion[i] / p->kT * c; /* mu_i = D_i / kT */
     }
     s->par.species_coupling = s->par.particle_coupling = NULL; /* drift_mu holds them */
+    return 0;
+}
+
+/* Whether two particles' drifts can differ in a step, so that the exact pair rule has work
+ * (docs/spheres.md, "Pair collisions under a relative drift"): active particles that swim
+ * (each along its own orientation), a field whose force varies in space (a term of non-zero
+ * or unknown curvature), or drift factors D_i coupling_i that differ between particles
+ * (immobile ones included: their factor is 0). The common drift moves every mobile particle
+ * alike and is refused with immobile ones. */
+static int relative_drifts(const hsbd_spheres *s, const hsbd_spheres_params *p) {
+    if (s->v0_max > 0) return 1; /* sph_active_alloc ran before */
+    if (!p->field) return 0;
+    for (size_t k = 0; k < p->field->nterms; ++k)
+        if (!p->field->term[k].ops->max_curvature) return 1;
+    if (hsbd_field_max_curvature(p->field) != 0) return 1;
+    double first = 0;
+    for (size_t i = 0; i < s->n; ++i) {
+        const double c = p->particle_coupling  ? p->particle_coupling[i]
+                         : p->species_coupling ? p->species_coupling[s->species[i]]
+                                               : 1.0;
+        const double factor = s->diffusion[i] * c;
+        if (i == 0) first = factor;
+        if (factor != first) return 1;
+    }
     return 0;
 }
 
@@ -286,8 +322,17 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
     s->diffusion_max = dmax;
     s->virial_scale = sph_exact_scale_for(s->sigma_max * s->sigma_max / dmax); /* a time */
     s->wall_scale = sph_exact_scale_for(s->sigma_max / dmax);
+    s->swim_scale = sph_exact_scale_for(params->kT * s->sigma_max * s->sigma_max / dmax);
+    if (sph_active_check(params, s->diffusion, err) != HSBD_OK) {
+        hsbd_spheres_free(s);
+        return NULL;
+    }
+    if (sph_active_alloc(s)) goto oom;
     s->shell = params->shell > 0 ? params->shell : default_shell(s, dmax, sigma_sum / (double)n);
-    const double reach = s->sigma_max + 2 * s->shell;
+    s->pair_exact =
+        params->hard_core && params->pair_rule == HSBD_PAIR_EXACT && relative_drifts(s, params);
+    s->pair_skin = sph_pair_skin(s, s->dt);
+    const double reach = s->sigma_max + sph_shell_reach(s);
     for (int a = 0; a < s->dim; ++a) {
         if (s->walls[a] && !(s->length[a] >= s->sigma_max)) {
             hsbd_error_set(err, HSBD_EINPUT,
@@ -301,6 +346,7 @@ hsbd_spheres *hsbd_spheres_alloc(const hsbd_spheres_params *params, hsbd_error *
         s->inv_box[a] = 1.0 / s->box[a];
     }
     if (alloc_walls_and_field(s)) goto oom;
+    if (s->pair_exact && !(s->drift = malloc(3 * n * sizeof *s->drift))) goto oom;
     for (int a = 0; a < s->dim; ++a)
         if (params->hard_core && !s->walls[a] && !(s->box[a] >= 2 * reach)) {
             hsbd_error_set(err, HSBD_EINPUT,
@@ -391,22 +437,25 @@ static void add_field_drift(hsbd_spheres *s) {
         s->v[3 * i + a] += s->drift_mu[i] * s->field_f[i];
 }
 
-/* The uniforms U in (0, 1) of src/core/rng.c have -ln U <= 54 ln 2 = 37.43: a bridge
- * with g0 g1 >= BRIDGE_REACH D dt never reaches the wall, so it needs no draw. */
-#define BRIDGE_REACH 37.5
-
-/* The push off a wall of a particle whose Brownian path (diffusion D) goes from gap g0 >= 0
- * to the free end gap g1 in the step: minus the minimum m of the Brownian bridge between
- * them when m < 0, drawn as m = (g0 + g1 - sqrt((g1 - g0)^2 - 4 D dt ln U)) / 2 (design
- * notes 7), else 0. The free end point plus this push is the end point of the path
- * reflected at the wall (Skorokhod): exact for any drift that is constant in the step. */
-static double bridge_push(const hsbd_spheres *s, double g0, double g1, double d_dt,
-                          uint64_t index) {
-    if (g0 * g1 >= BRIDGE_REACH * d_dt) return 0;
-    double u;
-    hsbd_rng_uniforms(s->par.seed, s->bridge_stream, s->step, index, 1, &u);
-    const double m = 0.5 * (g0 + g1 - sqrt((g1 - g0) * (g1 - g0) - 4.0 * d_dt * log(u)));
-    return m < 0 ? -m : 0;
+/* Each particle's drift velocity in this step: the common drift, the field's and the
+ * propulsion (the exact pair rule compares them between partners: reflect.c). */
+static void record_drifts(hsbd_spheres *s) {
+    const double *g = s->par.drift;
+    for (size_t i = 0; i < s->n; ++i)
+        for (int a = 0; a < 3; ++a)
+            s->drift[3 * i + a] = s->noise_amp[i] > 0 ? g[a] : 0.0;
+    if (s->par.field) {
+        const size_t axis = (size_t)s->par.field_axis;
+        for (size_t i = 0; i < s->n; ++i)
+            s->drift[3 * i + axis] += s->drift_mu[i] * s->field_f[i];
+    }
+    if (!s->active) return;
+    for (size_t i = 0; i < s->n; ++i) { /* each particle's own drift, its propulsion */
+        double own[3];
+        sph_propulsion(s, (int32_t)i, own);
+        for (int a = 0; a < 3; ++a)
+            s->drift[3 * i + a] += own[a];
+    }
 }
 
 /* The walls' Skorokhod pushes, added to the fictive velocities before any event: a
@@ -423,12 +472,12 @@ static void add_wall_pushes(hsbd_spheres *s) {
             const double d = s->diffusion[i], half = 0.5 * s->sigma[i];
             double *x = s->x + 3 * i + a, *v = s->v + 3 * i + a;
             const double dx = *v * dt, low = *x - half, high = s->length[a] - half - *x;
-            if (!(d > 0) || (low * (low + dx) >= BRIDGE_REACH * d * dt &&
-                             high * (high - dx) >= BRIDGE_REACH * d * dt))
+            if (!(d > 0) || (low * (low + dx) >= SPH_BRIDGE_REACH * d * dt &&
+                             high * (high - dx) >= SPH_BRIDGE_REACH * d * dt))
                 continue; /* the common case: neither bridge can reach its wall */
             const uint64_t index = 2 * (3 * (uint64_t)s->label[i] + (uint64_t)a);
-            const double up = bridge_push(s, low, low + dx, d * dt, index);
-            const double down = bridge_push(s, high, high - dx, d * dt, index + 1);
+            const double up = sph_bridge_push(s, low, low + dx, d * dt, index);
+            const double down = sph_bridge_push(s, high, high - dx, d * dt, index + 1);
             if (up == 0 && down == 0) continue;
             *v += (up - down) / dt;
             sph_exact_sum *sum = s->wall_step + 6 * (size_t)s->species[i] + 2 * a;
@@ -475,6 +524,8 @@ static void draw_velocities(hsbd_spheres *s) {
         }
     }
     if (s->par.field) add_field_drift(s);
+    if (s->active) sph_add_propulsion(s);
+    if (s->pair_exact) record_drifts(s);
     if (s->any_walls) add_wall_pushes(s);
 }
 
@@ -643,8 +694,12 @@ int hsbd_spheres_step(hsbd_spheres *s) {
     draw_velocities(s);
     if (s->par.hard_core) {
         keep_start_positions(s);
-        if (run_events(s)) return fail_step(s, &stats_at_start);
-        s->stats.virial += sph_exact_value(s->virial_scale, s->step_virial);
+        if (s->active) sph_keep_free_velocities(s); /* before the pair rule: the swim sum */
+        s->push_virial = 0;
+        if ((s->pair_exact && sph_pair_corrections(s)) || run_events(s))
+            return fail_step(s, &stats_at_start);
+        s->stats.virial += sph_exact_value(s->virial_scale, s->step_virial + s->push_virial);
+        if (s->active) sph_add_swim_collisional(s);
     }
     if (s->sort_enabled) s->sort_clock += s->diffusion_max * s->dt;
     finish_step(s);
@@ -652,6 +707,7 @@ int hsbd_spheres_step(hsbd_spheres *s) {
         keep_between_walls(s);
         commit_wall_step(s);
     }
+    if (s->active) sph_rotate(s); /* the orientations of the step's end (its counter) */
     s->step++;
     s->stats.steps++;
     s->time += s->dt;
@@ -675,7 +731,10 @@ hsbd_spheres_view hsbd_spheres_get_view(const hsbd_spheres *s) {
                            .dt = s->dt,
                            .time = s->time,
                            .step = s->step,
-                           .hard_core = s->par.hard_core};
+                           .hard_core = s->par.hard_core,
+                           .orientation = s->orient,
+                           .v0 = s->v0,
+                           .rotational_diffusion = s->rot_d};
     for (int a = 0; a < 3; ++a)
         v.box[a] = s->length[a];
     return v;

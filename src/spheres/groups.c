@@ -233,7 +233,8 @@ static int alloc_particles(hsbd_spheres *s) {
     if (!g->parent || !g->last_segment || !g->moved || !g->history || !g->moved_list ||
         !g->rewound || !g->queued || !g->extra_particle || !g->extra_next || !g->extra_head ||
         !g->extra_sigma || !g->extra_centre ||
-        hsbd_cells_init(&g->extra, s->dim, s->box, s->sigma_max + 2 * s->shell, g->extra_cap)) {
+        hsbd_cells_init(&g->extra, s->dim, s->box, s->sigma_max + sph_shell_reach(s),
+                        g->extra_cap)) {
         sph_groups_free(g);
         return -1;
     }
@@ -595,7 +596,7 @@ static int settle_moved_shells(hsbd_spheres *s) {
             const int32_t m = row[q];
             double d[3];
             sph_min_image(s, s->centre + 3 * (size_t)m, cp, d);
-            const double reach = 0.5 * (s->sigma[p] + s->sigma[m]) + 2 * s->shell;
+            const double reach = 0.5 * (s->sigma[p] + s->sigma[m]) + sph_shell_reach(s);
             if (hsbd_dot3(d, d) < reach * reach) {
                 ++q;
                 continue;
@@ -902,7 +903,7 @@ static int hand_to_global_calendar(hsbd_spheres *s) {
 
 /* ---- the first pass, on threads ----
  * The box is cut into an even number of slabs along a periodic axis, each at least as
- * wide as the reach of a neighbour pair at the start of a step (sigma_max + 4 shell). A
+ * wide as the reach of a neighbour pair at the start of a step (sigma_max + 4 shell + skin). A
  * group whose particles all start in slab k reads only particles in slabs k - 1 to
  * k + 1, so the groups of the even slabs can run at the same time, and then those of the
  * odd ones. A run takes in what it meets in its slab that has not run: particles that met

@@ -380,7 +380,9 @@ int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err) {
     s->noise_stream = HSBD_STREAM_COMPRESS;
     s->bridge_stream = HSBD_STREAM_COMPRESS_CONTACT;
     const int sort_enabled = s->sort_enabled; /* final[] and growth[] use the user's order */
+    const int propel = s->propel;             /* passive growth: no propulsion, no turns */
     s->sort_enabled = 0;
+    s->propel = 0;
     int rc = s->par.hard_core ? compress_from_rsi(s, final, growth, err)
                               : hsbd_spheres_init_random(s, err);
     memcpy(s->sigma, final, s->n * sizeof *final);
@@ -388,6 +390,7 @@ int hsbd_spheres_init_compress(hsbd_spheres *s, hsbd_error *err) {
     s->noise_stream = HSBD_STREAM_NOISE;
     s->bridge_stream = HSBD_STREAM_CONTACT;
     s->sort_enabled = sort_enabled;
+    s->propel = propel;
     hsbd_spheres_set_dt(s, dt);
     reset_dynamics(s);
     hsbd_spheres_reset_stats(s);

@@ -108,8 +108,8 @@ int sph_shells_near(hsbd_spheres *s, const hsbd_cells *cells, const double *poin
     const double *ci = s->centre + 3 * (size_t)i;
     int32_t around[27];
     const int nc = hsbd_cells_around(cells, ci, around);
-    const double base = 0.5 * s->sigma[i] + 2 * s->shell;    /* reach = base + sigma_j / 2 */
-    const double *sigma = s->one_sigma ? NULL : point_sigma; /* one diameter: none to read */
+    const double base = 0.5 * s->sigma[i] + sph_shell_reach(s); /* + sigma_j / 2 */
+    const double *sigma = s->one_sigma ? NULL : point_sigma;    /* one diameter: none to read */
     *found = s->cells_near(cells, around, nc, ci, s->box, sigma,
                            sigma ? base : base + 0.5 * s->sigma_max, out->id);
     return 0;

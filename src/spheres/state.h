@@ -59,6 +59,22 @@ static inline double sph_exact_value(sph_exact_scale scale, sph_exact_sum sum) {
     return (double)sum * scale.from_quanta;
 }
 
+/* A particle's share of a pair's change by the exact pair rule in a step (reflect.c): the
+ * engine's particle i and its displacement d. The changes of a step, one buffer per
+ * thread, with the pairs changed and their share of the virial. */
+typedef struct sph_pair_end {
+    int32_t i;
+    double d[3];
+} sph_pair_end;
+typedef struct sph_pushes {
+    sph_pair_end *p;
+    size_t len, cap;
+    uint64_t pairs;
+    sph_exact_sum virial;
+    int32_t *near; /* a row's pairs within the screen */
+    uint32_t near_cap;
+} sph_pushes;
+
 /* A wall event of a step: particle, wall 2 axis + side, displacement / D, the group
  * that ran it (-1: the global calendar). */
 
@@ -137,8 +153,28 @@ struct hsbd_spheres {
     double *drift_mu;          /* N: D_i coupling_i / kT (field drift per unit force), or NULL */
     double *field_x, *field_f; /* N: coordinates along the field axis, forces */
     double *field_fp;          /* N: Heun's forces at the predictor's end points, or NULL */
+    /* active particles (active.c), in the user's order; all NULL when none is active */
+    int active;          /* the parameters gave v0 and D_r */
+    int propel;          /* 0 while the compression runs: no propulsion, no rotation */
+    double v0_max;       /* the largest v0: > 0, pairs of active particles have relative
+                          * drifts (what a pair rule for relative drifts needs to know) */
+    double *orient;      /* 3 N unit vectors (z = 0 in 2D) */
+    double *v0, *rot_d;  /* N each: propulsion speed, rotational diffusion coefficient */
+    double *swim_weight; /* N: v0 kT / ((d - 1) D D_r), 0 where D_r = 0 */
+    double *rot_normals, *rot_uniforms; /* a step's rotational draws: 3 N (2D: N), N */
+    double *v_free; /* 3 N, internal order: the velocities before any event (hard core) */
+    /* the exact pair rule (reflect.c, docs/spheres.md "Pair collisions under a relative
+     * drift"): on when the rule is exact and two drifts can differ; the skin widens the
+     * neighbour rows so that every pair the rule can change is in them */
+    int pair_exact;
+    double pair_skin;
+    double *drift;          /* 3 N: each particle's drift velocity in this step (when pair_exact) */
+    sph_pushes *push_parts; /* one per thread */
+    sph_exact_sum *push_sum; /* 3 N: a step's changes per particle (zero between steps) */
+    size_t push_nparts;
     sph_exact_sum step_virial; /* this step's virial so far (stats.virial at its end) */
-    sph_exact_scale virial_scale, wall_scale; /* the quanta of those sums */
+    sph_exact_sum push_virial; /* this step's pair rule's share of it */
+    sph_exact_scale virial_scale, wall_scale, swim_scale; /* the quanta of those sums */
     hsbd_spheres_stats stats;
 };
 
@@ -149,6 +185,12 @@ static inline void sph_min_image(const hsbd_spheres *s, const double *a, const d
                                  double *r) {
     for (int k = 0; k < 3; ++k)
         r[k] = hsbd_wrap_delta(a[k] - b[k], s->box[k]);
+}
+
+/* How far beyond sigma_ij two shell centres may be for i and j to be neighbours: the two
+ * shells, plus the exact pair rule's skin (0 without it). */
+static inline double sph_shell_reach(const hsbd_spheres *s) {
+    return 2 * s->shell + s->pair_skin;
 }
 
 static inline double sph_contact_distance(const hsbd_spheres *s, int32_t i, int32_t j) {
@@ -202,9 +244,10 @@ enum { SPH_MAX_SLABS = 64 };
 static inline int sph_slabs(const hsbd_spheres *s, int *axis) {
     *axis = sph_slab_axis(s);
     if (*axis < 0 || s->any_walls || !s->par.hard_core) return 0;
-    /* a neighbour pair's reach at the start of a step, sigma_max + 4 shell; slabs three
-     * reaches wide cut few groups, one reach is the least */
-    const double reach = 1.01 * (s->sigma_max + 4 * s->shell), length = s->box[*axis];
+    /* a neighbour pair's reach at the start of a step, sigma_max + 4 shell (+ the pair
+     * rule's skin); slabs three reaches wide cut few groups, one reach is the least */
+    const double reach = 1.01 * (s->sigma_max + 4 * s->shell + s->pair_skin);
+    const double length = s->box[*axis];
     int n = 2 * (int)floor(length / (2 * 3 * reach));
     if (n < 4) n = 2 * (int)floor(length / (2 * reach));
     return n < 4 ? 0 : n < SPH_MAX_SLABS ? n : SPH_MAX_SLABS;

@@ -71,7 +71,7 @@ size_t validation_columns(void) {
 
 void validation_write_header(FILE *tsv, FILE *md) {
     for (size_t k = 0; k < NCOLUMNS; ++k) {
-        fprintf(tsv, "%s%s", k ? "\t" : "", columns[k].tsv);
+        fprintf(tsv, "%s%s", k ? "\t" : "# ", columns[k].tsv);
         fprintf(md, "| %s ", columns[k].md);
     }
     fprintf(tsv, "\n");

@@ -96,7 +96,7 @@ static void read_blocks_table(const char *path, table *t) {
     char line[4096];
     size_t cols = 0;
     while (fgets(line, sizeof line, f))
-        if (line[0] == 'x') {
+        if (!strncmp(line, "# x\t", 4)) { /* the column names */
             cols = 1;
             for (const char *c = line; *c; ++c)
                 cols += *c == '\t';
@@ -769,10 +769,10 @@ static int compare_percus(const hsbd_validate_options *opt, const vcase *c, verd
         if (is_sticky)
             fprintf(o.f,
                     "# exact profile of sticky rods (delta_eps, p = %g, eps = %g; transfer "
-                    "operator), sigma = %g, rho = %g, U0 = %g, gamma = %g\nx\trho\trho2\n",
+                    "operator), sigma = %g, rho = %g, U0 = %g, gamma = %g\n# x\trho\trho2\n",
                     STICKY_ORDER, STICKY_EPSILON, c->sigma, c->rho, c->u0, c->gamma);
         else
-            fprintf(o.f, "# Percus exact profile, sigma = %g, rho = %g, U0 = %g\nx\trho\trho2\n",
+            fprintf(o.f, "# Percus exact profile, sigma = %g, rho = %g, U0 = %g\n# x\trho\trho2\n",
                     c->sigma, c->rho, c->u0);
         for (size_t j = 0; j < th.m; j += is_sticky ? 2 : 4)
             fprintf(o.f, "%.8g\t%.10g\t%.10g\n", th.x[j], th.rho[j], th.rho2[j]);

@@ -17,7 +17,7 @@ ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
 
 # what a message names: a file (and line), or the flag or argument
-WHERE="[A-Za-z0-9_-]+\.(ini|xyz|txt|tab)(:[0-9]+)?[: ']|(file|table|path|directory) '[^']+'|--[a-z]|command line|argument ([0-9]+|'[^']+')|unknown theory '"
+WHERE="[A-Za-z0-9_-]+\.(ini|xyz|txt|tab|gsd)(:[0-9]+)?[: ']|(file|table|path|directory) '[^']+'|--[a-z]|command line|argument ([0-9]+|'[^']+')|unknown theory '"
 # bad_case NAME 'text' ['text'...] -- hsbd-arguments...
 # `run` cases without their own --out get --out DIR --quiet appended; DIR must not exist
 # afterwards.
@@ -99,7 +99,7 @@ sph xyz-count-hex "count-hex.xyz:1:" "number of particles" -- run sph.ini --set 
 sph xyz-count-mismatch "count-more.xyz:1:" "the count line says 21, the file has 20 particle lines" -- run sph.ini --set init.positions=count-more.xyz
 head -n -1 frame.xyz >count-short.xyz
 sph xyz-count-short "count-short.xyz:1:" "the count line says 20, the file has 19 particle lines" -- run sph.ini --set init.positions=count-short.xyz
-sph xyz-count-not-n "frame.xyz:1:" "has 20 particles; allowed: system.N = 21" -- run sph.ini --set system.N=21 --set init.positions=frame.xyz
+sph xyz-count-not-n "command line (--set) system.N" "system.N = 21 disagrees with init.positions 'frame.xyz', which has N = 20 particles" -- run sph.ini --set system.N=21 --set init.positions=frame.xyz
 { echo "99999999999999999999999"; tail -n +2 frame.xyz; } >count-huge.xyz
 sph xyz-count-huge "count-huge.xyz:1:" -- run sph.ini --set init.positions=count-huge.xyz
 head -n 1 frame.xyz >count-only.xyz
@@ -123,7 +123,7 @@ bad_case xyz-unknown-species-mixture "mixspecies.xyz:4:" "unknown species name '
 sed '13s/^B /A /' mixframe.xyz >mixcount.xyz
 bad_case xyz-species-count "mixcount.xyz" "11 particles of species A" -- run mix.ini --set init.positions=mixcount.xyz
 sed '2s/Lattice="[0-9.e+-]*/Lattice="99/' frame.xyz >lattice.xyz
-sph xyz-lattice-box "lattice.xyz:2:" "Lattice" "is not the box" -- run sph.ini --set init.positions=lattice.xyz
+sph xyz-lattice-box "sph.ini:" "system.packing_fraction = " "disagrees with init.positions 'lattice.xyz', which has the box 99 x " -- run sph.ini --set init.positions=lattice.xyz
 sed '2s/Lattice="\([^ ]*\) 0 0/Lattice="\1 0.5 0/' frame.xyz >lattice-skew.xyz
 sph xyz-lattice-skew "lattice-skew.xyz:2:" "axis-aligned" -- run sph.ini --set init.positions=lattice-skew.xyz
 sed '2s/Lattice="[^"]*"/Lattice="1 2 3"/' frame.xyz >lattice-short.xyz
@@ -141,6 +141,19 @@ sph xyz-directory "cannot read init.positions file 'xyzdir'" "Is a directory" --
 sph xyz-missing "cannot read init.positions file 'nosuch.xyz'" "No such file" -- run sph.ini --set init.positions=nosuch.xyz
 head -c 3000 /dev/zero | tr '\0' '\377' >junk.xyz
 sph xyz-binary "junk.xyz:1:" -- run sph.ini --set init.positions=junk.xyz
+
+# ---- init.positions in GSD: the file's bad cases, and a restated value that disagrees ----
+"$HSBD" run sph.ini --out "$T/gsdrun" --quiet --set output.trajectory=gsd || bad "spheres run for a GSD file"
+cp "$T/gsdrun/trajectory.gsd" frames.gsd
+cp frame.xyz frame.gsd
+sph gsd-not-gsd "frame.gsd: the file does not begin with GSD's magic number" -- run sph.ini --set init.positions=frame.gsd
+head -c 100 frames.gsd >header-cut.gsd
+sph gsd-header-cut "header-cut.gsd: the file ends inside its 256-byte header" -- run sph.ini --set init.positions=header-cut.gsd
+head -c 6000 frames.gsd >cut.gsd
+sph gsd-cut "cut.gsd: " "beyond the file's end (cut short?)" -- run sph.ini --set init.positions=cut.gsd
+sph gsd-frame "frames.gsd: init.frame = 100 is not a frame of the file; allowed: 0 .. 99" -- run sph.ini --set init.positions=frames.gsd --set init.frame=100
+sph gsd-frame-xyz "init.frame chooses a frame of a GSD file" -- run sph.ini --set init.positions=frame.xyz --set init.frame=0
+sph gsd-count "command line (--set) system.N: system.N = 30 disagrees with init.positions 'frames.gsd' (frame 99 of 100), which has N = 20 particles" -- run sph.ini --set init.positions=frames.gsd --set system.N=30
 
 # ---- rods: configuration files ----
 rods_ini() { # a quick rods configuration; extra lines (given as arguments) go to its end
@@ -296,6 +309,8 @@ bad_case species-no-names "spnonames.ini:15:" "species.count is set but species.
 mix 'fraction = 0.5 0.5' 'names = A B' 'sigma = 0.5 0.5' 'D = 1 1' >spfrac.ini
 bad_case species-fraction-rods "spfrac.ini:15:" "species.fraction applies to system.model = spheres only" -- run spfrac.ini
 bad_case spheres-key-for-rods "system.dimension applies to system.model = spheres only" -- run good.ini --set system.dimension=2
+bad_case pair-rule-for-rods "run.pair_rule applies to system.model = spheres only" -- run good.ini --set run.pair_rule=mirror
+sph pair-rule-name "run.pair_rule" "one of exact|mirror" -- run sph.ini --set run.pair_rule=bounce
 
 # ---- rods: init.positions ----
 pos() { bad_case "$@"; } # pos NAME texts -- run good.ini --set init.positions=FILE
@@ -413,6 +428,17 @@ bad_case coupling-and-law "species.coupling is set with species.coupling_law = v
 bad_case coupling-no-species "species.coupling is set but species.names is empty" -- run box3.ini --set species.coupling=2 --set field.type=tilt
 bad_case force-immobile "a field acts on species B, whose D = 0 cannot move" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set field.type=tilt
 bad_case drift-immobile "system.drift with species B, whose D = 0 cannot move" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set "system.drift=1 0 0"
+# active particles
+bad_case active-v0-negative "command line (--set) active.v0" "active.v0 value '-1' is out of range; allowed: finite decimal numbers 0 <= v0 < inf" -- run box3.ini --set active.v0=-1
+bad_case active-dr-negative "active.rotational_D value '-0.5' is out of range; allowed: finite decimal numbers 0 <= rotational_D < inf" -- run box3.ini --set active.v0=1 --set active.rotational_D=-0.5
+bad_case active-v0-count "active.v0 has 3 values for 2 species; allowed: one value, or one per species" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 1" --set "active.v0=1 2 3"
+bad_case active-immobile "active.v0 = 2 for species B, whose D = 0 cannot move; allowed: v0 = 0 for it" -- run box3.ini --set "species.names=A B" --set "species.count=10 10" --set "species.sigma=1 1" --set "species.D=1 0" --set active.v0=2
+bad_case active-rotational-alone "active.rotational_D is set but active.v0 is empty" -- run box3.ini --set active.rotational_D=1
+bad_case active-rods "active.v0 applies to system.model = spheres only, but the model is rods" -- run --defaults --set active.v0=1
+printf '2\nLattice="12 0 0 0 12 0 0 0 12" Properties=species:S:1:pos:R:3:radius:R:1:orientation:R:4\nS 1 1 1 0.5 0 0 0 1\nS 5 5 5 0.5 0 0 0 0\n' >zeroquat.xyz
+bad_case active-zero-quaternion "zeroquat.xyz:4: the orientation (columns 6-9, quaternion x y z w) is not four finite numbers of a rotation" -- run box3.ini --set system.N=2 --set active.v0=1 --set init.positions=zeroquat.xyz
+printf '[system]\nmodel = rods\n[active]\nv0 = 3\n' >rodsactive.ini
+bad_case active-rods-file "rodsactive.ini:4:" "active.v0 applies to system.model = spheres only" -- run rodsactive.ini
 printf '2\nLattice="12 0 0 0 12 0 0 0 12" Properties=species:S:1:pos:R:3\nS 1 1 1\nS 5 5 0.2\n' >wallpos.xyz
 bad_case memory-profiles "sample.bin_width = 1e-09" "the density profiles' bins" -- run box3.ini --set system.boundary=walls --set sample.bin_width=1e-9
 bad_case xyz-outside-walls "wallpos.xyz:4: particle 2 at z = 0.2 is outside the walls" "allowed: sigma/2 = 0.5 <= z" -- run box3.ini --set system.N=2 --set system.boundary=walls --set init.positions=wallpos.xyz

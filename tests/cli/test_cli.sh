@@ -283,8 +283,8 @@ same=1
 for f in density.tsv contact.tsv msd.tsv clusters.tsv; do cmp -s "r1/$f" "r2/$f" || same=0; done
 if [ $same -eq 1 ]; then ok; else bad "same seed gave different tables"; fi
 if ! cmp -s r1/density.tsv r3/density.tsv; then ok; else bad "seed has no effect"; fi
-if grep -q '^# system.seed = 7$' r1/density.tsv && grep -q '^x	rho	rho_err$' r1/density.tsv &&
-    grep -q '^x	rho2	rho2_err	rho2_theorem	rho2_theorem_err	rho2_window	rho2_window_err	rho2_extrap	rho2_extrap_err$' r1/contact.tsv; then ok; else bad "table header"; fi
+if grep -q '^# system.seed = 7$' r1/density.tsv && grep -q '^# x	rho	rho_err$' r1/density.tsv &&
+    grep -q '^# x	rho2	rho2_err	rho2_theorem	rho2_theorem_err	rho2_window	rho2_window_err	rho2_extrap	rho2_extrap_err$' r1/contact.tsv; then ok; else bad "table header"; fi
 # the default rho2 column is the extrapolated estimator under reflect (the default rule)
 if awk '!/^#/ && !/^x/ { if ($2 != $8 || $3 != $9) bad = 1 } END { exit bad }' r1/contact.tsv; then ok; else bad "rho2 is not rho2_extrap under reflect"; fi
 if ls r1/*.part >/dev/null 2>&1; then bad "temporary files left"; else ok; fi
@@ -379,6 +379,29 @@ assert any('Eq. 6' in w for w in d['warnings'])" 2>/dev/null; then ok; else bad 
 if "$HSBD" run sph.ini --set system.packing_fraction=0.45 --set init.method=compress --set run.dt=2e-3 \
        --out eq3 --quiet 2>eq3.err && grep -q "Scala Eq. 3" eq3.err; then ok; else bad "Eq. 3 warning: $(cat eq3.err)"; fi
 
+# D_L's time-step error (docs/spheres.md, "D_L and the time step"): at phi 0.3 a step of
+# 1e-2 leaves D_L several percent low, warned on stderr and in summary.json with the dt that
+# keeps it within 1 %; 1e-3 is below that level, and ideal particles (hard core off) have
+# no such error
+dl_step() { # dl_step NAME DT [ARGS...]: the warning build of a phi 0.3 run
+    local name=$1 dt=$2
+    shift 2
+    "$HSBD" run sph.ini --set system.packing_fraction=0.3 --set run.dt="$dt" --set run.t_equil=0 \
+        --set run.t_total=0.1 --set sample.every=1 --set sample.blocks=2 "$@" --out "$name" \
+        --quiet 2>"$name.err"
+}
+if dl_step dlc 1e-2 && grep -q "warning: run.dt = 0.01: D_L (D_long, the MSD's long-time slope) is about [3-6]\.[0-9] % low at phi 0.3 .*; run.dt <= 0.00[12][0-9]* keeps it within 1 %" dlc.err &&
+    python3 -c "
+import json; w = json.load(open('dlc/summary.json'))['warnings']
+assert sum('D_L (D_long' in x for x in w) == 1, w" 2>/dev/null; then ok
+else bad "D_L time-step warning at dt 1e-2: $(cat dlc.err)"; fi
+if dl_step dlf 1e-3 && ! grep -q "D_L" dlf.err && python3 -c "
+import json; w = json.load(open('dlf/summary.json'))['warnings']
+assert not any('D_L' in x for x in w), w" 2>/dev/null; then ok
+else bad "D_L warned at dt 1e-3: $(cat dlf.err)"; fi
+if dl_step dli 1e-2 --set system.hard_core=off && ! grep -q "D_L" dli.err; then ok
+else bad "D_L warned for ideal particles: $(cat dli.err)"; fi
+
 # above phi = pi/6 Scala's mean gap rho^(-1/3) - sigma is negative: the lattice spacing's
 # gap stays finite (phi 0.55, dt 2e-4: a step of 0.31 of it, no warning, no inf or nan)
 if "$HSBD" run sph.ini --set system.packing_fraction=0.55 --set init.method=compress \
@@ -419,9 +442,10 @@ if "$HSBD" run ideal.ini --out sk-ideal --quiet 2>/dev/null && awk '!/^#/ && $1 
 else bad "S(k) of ideal particles: $(grep -v '^#' sk-ideal/sk.tsv 2>&1 | tr '\n' ' ')"; fi
 
 # rods' time step against the field's and the pair force's time scales: the cosine of
-# U0 = 6 at dt 0.01 distorts the density by ~30 % (dt mu max|U''| / 4 = 0.296), warned on
-# stderr with a suggested dt and listed in summary.json; none at dt 1e-5; a stiff pair
-# force (LJ well at contact) is warned too
+# U0 = 6 (k = mu max|U''| = 118.4) at dt 0.01 distorts the density by ~30 % with Euler's
+# step (dt k / 4 = 0.296) and ~18 % with Heun's ((dt k)^2 / 8 = 0.175), warned on stderr
+# with a suggested dt and listed in summary.json; none at dt 1e-5 (Euler) or 1e-4 (Heun,
+# the default); a stiff pair force (LJ well at contact, always an Euler step) is warned too
 rods_dt() { # rods_dt DIR DT [--set ...]: a short cosine run at DT
     local dir=$1 dt=$2
     shift 2
@@ -429,17 +453,26 @@ rods_dt() { # rods_dt DIR DT [--set ...]: a short cosine run at DT
         --set run.t_total="$(awk -v d="$dt" 'BEGIN { print 200 * d }')" --set sample.every=1 \
         --set sample.blocks=4 "$@" --out "$dir" 2>"$dir.err"
 }
-if rods_dt coarse 0.01 && grep -q "warning: run.dt = 0.01: the field's Euler step distorts the stationary density by about 30 %.*run.dt <= 0.00034 gives about 1 %" coarse.err &&
+step_warned() { # step_warned DIR STEP ESTIMATE: one warning naming STEP, the estimate in the summary
     python3 -c "
-import json; d = json.load(open('coarse/summary.json'))
-assert abs(d['euler_field_error'] - 0.296) < 1e-3, d['euler_field_error']
-assert len(d['warnings']) == 1 and 'Euler' in d['warnings'][0]" 2>/dev/null; then ok
-else bad "rods time-step warning at dt 0.01: $(cat coarse.err)"; fi
-if rods_dt fine 1e-5 && [ ! -s fine.err ] && python3 -c "
-import json; d = json.load(open('fine/summary.json')); assert d['warnings'] == []" 2>/dev/null; then ok
-else bad "rods at dt 1e-5 warned: $(cat fine.err)"; fi
+import json; d = json.load(open('$1/summary.json'))
+assert abs(d['field_step_error'] - $3) < 1e-3, d['field_step_error']
+assert len(d['warnings']) == 1 and '$2' in d['warnings'][0]" 2>/dev/null
+}
+if rods_dt coarse 0.01 --set run.field_step=euler && grep -q "warning: run.dt = 0.01: the field's Euler step distorts the stationary density by about 30 %.*run.dt <= 0.00034 gives about 1 %" coarse.err &&
+    step_warned coarse Euler 0.296; then ok
+else bad "rods Euler time-step warning at dt 0.01: $(cat coarse.err)"; fi
+if rods_dt coarseh 0.01 && grep -q "warning: run.dt = 0.01: the field's Heun step distorts the stationary density by about 18 %.*run.dt <= 0.0024 gives about 1 %, <= 0.00076 about 0.1 %" coarseh.err &&
+    step_warned coarseh Heun 0.175; then ok
+else bad "rods Heun time-step warning at dt 0.01: $(cat coarseh.err)"; fi
+for case in "fine 1e-5 euler" "fineh 1e-4 heun"; do
+    read -r dir dt step <<<"$case"
+    if rods_dt "$dir" "$dt" --set run.field_step="$step" && [ ! -s "$dir.err" ] && python3 -c "
+import json; d = json.load(open('$dir/summary.json')); assert d['warnings'] == []" 2>/dev/null; then ok
+    else bad "rods at dt $dt ($step) warned: $(cat "$dir.err")"; fi
+done
 if rods_dt ljpair 1e-3 --set pair.type=lj --set pair.strength=2 --set pair.cutoff=1 &&
-    grep -q "the field's Euler step" ljpair.err && grep -q "the pair force's Euler step distorts the pair distribution by about 29 %" ljpair.err
+    ! grep -q "the field's" ljpair.err && grep -q "the pair force's Euler step distorts the pair distribution by about 29 %" ljpair.err
 then ok; else bad "rods pair-force time-step warning: $(cat ljpair.err)"; fi
 
 # the configuration reference in docs/ is the one the schema generates

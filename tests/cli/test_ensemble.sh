@@ -132,12 +132,13 @@ coarse=(--quiet --set run.dt=0.02 --set run.t_equil=0.1 --set run.t_total=1 --se
 warned_once() { # warned_once WHAT LOG DIR
     local what=$1 log=$2 dir=$3 n
     n=$(grep -c "warning: the mean step is .* of a particle's diameter" "$log")
-    if [ "$n" -eq 1 ] && [ "$(grep -c 'warning:' "$log")" -eq 3 ] &&
+    # Scala Eqs. 6 and 3, the collision rate, D_L's time-step error: four in all
+    if [ "$n" -eq 1 ] && [ "$(grep -c 'warning:' "$log")" -eq 4 ] &&
         python3 -c "import json, sys
 w = json.load(open('$dir/summary.json'))['warnings']
 r = [x for k in range(3) for x in json.load(open('$dir/replica-%d/summary.json' % k))['warnings']]
 s = json.load(open('$dir/summary.json'))
-sys.exit(not (w == list(dict.fromkeys(r)) and len(w) >= 3 and len(s['box']) == 3))"
+sys.exit(not (w == list(dict.fromkeys(r)) and len(w) >= 4 and len(s['box']) == 3))"
     then ok; else bad "$what: warnings $n times, $(cat "$log")"; fi
 }
 "$HSBD" run spheres.ini "${coarse[@]}" --out warned 2>warn.log || bad "coarse ensemble"
@@ -249,8 +250,8 @@ if "$HSBD" merge again; then same_merged "a finished ensemble merged again" agai
 else bad "merge DIR of a finished ensemble"; fi
 # the merged blocks tables name each column by its replica
 "$HSBD" merge rods-merged20 rods-r2 rods-r0 || bad "merge of replicas 2 and 0"
-if grep -q "^x	replica_0	replica_2$" rods-merged20/density_blocks.tsv; then ok
-else bad "blocks columns: $(grep -v '^#' rods-merged20/density_blocks.tsv | head -1)"; fi
+if grep -q "^# x	replica_0	replica_2$" rods-merged20/density_blocks.tsv; then ok
+else bad "blocks columns: $(grep "^# x" rods-merged20/density_blocks.tsv)"; fi
 mkdir no-replicas && "$HSBD" merge no-replicas 2>err.txt
 if [ $? -eq 2 ] && grep -q "holds 0 replica-K directories" err.txt; then ok
 else bad "merge DIR without replicas: $(cat err.txt)"; fi

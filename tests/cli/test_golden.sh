@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Results of fixed seeds stay the same: short runs of both models with every observer on
 # (profiles, contacts, MSD, clusters, currents, trajectories, replicas, spatial blocks,
-# g(r), F_s, mixtures, walls, sticky contacts, pair forces, drifts, XYZ input) are hashed
-# (data lines of every table, trajectory frames, the physical results of summary.json)
-# and compared with tests/golden/tables.sha256, recorded on this code's own output:
+# g(r), F_s, mixtures, walls, sticky contacts, pair forces, drifts, XYZ input, active
+# particles) are hashed (data lines of every table, trajectory frames, the physical results
+# of summary.json) and compared with tests/golden/tables.sha256, recorded on this code's
+# own output:
 #   tests/cli/test_golden.sh build/hsbd --record
 # A change of the numbers must be deliberate (a physics change, documented), never a side
 # effect of restructuring. The noise and the field's sin use vectorised elementary
@@ -120,6 +121,8 @@ cases=(
   "spheres-disks-mixture|run disks.ini"
   "spheres-poly|run sph.ini --set system.packing_fraction=0.45 --set species.polydispersity=0.1 --set species.D_law=stokes-einstein --set init.method=compress --set output.trajectory=none"
   "spheres-drift|run sph.ini --set system.drift=0.5,0,-1 --set output.trajectory=none"
+  "spheres-active-disks|run disks.ini --set active.v0=4,2,0 --set sample.local_density_every=10 --set output.trajectory=xyz --set output.trajectory_every=0.1"
+  "spheres-active-3d|run sph.ini --set active.v0=3 --set active.rotational_D=0.5"
 )
 
 fingerprint() { # every result file of a run directory: one hash per file

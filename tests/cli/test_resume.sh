@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A run stopped any number of times at any moment (kill -9 included) and continued with
 # `hsbd resume` ends with the same bytes as a run never stopped: every table, the
-# trajectory and the currents, for both models with every observer on (profiles and
+# trajectory, the currents and log.tsv, for both models with every observer on (profiles and
 # contacts, MSD per species, clusters, replicas, spatial blocks, g(r), F_s, virial), and
 # GSD trajectories, whose index is also written in place and moves as it grows (the
 # gsd cases write enough frames for it to move several times).
@@ -25,6 +25,8 @@ set -u
 HSBD=${1:?usage: test_resume.sh path/to/hsbd [model]}
 HSBD=$(cd "$(dirname "$HSBD")" && pwd)/$(basename "$HSBD")
 ONLY=${2:-}
+# interruptions per case (HSBD_RESUME_KILLS; the sanitizer build sets 2)
+KILLS=${HSBD_RESUME_KILLS:-5}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 cd "$T"
@@ -93,19 +95,21 @@ cases=(
   "rods-gsd|rodsmix.ini|--set output.trajectory=gsd --set output.trajectory_every=0.01 --set species.names=A,B --set species.count=40,20 --set species.sigma=0.4,0.7 --set species.D=1,0.6"
   "spheres-gsd|spheres.ini|--set output.trajectory=gsd --set output.trajectory_every=0.01"
   "spheres-walls-gravity|spheres.ini|--set system.boundary=walls,periodic,walls --set field.type=tilt --set field.force=-0.5 --set species.coupling=1,2"
+  "spheres-active-3d|spheres.ini|--set active.v0=4,1 --set active.rotational_D=2 --set run.t_total=1.5"
+  "spheres-active-2d-gsd|spheres.ini|--set system.dimension=2 --set system.packing_fraction=0.5 --set active.v0=8 --set sample.local_density_every=20 --set output.trajectory=gsd --set output.trajectory_every=0.01 --set run.t_total=1.5"
 )
 
 run_killed() { # run_killed NAME CONFIG SETTINGS... : stopped at random moments, resumed to the end
     local name=$1 cfg=$2 wall=$3
     shift 3
     "$HSBD" run "$cfg" "$@" --quiet --out "$name" 2>/dev/null &
-    local pid=$! kills=0 k
-    for k in 1 2 3 4 5; do
+    local pid=$! kills=0 k term=$((KILLS < 3 ? KILLS : 3))
+    for k in $(seq "$KILLS"); do
         # a moment in the first ~60 % of the run's wall time
         local ms=$((RANDOM % (wall * 6 / 10 + 1) + 30))
         sleep "$(awk -v ms="$ms" 'BEGIN { print ms / 1000 }')"
         if kill -0 $pid 2>/dev/null; then
-            kill -s "$([ $k = 3 ] && echo TERM || echo KILL)" $pid 2>/dev/null && kills=$((kills + 1))
+            kill -s "$([ "$k" = "$term" ] && echo TERM || echo KILL)" $pid 2>/dev/null && kills=$((kills + 1))
         fi
         wait $pid 2>/dev/null
         [ -e "$name/checkpoint.hsbd" ] || [ -e "$name/checkpoint.prev.hsbd" ] || {
@@ -203,17 +207,18 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     done
     if [ $same = 1 ] && [ -s ck-all/checkpoint.prev.hsbd ] && [ ! -e ck-off/checkpoint.hsbd ]; then ok; else
         bad "checkpoints every step changed the results"; fi
-    # an extension: the run goes on to the longer time; the trajectory, currents and MSD
-    # are those of a run planned that long (with the lag grid and frame interval the first
-    # run derived from its own length), the means too; the error blocks keep their length,
-    # so there are twice as many
+    # an extension: the run goes on to the longer time; the trajectory, currents, log and
+    # MSD are those of a run planned that long (with the lag grid and the frame and log
+    # intervals the first run derived from its own length), the means too; the error
+    # blocks keep their length, so there are twice as many
     "$HSBD" run rods.ini --quiet --set run.t_total=1 --out ext 2>/dev/null
     cp -r ext ext-1
     "$HSBD" run rods.ini --quiet --set run.t_total=2 --set sample.msd_max_lag=0.1 \
-        --set output.trajectory_every=0.1 --out ext-ref 2>/dev/null
+        --set output.trajectory_every=0.1 --set output.log_every=1e-3 --out ext-ref 2>/dev/null
     if "$HSBD" resume ext --set "run.t_total = 2" --quiet 2>err && cmp -s ext/trajectory.xyz ext-ref/trajectory.xyz &&
         cmp -s ext/msd.tsv ext-ref/msd.tsv &&
         diff -q <(grep -v '^#' ext/current.tsv) <(grep -v '^#' ext-ref/current.tsv) >/dev/null &&
+        diff -q <(grep -v '^#' ext/log.tsv) <(grep -v '^#' ext-ref/log.tsv) >/dev/null &&
         diff -q <(grep -v '^#' ext/density.tsv | cut -f1,2) <(grep -v '^#' ext-ref/density.tsv | cut -f1,2) >/dev/null &&
         [ "$(grep -v '^#' ext/density_blocks.tsv | head -1 | wc -w)" = 13 ] &&
         grep -q '"steps": 20000' ext/summary.json; then ok; else bad "extension: $(cat err)"; fi

@@ -116,8 +116,8 @@ for c in "${cases[@]}"; do
 done
 # Spheres: 1, 2 and 4 threads give byte-identical tables (g(r), MSD, F_s, profiles) and
 # summary.json: a fluid (its events through the global calendar, and group by group,
-# whose first pass runs on threads; also with shells of 0.05 sigma), and a mixture
-# between walls with gravity; the two event orders give the same results. N 4000 is
+# whose first pass runs on threads; also with shells of 0.05 sigma), a mixture between
+# walls with gravity, and active spheres; the two event orders give the same results. N 4000 is
 # above the engine's threshold for threads (2048 particles).
 cat >spheres.ini <<'INI'
 [system]
@@ -184,6 +184,11 @@ same_on_threads spheres-shell spheres.ini --set system.shell=0.05
 same_on_threads spheres-shell-groups spheres.ini --set system.shell=0.05 --set run.events=groups
 same_event_orders spheres-shell-1 spheres-shell-groups-1
 same_on_threads spheres-walls spheres-walls.ini
+# active particles: the propulsion, the exact rotation (3D, with rejections and, at
+# D_r dt = 0.5, substeps) and the swim sum on threads; the event orders agree too
+same_on_threads spheres-active spheres.ini --set active.v0=5 --set active.rotational_D=500
+same_on_threads spheres-active-groups spheres.ini --set active.v0=5 --set active.rotational_D=500 --set run.events=groups
+same_event_orders spheres-active-1 spheres-active-groups-1
 
 echo "test_threads: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

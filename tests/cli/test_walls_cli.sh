@@ -104,7 +104,7 @@ INI
 # every bin of DIR/gr.tsv within 4.5 error bars of 1 (more than 30 bins)
 gr_is_one() {
     local line bins chi2 worst
-    line=$(grep -v '^#' "$1/gr.tsv" | awk 'NR > 1 { for (c = 2; c < NF; c += 2) if ($(c + 1) > 0) {
+    line=$(grep -v '^#' "$1/gr.tsv" | awk '{ for (c = 2; c < NF; c += 2) if ($(c + 1) > 0) {
             d = ($c - 1) / $(c + 1); chi += d * d; n++; if (d * d > w) w = d * d } }
         END { printf "%d %.1f %.2f\n", n, chi, sqrt(w) }')
     read -r bins chi2 worst <<<"$line"

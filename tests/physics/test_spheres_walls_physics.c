@@ -11,12 +11,14 @@
  *     bars.
  *   - Free particles in a slit whose room (0.3) is shorter than a step (dt 0.05): the wall
  *     theorem below, exact at any dt (end points beyond both walls fold back).
- *   - Hard spheres (3D), disks (2D) and a binary mixture (3D, couplings 1 and 2.744) in
- *     gravity between walls: the wall theorem, kT (rho_low - rho_high) = the total weight
- *     per wall area, sum_i coupling_i |F| / A, with the contact densities from the
- *     walls' impulses. Exact in the stationary state at any dt (the collisions conserve
- *     sum_i dr_i / D_i, so the walls take up the field's impulse); the error bar is that of
- *     the difference (the blocks of the two walls added as independent).
+ *   - Hard spheres (3D), disks (2D), a binary mixture (3D, couplings 1 and 2.744) and a
+ *     polydisperse one (sizes 0.8 - 1.2, D 1 / sigma, couplings sigma^3) in gravity between
+ *     walls: the wall theorem, kT (rho_low - rho_high) = the total weight per wall area,
+ *     sum_i coupling_i |F| / A, with the contact densities from the walls' impulses. Exact
+ *     in the stationary state at any dt (the collisions and the exact pair rule's pushes,
+ *     which act in both mixtures, conserve sum_i dr_i / D_i, so the walls take up the
+ *     field's impulse); the error bar is that of the difference (the blocks of the two
+ *     walls added as independent).
  *   - Hard spheres in a slit of H = 12 sigma without field, phi 0.25 on average: the
  *     contact density at each wall against beta P(rho_mid) from the Kolafa-Labik-
  *     Malijevsky equation of state at the density measured in the middle 4 sigma of the
@@ -267,19 +269,27 @@ static void wall_theorem_case(const char *name, hsbd_spheres_params p, double fo
     for (int a = 0; a < axis; ++a)
         area *= p.box[a];
     for (size_t i = 0; i < p.n; ++i)
-        weight += (p.species_coupling ? p.species_coupling[p.species[i]] : 1.0) * fabs(force);
+        weight += (p.particle_coupling  ? p.particle_coupling[i]
+                   : p.species_coupling ? p.species_coupling[p.species[i]]
+                                        : 1.0) *
+                  fabs(force);
     double diff, diff_err;
     contact_from_impulses(&o, -1, axis, 0, 1, p.dt * EVERY * area, &diff, &diff_err);
     int finite = 0;
     const double gap = hsbd_spheres_min_gap(s, &finite);
     const hsbd_spheres_stats st = hsbd_spheres_get_stats(s);
     printf("wall theorem, %s (dt %g, %g + %g time units): rho_low - rho_high %.4f +- %.4f, "
-           "weight per area %.4f (%+.2f error bars); %.3f collisions and %.4f wall events per "
-           "particle-step, min gap %.2g\n",
+           "weight per area %.4f (%+.2f error bars); %.3f collisions, %.3f pair pushes and %.4f "
+           "wall events per particle-step, min gap %.2g\n",
            name, p.dt, t_equil, t_total, diff, diff_err, weight / area,
            (diff - weight / area) / diff_err, (double)st.collisions / st.steps / p.n,
+           (double)st.pair_corrections / st.steps / p.n,
            (double)(st.wall_collisions + st.wall_pushes) / st.steps / p.n, gap);
     CHECK(fabs(diff - weight / area) <= 4 * diff_err, "%s: wall theorem", name);
+    /* drift factors D coupling that differ: the exact pair rule acts */
+    const int relative = p.particle_coupling || p.species_coupling;
+    CHECK(relative ? st.pair_corrections > 0 : st.pair_corrections == 0, "%s: %llu pair pushes",
+          name, (unsigned long long)st.pair_corrections);
     CHECK(finite && gap >= -1e-9, "%s: overlap %g", name, gap);
     sampled_free(&o);
     hsbd_spheres_free(s);
@@ -308,6 +318,17 @@ static void test_wall_theorem(void) {
     m.species_coupling = coupling, m.seed = 33;
     m.box[2] = 100 * PI / 6 * (1 + 2.744) / 0.25 / 25;
     wall_theorem_case("3D binary 1 / 1.4, couplings 1 / 2.744", m, -0.3, 20, 60);
+    /* polydisperse, sizes uniform over 0.8 .. 1.2, D = 1 / sigma (Stokes-Einstein), buoyant
+     * masses sigma^3: every pair has its own relative drift */
+    static double poly_sigma[200], poly_d[200], poly_c[200];
+    for (int i = 0; i < 200; ++i) {
+        poly_sigma[i] = 0.8 + 0.4 * ((i * 7919) % 200) / 199.0;
+        poly_d[i] = 1 / poly_sigma[i], poly_c[i] = pow(poly_sigma[i], 3);
+    }
+    hsbd_spheres_params q = p;
+    q.particle_sigma = poly_sigma, q.particle_diffusion = poly_d, q.particle_coupling = poly_c;
+    q.seed = 34, q.box[2] = 15;
+    wall_theorem_case("3D polydisperse 0.8 - 1.2, D 1 / sigma, couplings sigma^3", q, -0.5, 40, 60);
 }
 
 /* ---- a wide slit: contact density vs the bulk pressure in the middle ---- */

@@ -7,7 +7,9 @@ frame's step and time, the box (rods: L x 1, 2D; spheres: their box, Lz = 0 in 2
 N, the types, typeid and diameter of every particle, the float32 positions equal to the
 float64 log/hsbd/position rounded to float32, those equal to the XYZ positions shifted
 by half the box (within the XYZ's 10 digits), and the images (spheres: the XYZ's image
-columns; rods: (x_unwrapped - x) / L). MDAnalysis must see the same frames, positions
+columns; rods: (x_unwrapped - x) / L); active particles' orientation quaternions equal
+the XYZ's (OVITO's x y z w order there) and turn the body's x axis into the XYZ's unit
+vector e. MDAnalysis must see the same frames, positions
 and boxes. Usage: test_gsd.py path/to/hsbd
 """
 import os
@@ -47,6 +49,12 @@ CASES = {
         "--set", "system.packing_fraction=0.3", "--set", "species.names=A,B",
         "--set", "species.fraction=0.5,0.5", "--set", "species.sigma=1,1.3",
         "--set", "species.D=1,0.7", "--set", "run.dt=1e-3"],
+    "disks-active": [
+        "--set", "system.model=spheres", "--set", "system.dimension=2", "--set", "system.N=200",
+        "--set", "system.packing_fraction=0.4", "--set", "active.v0=5", "--set", "run.dt=1e-3"],
+    "spheres-3d-active": [
+        "--set", "system.model=spheres", "--set", "system.N=200",
+        "--set", "system.packing_fraction=0.3", "--set", "active.v0=5", "--set", "run.dt=1e-3"],
     "disks-polydisperse": [
         "--set", "system.model=spheres", "--set", "system.dimension=2", "--set", "system.N=200",
         "--set", "system.packing_fraction=0.4", "--set", "species.polydispersity=0.1",
@@ -129,6 +137,20 @@ def compare(name, xyz_path, gsd_path):
         else:
             image = np.array([[int(v) for v in r[5:8]] for r in rows])
             check(np.array_equal(frame.particles.image, image), f"{name} frame {k}: images")
+        if "active" in name:  # quaternions (w, x, y, z) that take the body's x axis to e
+            check("orientation:R:4:dipoles:R:3" in head["Properties"], f"{name}: XYZ columns")
+            q_xyz = np.array([[float(v) for v in r[9:13]] for r in rows])  # x y z w (OVITO)
+            e = np.array([[float(v) for v in r[13:16]] for r in rows])
+            q = frame.particles.orientation.astype(np.float64)
+            check(np.allclose(q, q_xyz[:, [3, 0, 1, 2]], atol=1e-7), f"{name} frame {k}: GSD and XYZ quaternions")
+            w, x, y, z = q.T
+            rotated = np.stack([w * w + x * x - y * y - z * z, 2 * (x * y + w * z), 2 * (x * z - w * y)], 1)
+            check(np.allclose(rotated, e, atol=1e-6), f"{name} frame {k}: q x q* is not e")
+            check(np.allclose(np.linalg.norm(e, axis=1), 1, atol=1e-9) and (dim == 3 or not e[:, 2].any()),
+                  f"{name} frame {k}: e is not a unit vector (in the plane)")
+        else:
+            check(frame.particles.orientation is None or np.all(frame.particles.orientation == [1, 0, 0, 0]),
+                  f"{name} frame {k}: an orientation chunk of passive particles")
     # MDAnalysis: the same frames, positions and boxes
     u = MDAnalysis.Universe(gsd_path)
     check(u.trajectory.n_frames == len(traj) and u.atoms.n_atoms == traj[0].particles.N,

@@ -39,9 +39,8 @@ def tables(d):
 
 
 def table_of(path):
-    """The numbers of a table (after the '#' header and the column names)."""
-    rows = [ln for ln in open(path) if not ln.startswith("#")][1:]
-    return np.array([[float(v) for v in ln.split()] for ln in rows])
+    """The numbers of a table (every header line, the column names too, starts with '#')."""
+    return np.loadtxt(path, ndmin=2)
 
 
 def same_tables(a, b):

@@ -25,20 +25,27 @@ static inline uint64_t positions_hash(const hsbd_spheres *s) {
     return fnv1a(h, v.image, 3 * v.n * sizeof *v.image);
 }
 
-/* Smallest surface gap over all pairs relative to sigma_ij (brute force, minimum image). */
+/* Smallest surface gap over all pairs relative to sigma_ij (brute force, minimum image
+ * along the periodic axes) and to the walls relative to sigma_i, as hsbd_spheres_min_gap. */
 static inline double brute_min_gap(const hsbd_spheres_view *v) {
     double worst = INFINITY;
-    for (size_t i = 0; i < v->n; ++i)
+    for (size_t i = 0; i < v->n; ++i) {
+        for (int a = 0; a < v->dimension; ++a)
+            if (v->walls[a]) {
+                const double x = v->x[3 * i + a], half = 0.5 * v->sigma[i];
+                worst = fmin(worst, fmin(x - half, v->box[a] - half - x) / v->sigma[i]);
+            }
         for (size_t j = i + 1; j < v->n; ++j) {
             double r2 = 0;
             for (int a = 0; a < v->dimension; ++a) {
                 double d = v->x[3 * j + a] - v->x[3 * i + a];
-                d -= v->box[a] * nearbyint(d / v->box[a]);
+                if (!v->walls[a]) d -= v->box[a] * nearbyint(d / v->box[a]);
                 r2 += d * d;
             }
             const double sij = 0.5 * (v->sigma[i] + v->sigma[j]);
             worst = fmin(worst, (sqrt(r2) - sij) / sij);
         }
+    }
     return worst;
 }
 

@@ -140,6 +140,7 @@ static void test_pair_force_in_predictor(void) {
             worst = fmax(worst, fabs(w.y[i] - expect));
         }
     }
+    hsbd_rods_free(rods);
     CHECK(worst <= 1e-12, "pair force in Heun's predictor: max deviation %.3g", worst);
 }
 
@@ -181,6 +182,7 @@ static void test_driven_field_at_step_end(void) {
                 worst, fabs(move - mu * par.dt * f_mean - sqrt(2 * par.diffusion * par.dt) * g[i]));
         }
     }
+    hsbd_rods_free(rods);
     CHECK(worst <= 1e-12, "driven field: Heun's predictor at t + dt, max deviation %.3g", worst);
 }
 

@@ -1049,9 +1049,46 @@ static void test_contacts_walls(void) {
     hsbd_contacts_pair(c, 0, 0, &val, &e);
     CHECK_NEAR(val, 0.0);
     hsbd_contacts_free(c);
+    double walls[2];
+    hsbd_wall_impulses(&v, walls);
+    CHECK_NEAR(walls[0], 2.0);
+    CHECK_NEAR(walls[1], 3.0);
+}
+
+/* The walls' impulses alone (log.tsv's) equal the walls' entries of all the impulses:
+ * three rods of length 1 between walls at 0 and 5 (free length 2), rod 0 at the left wall,
+ * rods 1 and 2 touching each other and the right wall (y - z = -0.1, 0.05, 0.2; dt 0.1,
+ * kT 1, mobility 1: the left wall 1, the right wall 2.5); then all three touching both
+ * walls (free length 0), where the chain closes on itself. */
+static void test_wall_impulses(void) {
+    const double offset[3] = {0.5, 1.5, 2.5};
+    const double zs[2][3] = {{0, 2, 2}, {0, 0, 0}}, free_length[2] = {2, 0};
+    for (int c = 0; c < 2; ++c) {
+        const double *z = zs[c];
+        const double y[3] = {z[0] - 0.1, z[1] + 0.05, z[2] + 0.2};
+        const hsbd_rods_view v = {.n = 3,
+                                  .length = 3 + free_length[c],
+                                  .sigma = 1,
+                                  .free_length = free_length[c],
+                                  .z = z,
+                                  .offset = offset,
+                                  .y = y,
+                                  .mobility = 1,
+                                  .kT = 1,
+                                  .dt = 0.1,
+                                  .hard_core = 1};
+        double all[4], walls[2];
+        hsbd_contact_impulses(&v, all);
+        hsbd_wall_impulses(&v, walls);
+        CHECK_NEAR(walls[0], all[3]);
+        CHECK_NEAR(walls[1], all[2]);
+        if (c == 0) CHECK_NEAR(walls[0], 1.0);
+        if (c == 0) CHECK_NEAR(walls[1], 2.5);
+    }
 }
 
 int main(void) {
+    test_wall_impulses();
     test_shape_open_block();
     test_block_of();
     test_time_blocks();

@@ -3,7 +3,8 @@
  * counters and statistics (the virial's bytes included) equal those of the engine that
  * was never stopped. Cases: spheres at phi 0.3 and 0.5 with the global calendar and group
  * by group (the groups' automatic pause included), a binary mixture with D = 0 obstacles,
- * 2D disks, polydisperse spheres with Stokes-Einstein D and a drift; each saved once in
+ * 2D disks, polydisperse spheres with Stokes-Einstein D and a drift, a mixture in a cosine
+ * field with per-species couplings (the exact pair rule's pushes); each saved once in
  * the middle (after spatial sorts, so the saved internal order is not the user's). Also:
  * every truncation of a saved state is refused without a crash, and a state of another
  * system (other sizes) is refused. */
@@ -29,6 +30,7 @@ static int same_state(const hsbd_spheres *a, const hsbd_spheres *b) {
            !memcmp(va.x, vb.x, 3 * va.n * sizeof *va.x) &&
            !memcmp(va.image, vb.image, 3 * va.n * sizeof *va.image) &&
            sa.collisions == sb.collisions && sa.shell_updates == sb.shell_updates &&
+           sa.pair_corrections == sb.pair_corrections &&
            !memcmp(&sa.virial, &sb.virial, sizeof sa.virial);
 }
 
@@ -66,7 +68,11 @@ static void run_case(const ck_case *c) {
         hsbd_spheres_free(t);
     }
     CHECK(refused, "%s: a truncated state was accepted", c->name);
-    printf("  %s: %d + %d steps, %zu bytes: identical\n", c->name, half, c->steps - half, w.len);
+    const uint64_t pushes = hsbd_spheres_get_stats(a).pair_corrections;
+    CHECK(c->par.field ? pushes > 0 : pushes == 0, "%s: %llu pair pushes", c->name,
+          (unsigned long long)pushes);
+    printf("  %s: %d + %d steps, %zu bytes, %llu pair pushes: identical\n", c->name, half,
+           c->steps - half, w.len, (unsigned long long)pushes);
     hsbd_writer_free(&w);
     hsbd_spheres_free(a);
     hsbd_spheres_free(resumed);
@@ -88,6 +94,9 @@ int main(void) {
     for (int i = 0; i < 1000; ++i)
         poly_sigma[i] = 0.85 + 0.3 * ((i * 7919) % 1000) / 1000.0, poly_d[i] = 1.0 / poly_sigma[i];
     (void)species;
+    hsbd_field cosine = {0};
+    hsbd_field_add(&cosine, hsbd_field_cosine(3, 4));
+    const double mix_coupling[3] = {1.0, 2.0, 0.0};
     const ck_case cases[] = {
         {"phi0.3-global",
          {.n = 1500,
@@ -165,6 +174,24 @@ int main(void) {
           .drift = {0.5, 0, -0.3},
           .particle_sigma = poly_sigma,
           .particle_diffusion = poly_d},
+         300},
+        {"mixture-field-pair-rule",
+         {.n = 800,
+          .dimension = 3,
+          .box = {12, 12, 12},
+          .sigma = 1,
+          .diffusion = 1,
+          .kT = 1,
+          .dt = 1e-3,
+          .seed = 9,
+          .hard_core = 1,
+          .nspecies = 3,
+          .species = mix,
+          .species_sigma = mix_sigma,
+          .species_diffusion = mix_d,
+          .field = &cosine,
+          .field_axis = 2,
+          .species_coupling = mix_coupling},
          300},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k)

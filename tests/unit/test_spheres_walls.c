@@ -176,11 +176,14 @@ static void compare_with_walls(const char *name, hsbd_spheres_params p, int step
           "%s: global calendar and groups differ", name);
     const hsbd_spheres_stats sa = hsbd_spheres_get_stats(a), sb = hsbd_spheres_get_stats(b);
     CHECK(sa.collisions == sb.collisions && sa.wall_collisions == sb.wall_collisions &&
-              sa.wall_pushes == sb.wall_pushes,
+              sa.wall_pushes == sb.wall_pushes && sa.pair_corrections == sb.pair_corrections,
           "%s: collisions %llu / %llu, wall collisions %llu / %llu", name,
           (unsigned long long)sa.collisions, (unsigned long long)sb.collisions,
           (unsigned long long)sa.wall_collisions, (unsigned long long)sb.wall_collisions);
     CHECK(sa.wall_collisions > 0 && sa.wall_pushes > 0, "%s: no wall events", name);
+    /* the exact pair rule acts where drifts differ (couplings per species, obstacles) */
+    CHECK(p.nspecies ? sa.pair_corrections > 0 : sa.pair_corrections == 0, "%s: %llu pair pushes",
+          name, (unsigned long long)sa.pair_corrections);
     CHECK(sb.group_reruns >= min_reruns, "%s: %llu re-runs", name,
           (unsigned long long)sb.group_reruns);
     const size_t ns = va.nspecies;
@@ -192,10 +195,11 @@ static void compare_with_walls(const char *name, hsbd_spheres_params p, int step
     CHECK(sa.virial == sb.virial && sa.shell_updates == sb.shell_updates,
           "%s: virial %.17g / %.17g, shell updates %llu / %llu", name, sa.virial, sb.virial,
           (unsigned long long)sa.shell_updates, (unsigned long long)sb.shell_updates);
-    printf("%s: %llu collisions, %llu wall collisions, %llu bridge pushes, %llu re-runs, min gap "
-           "%.3g\n",
+    printf("%s: %llu collisions, %llu wall collisions, %llu bridge pushes, %llu pair pushes, "
+           "%llu re-runs, min gap %.3g\n",
            name, (unsigned long long)sa.collisions, (unsigned long long)sa.wall_collisions,
-           (unsigned long long)sa.wall_pushes, (unsigned long long)sb.group_reruns, worst);
+           (unsigned long long)sa.wall_pushes, (unsigned long long)sa.pair_corrections,
+           (unsigned long long)sb.group_reruns, worst);
     CHECK(worst >= -1e-9, "%s: overlap %g", name, worst);
     hsbd_spheres_free(a);
     hsbd_spheres_free(b);

@@ -222,6 +222,13 @@ static int load(run *r, void *state, hsbd_reader *rd) {
                                                                                              : 0;
 }
 
+static void expose(const run *r, const void *state, hsbd_sim_parts *parts) {
+    (void)r;
+    const walls_observers *w = state;
+    for (int a = 0; a < 3; ++a)
+        parts->slab[a] = w->slab[a];
+}
+
 const run_observer_ops run_observe_walls = {.name = "walls",
                                             .build = build,
                                             .sample = sample,
@@ -230,4 +237,5 @@ const run_observer_ops run_observe_walls = {.name = "walls",
                                             .load = load,
                                             .write_tables = write_tables,
                                             .write_summary = write_summary,
+                                            .expose = expose,
                                             .free = release};
