@@ -60,7 +60,7 @@ def hsbd_args(phi, n, seed):
 
 def make_start(hsbd, out, phi, n, seed):
     """An equilibrated hard-sphere fluid: XYZ for hsbd, a data file for LAMMPS."""
-    d = os.path.join(out, f"start-phi{phi:g}")
+    d = os.path.join(out, f"start-phi{phi:g}-n{n}-seed{seed}")  # reused only as made
     xyz, data = d + ".xyz", d + ".data"
     if os.path.exists(data):
         return xyz, data
@@ -89,7 +89,7 @@ def make_start(hsbd, out, phi, n, seed):
 
 
 def run_hsbd(hsbd, out, phi, n, seed, dt, t_total, xyz, tag):
-    d = os.path.join(out, f"hsbd-phi{phi:g}-dt{dt:g}-{tag}")
+    d = os.path.join(out, f"hsbd-phi{phi:g}-n{n}-dt{dt:g}-{tag}")
     if not os.path.exists(os.path.join(d, "summary.json")):
         subprocess.run([hsbd, "run", "--defaults", "--quiet", "--force", "--threads", "1",
                         "--out", d] + hsbd_args(phi, n, seed) +
@@ -138,7 +138,7 @@ def msd_slope(t, x, nb=10):
 
 
 def run_lammps(lmp, out, phi, n, seed, dt, t_total, data, tag):
-    d = os.path.join(out, f"lammps-phi{phi:g}-dt{dt:g}-{tag}")
+    d = os.path.join(out, f"lammps-phi{phi:g}-n{n}-dt{dt:g}-{tag}")
     os.makedirs(d, exist_ok=True)
     log, dump = os.path.join(d, "log.lammps"), os.path.join(d, "positions.dump")
     sample_every = max(1, round(0.001 / dt))  # Z every 0.001, frames every 0.02

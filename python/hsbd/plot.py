@@ -11,7 +11,11 @@ One PNG per run directory (default DIR/plot.png), whatever the run:
 - disks and spheres: g(r) per species pair with its contact value and the equation of
   state's; the density profile along each axis with walls or the field, per species, with
   the density at contact with each wall (from the wall's impulses); S(k) when sampled;
-  the MSD per species with 2dDt and the long-time 2dD_L t; F_s(k, t).
+  the MSD per species with 2dDt and the long-time 2dD_L t; F_s(k, t);
+- active disks and spheres: the last frame coloured by each particle's orientation (3D:
+  a slab through the middle), the distribution of the local packing fraction with its
+  peaks (``local_density_peaks``), the MSD against the exact law of free active Brownian
+  particles and the orientation correlation against exp(-(d-1) D_r t).
 
 ``hsbd.plot`` is this module and can be called: ``hsbd.plot(DIR)`` is
 ``hsbd.plot.plot(DIR)``. Needs matplotlib (Debian's python3-matplotlib); draws without
@@ -28,7 +32,7 @@ import numpy as np
 
 from ._load import Run, load
 
-__all__ = ["plot", "main"]
+__all__ = ["plot", "main", "local_density_peaks"]
 
 
 # ---- parameters of a run ---------------------------------------------------------------
@@ -434,6 +438,144 @@ def _spheres(run, fig):
         f.legend(fontsize=7)
 
 
+# ---- active particles ------------------------------------------------------------------
+
+def _first(v):
+    """The first value of a parameter given once or per species."""
+    return float(str(v).replace(",", " ").split()[0])
+
+
+def _is_active(run):
+    v0 = str(run.parameters.get("active", {}).get("v0") or "0")
+    return run.model == "spheres" and any(float(x) > 0 for x in v0.replace(",", " ").split())
+
+
+def _last_frame(path):
+    """Positions (n x 3), radii, orientations (n x 3 or None) and box of the last frame of
+    the run's trajectory.xyz or trajectory.gsd, or None."""
+    xyz = os.path.join(path, "trajectory.xyz")
+    if os.path.exists(xyz):
+        with open(xyz) as f:
+            lines = f.read().split("\n")
+        start, i = None, 0
+        while i < len(lines) and lines[i].strip():
+            start, i = i, i + 2 + int(lines[i])
+        n, head = int(lines[start]), lines[start + 1]
+        box = [float(v) for v in head.split('Lattice="')[1].split('"')[0].split()[0::4]]
+        props = head.split("Properties=")[1].split()[0].split(":")
+        cols, col = {}, 0
+        for k in range(0, len(props), 3):
+            cols[props[k]] = col - 1  # the species' name is not among the numbers
+            col += int(props[k + 2])
+        rows = np.array([[float(v) for v in ln.split()[1:]]
+                         for ln in lines[start + 2:start + 2 + n]])
+        e = rows[:, cols["dipoles"]:cols["dipoles"] + 3] if "dipoles" in cols else None
+        return rows[:, cols["pos"]:cols["pos"] + 3], rows[:, cols["radius"]], e, box
+    gsd_path = os.path.join(path, "trajectory.gsd")
+    if not os.path.exists(gsd_path):
+        return None
+    import gsd.hoomd
+    traj = gsd.hoomd.open(gsd_path, "rb")  # Debian's python3-gsd 2.x: "rb"
+    f = traj[-1]
+    traj.close()
+    box = [float(v) for v in f.configuration.box[:3]]
+    e = None
+    if f.particles.orientation is not None:  # e = q x q*: the body's x axis
+        w, x, y, z = f.particles.orientation.astype(float).T
+        e = np.stack([w * w + x * x - y * y - z * z, 2 * (x * y + w * z),
+                      2 * (x * z - w * y)], 1)
+    return f.particles.position + np.array(box) / 2, f.particles.diameter / 2, e, box
+
+
+def local_density_peaks(phi, p, width=0.02):
+    """The maxima of a local density distribution P(phi) smoothed over a Gaussian of
+    ``width``, above a fifth of the largest and at least 0.1 apart (one peak in a
+    homogeneous fluid, the dilute and the dense phase of a phase-separated one)."""
+    phi, p = np.asarray(phi, float), np.asarray(p, float)
+    kernel = np.exp(-0.5 * ((phi[:, None] - phi[None, :]) / width) ** 2)
+    smooth = kernel @ p / kernel.sum(axis=1)
+    peaks = []
+    for i in np.argsort(-smooth):
+        if smooth[i] < 0.2 * smooth.max():
+            break
+        is_max = ((i == 0 or smooth[i] >= smooth[i - 1])
+                  and (i == len(p) - 1 or smooth[i] >= smooth[i + 1]))
+        if is_max and all(abs(phi[i] - q) >= 0.1 for q in peaks):
+            peaks.append(float(phi[i]))
+    return sorted(peaks)
+
+
+def _active(run, fig):
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Circle
+    p, s = _Params(run), run.summary
+    dim = int(s.get("dimension") or p.num("system.dimension", 3))
+    v0, diff, sigma = _first(p.get("active.v0")), p.num("system.D", 1.0), p.num("system.sigma", 1.0)
+    dr = _first(p.get("active.rotational_D")) if p.get("active.rotational_D") else 3 * diff / sigma ** 2
+    k = (dim - 1) * dr
+    ax = _axes(fig, 3)
+    fig.suptitle(f"active Brownian {'disks' if dim == 2 else 'spheres'}, N = {p.get('system.N')}, "
+                 f"packing fraction {s.get('packing_fraction', math.nan):.3g}, Pe = v0 sigma / D = "
+                 f"{v0 * sigma / diff:g}, D_r = {dr:g}; t = {s.get('time_simulated', math.nan):g}")
+    frame = _last_frame(run.path)
+    if frame is not None:
+        x, r, e, box = frame
+        if dim == 3:  # a slab through the middle, 2 sigma thick
+            keep = np.abs(x[:, 2] - box[2] / 2) < sigma
+            x, r, e = x[keep], r[keep], e[keep] if e is not None else None
+        pc = PatchCollection([Circle((xi[0], xi[1]), ri) for xi, ri in zip(x, r)],
+                             cmap="hsv", linewidths=0)
+        pc.set_array(np.arctan2(e[:, 1], e[:, 0]) if e is not None else np.zeros(len(r)))
+        pc.set_clim(-math.pi, math.pi)
+        ax[0].add_collection(pc)
+        ax[0].set_xlim(0, box[0])
+        ax[0].set_ylim(0, box[1])
+        ax[0].set_aspect("equal")
+        fig.colorbar(pc, ax=ax[0], label="orientation angle in the x-y plane")
+        ax[0].set_title("last frame" + (" (the slab |z - L/2| < sigma)" if dim == 3 else ""))
+    else:
+        ax[0].text(0.5, 0.5, "no trajectory (output.trajectory)", ha="center",
+                   transform=ax[0].transAxes)
+    if "local_density" in run.tables:
+        loc = run["local_density"]
+        phi = loc["phi"]
+        ax[1].errorbar(phi, loc["P"], yerr=loc["P_err"], fmt="-", lw=1, drawstyle="steps-mid")
+        ax[1].axvline(float(s.get("packing_fraction", math.nan)), ls=":", c="k",
+                      label="mean packing fraction")
+        used = np.nonzero(loc["P"] > 0)[0]
+        if len(used):
+            ax[1].set_xlim(max(0, phi[used[0]] - 0.05), min(1, phi[used[-1]] + 0.05))
+        for x in local_density_peaks(phi, loc["P"]):
+            ax[1].axvline(x, c="C1", lw=1)
+        ax[1].set(xlabel="local packing fraction", ylabel="P(phi)",
+                  title="local density (peaks: orange)")
+        ax[1].legend()
+    else:
+        ax[1].text(0.5, 0.5, "no local_density.tsv (sample.local_density_every)", ha="center",
+                   transform=ax[1].transAxes)
+    if "msd" in run.tables:
+        msd = run["msd"]
+        t = msd["t"]
+        free = 2 * dim * diff * t
+        law = free + (2 * v0 ** 2 / k ** 2 * (k * t - 1 + np.exp(-k * t)) if k > 0 else (v0 * t) ** 2)
+        ax[2].errorbar(t, msd["msd"], yerr=msd["msd_err"], fmt="o", ms=3, label="MSD")
+        ax[2].plot(t, law, "k--", label="free ABP: 2dDt + 2v0²/k²(kt-1+e^-kt)")
+        ax[2].plot(t, free, "k:", label="2dDt")
+        _log_axes(ax[2])
+        ax[2].set(xlabel="lag time t  [σ²/D]", ylabel="MSD per particle  [σ²]",
+                  title="MSD and orientation correlation")
+        if "orientation" in run.tables:
+            rot = run["orientation"]
+            twin = ax[2].twinx()
+            twin.errorbar(rot["t"], rot["C"], yerr=rot["C_err"], fmt="s", ms=2, c="C3",
+                          label="<e(0).e(t)>")
+            twin.plot(rot["t"], np.exp(-k * rot["t"]), c="C3", lw=1, label="exp(-(d-1) D_r t)")
+            twin.set_ylabel("orientation correlation", color="C3")
+            twin.set_ylim(0, 1.05)
+            twin.legend(loc="lower right")
+        ax[2].legend(loc="upper left")
+
+
 # ---- figures ---------------------------------------------------------------------------
 
 def _axes(fig, n):
@@ -465,6 +607,8 @@ def plot(source, out=None, theory=None):
     fig = Figure(layout="constrained")
     if model == "rods":
         _rods(run, fig, theory)
+    elif _is_active(run):
+        _active(run, fig)
     else:
         _spheres(run, fig)
     out = os.fspath(out) if out else os.path.join(run.path, "plot.png")

@@ -3,6 +3,7 @@
 #ifndef HSBD_RUN_OBSERVERS_H
 #define HSBD_RUN_OBSERVERS_H
 
+#include "observe/checkpoint.h"
 #include "run/run.h"
 
 /* rods */
@@ -25,5 +26,26 @@ extern const run_observer_ops run_observe_local_density; /* local packing fracti
 extern const run_observer_ops run_observe_msd;        /* MSD, F_s, D_L */
 extern const run_observer_ops run_observe_trajectory; /* XYZ or GSD frames */
 extern const run_observer_ops run_observe_log;        /* log.tsv, a time series */
+
+/* One lag accumulator over the frame's d N components and, when nspecies > 0, one per
+ * species (msd.c: the MSD and F_s; orientation.c: <e(0).e(t)>), with the run's lags,
+ * origins and blocks, built, sampled, restarted, saved, loaded and written together. */
+typedef struct run_msd_set {
+    int dimension;
+    size_t nspecies; /* accumulators per species (0: none) */
+    hsbd_msd *all, *species[HSBD_MAX_SPECIES];
+} run_msd_set;
+/* the value and its error of one accumulator at lag k, as its table shows them */
+typedef void (*run_msd_value)(const hsbd_msd *m, size_t k, int dimension, double *v, double *e);
+/* fs_k > 0: with F_s at that wave number */
+int run_msd_set_build(run_msd_set *s, run *r, size_t nspecies, double fs_k, hsbd_error *err);
+void run_msd_set_sample(run_msd_set *s, const double *values);
+void run_msd_set_restart(run_msd_set *s);
+void run_msd_set_save(const run_msd_set *s, hsbd_writer *w);
+int run_msd_set_load(run_msd_set *s, hsbd_reader *rd);
+void run_msd_set_free(run_msd_set *s);
+/* the table `name`: columns t, what, what_err, origins, then per species */
+int run_msd_set_write(const run_msd_set *s, const run *r, const char *name, const char *what,
+                      const char *title, run_msd_value value, hsbd_error *err);
 
 #endif

@@ -256,17 +256,21 @@ void sph_rotate(hsbd_spheres *s) {
         rotate_range(s, sph_range_start(s->n, threads, k), sph_range_start(s->n, threads, k + 1));
 }
 
+/* |e| over the first dim components */
+static double norm_of(const double *e, int dim) {
+    double sum = 0;
+    for (int a = 0; a < dim; ++a)
+        sum += e[a] * e[a];
+    return sqrt(sum);
+}
+
 int hsbd_spheres_set_orientations(hsbd_spheres *s, const double *e, hsbd_error *err) {
     hsbd_error_clear(err);
     if (!s->active)
         return hsbd_error_set(err, HSBD_EINPUT,
                               "spheres: orientations given to a system without active particles");
     for (size_t i = 0; i < s->n; ++i) {
-        const double *ei = e + 3 * i;
-        double norm = 0;
-        for (int a = 0; a < s->dim; ++a)
-            norm += ei[a] * ei[a];
-        norm = sqrt(norm);
+        const double norm = norm_of(e + 3 * i, s->dim);
         if (!isfinite(norm) || !(norm > 0))
             return hsbd_error_set(err, HSBD_EINPUT,
                                   "spheres: the orientation of particle %zu is not a finite "
@@ -274,13 +278,9 @@ int hsbd_spheres_set_orientations(hsbd_spheres *s, const double *e, hsbd_error *
                                   i + 1);
     }
     for (size_t i = 0; i < s->n; ++i) {
-        const double *ei = e + 3 * i;
-        double norm = 0;
-        for (int a = 0; a < s->dim; ++a)
-            norm += ei[a] * ei[a];
-        norm = sqrt(norm);
+        const double norm = norm_of(e + 3 * i, s->dim);
         for (int a = 0; a < 3; ++a)
-            s->orient[3 * i + a] = a < s->dim ? ei[a] / norm : 0.0;
+            s->orient[3 * i + a] = a < s->dim ? e[3 * i + a] / norm : 0.0;
     }
     return HSBD_OK;
 }
