@@ -129,9 +129,8 @@ typedef struct hsbd_spheres_stats {
     uint64_t steps, collisions, shell_updates, stale_events;
     /* groups that met another group already moved, and ran again from the step's start */
     uint64_t group_reruns;
-    /* sum over collisions and pair pushes of sigma_ij n . (impulse on j) / kT, in the units
-     * of length^2:
-     * its mean per unit time gives the collisional virial (docs/spheres.md) */
+    /* sum over collisions and the pair rule's changes of sigma_ij n . (impulse on j) / kT,
+     * in units of length^2: its mean per unit time gives the collisional virial */
     double virial;
     uint64_t wall_collisions; /* wall events in the calendar (not the bridge pushes) */
     uint64_t wall_pushes;     /* steps of a particle that its bridge pushed off a wall */

@@ -74,6 +74,8 @@ grep -q 'rho_A_err' sed/density.tsv && ok || bad "sedimentation: density.tsv per
     --out slit --quiet 2>/dev/null || bad "slit example"
 grep -q '"contact_density"' slit/summary.json && ok || bad "slit: contact densities"
 [ -s slit/gr.tsv ] && grep -q '"g_contact"' slit/summary.json && ok || bad "slit: g(r) between walls"
+# walls on one axis: its profile is density.tsv, written once (no density_z.tsv beside it)
+[ -s slit/density.tsv ] && [ ! -e slit/density_z.tsv ] && ok || bad "slit: $(ls slit | grep density)"
 
 cat >ideal.ini <<'INI'
 [system]

@@ -113,12 +113,12 @@ static void start_production(run *r, void *state) {
 static int write_tables(const run *r, const void *state, hsbd_error *err) {
     const walls_observers *w = state;
     const hsbd_config *cfg = r->cfg;
-    int first = 1;
+    int main_axis = cfg->field.type ? cfg->field.axis : -1; /* else the first with a slab */
+    for (int a = 0; a < 3 && main_axis < 0; ++a)
+        if (w->slab[a]) main_axis = a;
     for (int pass = 0; pass < 2; ++pass)
         for (int a = 0; a < 3; ++a) {
-            const int main_axis = cfg->field.type ? a == cfg->field.axis : first;
-            if (!w->slab[a] || main_axis != (pass == 0)) continue;
-            if (pass == 0) first = 0;
+            if (!w->slab[a] || (a == main_axis) != (pass == 0)) continue;
             const size_t nb = hsbd_slab_bins(w->slab[a]), cols = 1 + (w->ns > 1 ? w->ns : 0);
             double *x = malloc(nb * sizeof *x), *val = malloc(2 * cols * nb * sizeof *val);
             if (!x || !val) {
