@@ -14,9 +14,11 @@
 enum hsbd_stream {
     HSBD_STREAM_NOISE = 1,    /* Brownian displacements, one normal per rod per step */
     HSBD_STREAM_INIT = 2,     /* initial configurations */
-    HSBD_STREAM_CONTACT = 3,  /* Brownian-bridge minima of gaps (contact_rule = reflect) */
+    HSBD_STREAM_CONTACT = 3,  /* Brownian-bridge minima: rods' gaps (contact_rule = reflect,
+                                 random bytes), spheres' walls (uniforms) */
     HSBD_STREAM_COMPRESS = 4, /* Brownian steps that compress dense initial states (spheres) */
     HSBD_STREAM_COMPRESS_CONTACT = 5, /* their bridge minima at walls (spheres) */
+    HSBD_STREAM_CONTACT_DEPTH = 6,    /* rods, reflect rule: the low digits of the bridge minima */
     /* active particles (spheres): the rotational noise (normals), the acceptance of a 3D
      * rotation (uniforms), the initial orientations */
     HSBD_STREAM_ROTATION = 8,
@@ -36,5 +38,12 @@ HSBD_API void hsbd_rng_uniforms(uint64_t seed, uint32_t stream, uint64_t step, s
  * number hsbd_rng_uniforms gives that index. */
 HSBD_API void hsbd_rng_uniforms_at(uint64_t seed, uint32_t stream, uint64_t step, size_t base,
                                    const unsigned *offset, size_t n, double *out);
+
+/* Random bytes, sixteen per Philox counter: the bytes of block b are those of the four
+ * output words of counter b, each word least significant byte first. For k < n, the 16
+ * bytes of block base + block[k] go to out[16 block[k]] .. out[16 block[k] + 15] (out
+ * covers blocks base, base + 1, ...; only the listed ones are written). */
+HSBD_API void hsbd_rng_bytes_at(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
+                                const unsigned *block, size_t n, uint8_t *out);
 
 #endif

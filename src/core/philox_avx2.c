@@ -161,4 +161,96 @@ void hsbd_philox_uniforms_at_avx2(uint64_t seed, uint32_t stream, uint64_t step,
     else if (tail > 0)
         philox_listed(&s, base, offset + j, 1, tail, out + j);
 }
+/* The counters of blocks base + block[l], l < valid <= 4 (the other lanes: base), read one by
+ * one: the caller has just stored the blocks one by one, and a vector load of four such
+ * stores waits for them to reach the cache. */
+static inline void blocks_setup(const philox_setup *s, uint64_t base, const unsigned *block,
+                                size_t valid, __m256i x[4]) {
+    uint64_t c[4];
+    for (size_t l = 0; l < 4; ++l)
+        c[l] = base + (l < valid ? block[l] : 0u);
+    x[0] = _mm256_setr_epi64x((int64_t)c[0], (int64_t)c[1], (int64_t)c[2], (int64_t)c[3]);
+    x[1] = s->step_lo;
+    x[2] = s->step_hi;
+    x[3] = s->stream;
+}
+
+/* Their 16 bytes each to out + 16 block[l], l < valid: per lane the words (v0, v1) and
+ * (v2, v3) as two 64-bit halves (least significant word first, so the bytes come out in the
+ * order of src/core/rng.c), one 16-byte store per block. */
+static inline void blocks_store(const __m256i x[4], const unsigned *block, size_t valid,
+                                uint8_t *restrict out) {
+    const __m256i low = _mm256_set1_epi64x(0xffffffff);
+    const __m256i a = _mm256_or_si256(_mm256_and_si256(x[0], low), _mm256_slli_epi64(x[1], 32));
+    const __m256i b = _mm256_or_si256(_mm256_and_si256(x[2], low), _mm256_slli_epi64(x[3], 32));
+    const __m256i even = _mm256_unpacklo_epi64(a, b), odd = _mm256_unpackhi_epi64(a, b);
+    const __m128i lane[4] = {_mm256_castsi256_si128(even), _mm256_castsi256_si128(odd),
+                             _mm256_extracti128_si256(even, 1), _mm256_extracti128_si256(odd, 1)};
+    for (size_t l = 0; l < valid && l < 4; ++l)
+        _mm_storeu_si128((__m128i *)(void *)(out + 16 * (size_t)block[l]), lane[l]);
+}
+
+/* The bytes of blocks base + block[k], k < valid <= 4 `groups` (a constant at each call,
+ * <= PHILOX_GROUPS), to out + 16 block[k]. */
+static inline void philox_blocks(const philox_setup *s, uint64_t base, const unsigned *block,
+                                 int groups, size_t valid, uint8_t *restrict out) {
+    __m256i x[PHILOX_GROUPS][4];
+    for (int g = 0; g < groups; ++g)
+        blocks_setup(s, base, block + 4 * g, valid > (size_t)(4 * g) ? valid - (size_t)(4 * g) : 0,
+                     x[g]);
+    philox_rounds(s, x, groups);
+    for (int g = 0; g < groups && valid > (size_t)(4 * g); ++g)
+        blocks_store(x[g], block + 4 * g, valid - (size_t)(4 * g), out);
+}
+
+void hsbd_philox_bytes_at_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
+                               const unsigned *block, size_t n, uint8_t *restrict out) {
+    const philox_setup s = philox_setup_of(seed, stream, step);
+    size_t j = 0;
+    for (; j + 4 * PHILOX_GROUPS <= n; j += 4 * PHILOX_GROUPS)
+        philox_blocks(&s, base, block + j, PHILOX_GROUPS, 4 * PHILOX_GROUPS, out);
+    const size_t tail = n - j; /* in one interleaved call of as few groups as hold it */
+    if (tail > 8)
+        philox_blocks(&s, base, block + j, 3, tail, out);
+    else if (tail > 4)
+        philox_blocks(&s, base, block + j, 2, tail, out);
+    else if (tail > 0)
+        philox_blocks(&s, base, block + j, 1, tail, out);
+}
+
+/* The bytes of blocks and four uniforms in one call (byte_groups a constant, 1 or 2): one
+ * chain of multiplies for both, where two calls would wait for two. */
+static inline void philox_blocks_and_four(const philox_setup *s, uint64_t base,
+                                          const unsigned *block, size_t n, int byte_groups,
+                                          uint8_t *restrict out, uint32_t stream, uint64_t index,
+                                          double *restrict four) {
+    __m256i x[PHILOX_GROUPS][4];
+    for (int g = 0; g < byte_groups; ++g)
+        blocks_setup(s, base, block + 4 * g, n > (size_t)(4 * g) ? n - (size_t)(4 * g) : 0, x[g]);
+    __m256i *xu = x[byte_groups]; /* index + l: counter (index + l) / 2, half (index + l) % 2 */
+    const __m256i indices =
+        _mm256_add_epi64(_mm256_set1_epi64x((int64_t)index), _mm256_setr_epi64x(0, 1, 2, 3));
+    const __m256i odd =
+        _mm256_cmpeq_epi64(_mm256_and_si256(indices, _mm256_set1_epi64x(1)), _mm256_set1_epi64x(1));
+    xu[0] = _mm256_srli_epi64(indices, 1);
+    xu[1] = s->step_lo;
+    xu[2] = s->step_hi;
+    xu[3] = _mm256_set1_epi64x(stream);
+    philox_rounds(s, x, byte_groups + 1);
+    for (int g = 0; g < byte_groups && n > (size_t)(4 * g); ++g)
+        blocks_store(x[g], block + 4 * g, n - (size_t)(4 * g), out);
+    _mm256_storeu_pd(four, uniform_of_words(_mm256_blendv_epi8(xu[0], xu[2], odd),
+                                            _mm256_blendv_epi8(xu[1], xu[3], odd)));
+}
+
+void hsbd_philox_bytes_and_four_avx2(uint64_t seed, uint64_t step, uint32_t byte_stream,
+                                     uint64_t base, const unsigned *block, size_t n,
+                                     uint8_t *restrict out, uint32_t uniform_stream, uint64_t index,
+                                     double *restrict four) {
+    const philox_setup s = philox_setup_of(seed, byte_stream, step);
+    if (n > 4)
+        philox_blocks_and_four(&s, base, block, n, 2, out, uniform_stream, index, four);
+    else
+        philox_blocks_and_four(&s, base, block, n, 1, out, uniform_stream, index, four);
+}
 #endif

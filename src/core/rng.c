@@ -17,6 +17,12 @@ static void philox_uniform_pairs(uint64_t seed, uint32_t stream, uint64_t step, 
     if (hsbd_cpu_has_avx2()) { /* the same numbers, twelve counters at a time */
         j = npairs / 4 * 4;
         hsbd_philox_uniform_pairs_avx2(seed, stream, step, k0, j, u1, u2);
+        if (j < npairs) { /* a tail of one to three pairs: four counters, the rest unused */
+            double t1[4], t2[4];
+            hsbd_philox_uniform_pairs_avx2(seed, stream, step, k0 + j, 4, t1, t2);
+            for (size_t q = 0; j < npairs; ++j, ++q)
+                u1[j] = t1[q], u2[j] = t2[q];
+        }
     }
 #endif
     for (; j < npairs; ++j) {
@@ -89,4 +95,37 @@ void hsbd_rng_uniforms_at(uint64_t seed, uint32_t stream, uint64_t step, size_t 
         philox_uniform_pair(seed, stream, step, index / 2, &u1, &u2);
         out[k] = index % 2 ? u2 : u1;
     }
+}
+
+void hsbd_rng_bytes_at(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
+                       const unsigned *block, size_t n, uint8_t *out) {
+#if defined(__x86_64__)
+    if (hsbd_cpu_has_avx2()) { /* twelve blocks at a time */
+        hsbd_philox_bytes_at_avx2(seed, stream, step, base, block, n, out);
+        return;
+    }
+#endif
+    const philox4x32_key_t key = {{(uint32_t)seed, (uint32_t)(seed >> 32)}};
+    for (size_t k = 0; k < n; ++k) {
+        const philox4x32_ctr_t ctr = {
+            {(uint32_t)(base + block[k]), (uint32_t)step, (uint32_t)(step >> 32), stream}};
+        const philox4x32_ctr_t r = philox4x32(ctr, key);
+        uint8_t *b = out + 16 * (size_t)block[k];
+        for (int i = 0; i < 16; ++i)
+            b[i] = (uint8_t)(r.v[i / 4] >> (8 * (i % 4)));
+    }
+}
+
+void hsbd_rng_bytes_and_four(uint64_t seed, uint64_t step, uint32_t byte_stream, uint64_t base,
+                             const unsigned *block, size_t n, uint8_t *out, uint32_t uniform_stream,
+                             uint64_t index, double *four) {
+#if defined(__x86_64__)
+    if (hsbd_cpu_has_avx2() && n <= 8) {
+        hsbd_philox_bytes_and_four_avx2(seed, step, byte_stream, base, block, n, out,
+                                        uniform_stream, index, four);
+        return;
+    }
+#endif
+    hsbd_rng_bytes_at(seed, byte_stream, step, base, block, n, out);
+    hsbd_rng_uniforms(seed, uniform_stream, step, index, 4, four);
 }

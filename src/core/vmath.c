@@ -45,3 +45,12 @@ void hsbd_vmath_scaled_sinpi(size_t n, const double *restrict t, double scale,
         out[i] = scale * sin(pi * r);
     }
 }
+
+void hsbd_vmath_log(size_t n, double *x) {
+    if (hsbd_vmath_vectorised()) {
+        hsbd_vmath_log_avx2(n, x);
+        return;
+    }
+    for (size_t i = 0; i < n; ++i)
+        x[i] = log(x[i]);
+}

@@ -36,4 +36,24 @@ void hsbd_philox_uniform_pairs_avx2(uint64_t seed, uint32_t stream, uint64_t ste
 void hsbd_philox_uniforms_at_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
                                   const unsigned *offset, size_t n, double *restrict out);
 
+/* hsbd_rng_bytes_at: twelve blocks at a time, the tail in one call. */
+void hsbd_philox_bytes_at_avx2(uint64_t seed, uint32_t stream, uint64_t step, uint64_t base,
+                               const unsigned *block, size_t n, uint8_t *restrict out);
+
+/* hsbd_rng_bytes_at's bytes of n <= 8 blocks (stream byte_stream) and hsbd_rng_uniforms'
+ * uniforms of the indices index .. index + 3 (uniform_stream) into four[]: with AVX2 in one
+ * call, whose chains of multiplies run side by side where two calls would wait for two
+ * (src/core/rng.c; the AVX2 kernel in philox_avx2.c). */
+void hsbd_rng_bytes_and_four(uint64_t seed, uint64_t step, uint32_t byte_stream, uint64_t base,
+                             const unsigned *block, size_t n, uint8_t *out, uint32_t uniform_stream,
+                             uint64_t index, double *four);
+void hsbd_philox_bytes_and_four_avx2(uint64_t seed, uint64_t step, uint32_t byte_stream,
+                                     uint64_t base, const unsigned *block, size_t n,
+                                     uint8_t *restrict out, uint32_t uniform_stream, uint64_t index,
+                                     double *restrict four);
+
+/* In place: x[i] -> ln x[i] (SLEEF's faster vector log, 3.5 ulp, with AVX2+FMA; else libm). */
+void hsbd_vmath_log(size_t n, double *x);
+void hsbd_vmath_log_avx2(size_t n, double *x);
+
 #endif

@@ -49,6 +49,20 @@ void hsbd_vmath_scaled_sinpi_avx2(size_t n, const double *restrict t, double sca
             out[j] = y[j - i];
     }
 }
+
+void hsbd_vmath_log_avx2(size_t n, double *x) {
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+        _mm256_storeu_pd(x + i, Sleef_logd4_u35avx2(_mm256_loadu_pd(x + i)));
+    if (i < n) { /* the tail through a padded vector: one function for every element */
+        double pad[4] = {1, 1, 1, 1};
+        for (size_t j = i; j < n; ++j)
+            pad[j - i] = x[j];
+        _mm256_storeu_pd(pad, Sleef_logd4_u35avx2(_mm256_loadu_pd(pad)));
+        for (size_t j = i; j < n; ++j)
+            x[j] = pad[j - i];
+    }
+}
 #else
 /* Built without AVX2 support in the compiler: never selected at run time. */
 void hsbd_vmath_box_muller_avx2(size_t n, double *restrict u1, double *restrict u2) {
@@ -57,5 +71,8 @@ void hsbd_vmath_box_muller_avx2(size_t n, double *restrict u1, double *restrict 
 void hsbd_vmath_scaled_sinpi_avx2(size_t n, const double *restrict t, double scale,
                                   double *restrict out) {
     (void)n, (void)t, (void)scale, (void)out;
+}
+void hsbd_vmath_log_avx2(size_t n, double *x) {
+    (void)n, (void)x;
 }
 #endif

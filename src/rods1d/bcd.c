@@ -13,6 +13,8 @@
 #include "rods1d/gaps.h"
 
 enum { STEP_CHUNK = 256 }; /* rods per inner batch; even, so RNG pairs align */
+enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; a multiple of GAP_BLOCK */
+enum { EARLY_GAPS = 8 * GAP_BLOCK, EARLY_DIGITS = 4 }; /* see push_gap_batch */
 
 /* clusters starting in a part of the ring and the fragments they split into; a cluster
  * longer than the part's regression holds is left for later (at most one per part) */
@@ -32,9 +34,9 @@ struct hsbd_rods {
     double *friction;
     double *sp_sigma, *sp_diffusion, *sp_mobility, *sp_mu_dt, *sp_noise;
     double contact_tol; /* gaps below this count as contact in the diagnostics */
-    double *z;          /* contact-offset coordinates, in order along the line */
+    double *z;          /* contact-offset coordinates, in order along the line (n + 1) */
     double *offset;     /* z_i + offset_i = position (summed contact distances, docs) */
-    double *y;          /* free end points of the current step */
+    double *y;          /* free end points of the current step (n + 1) */
     int64_t wraps;      /* unwrapped = z + offset + wraps * L */
     uint64_t step;
     double time;                /* sum of the steps' dt */
@@ -49,8 +51,9 @@ struct hsbd_rods {
     double *push;               /* reflect rule: push per gap in the last step (N + 1 gaps) */
     size_t wall_blocks[2];      /* walls: regression blocks clamped to the left / right wall */
     size_t pava_blocks;         /* walls: blocks of the last regression */
-    double *ypush; /* reflect rule: end points after the pushes (the regression's input) */
-    double *fpair; /* pair forces of the step (NULL without pair terms) */
+    double *ypush;         /* reflect rule: end points after the pushes (the regression's input) */
+    uint8_t *batch_listed; /* reflect rule: blocks each batch listed in its last step (<= 255) */
+    double *fpair;         /* pair forces of the step (NULL without pair terms) */
     double pair_range;
 };
 
@@ -172,9 +175,9 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     const size_t n = par->n;
     r->par = *par;
     r->walls = par->boundary == HSBD_RODS_WALLS;
-    r->z = calloc(n, sizeof *r->z);
+    r->z = calloc(n + 1, sizeof *r->z); /* + 1: rod 0 one ring further (reflect_gaps) */
     r->offset = malloc(n * sizeof *r->offset);
-    r->y = malloc(n * sizeof *r->y);
+    r->y = calloc(n + 1, sizeof *r->y);
     r->frag_v = malloc(n * sizeof *r->frag_v);
     if (par->nspecies > 0) r->frag_w = malloc(n * sizeof *r->frag_w);
     r->pava = hsbd_pava_alloc(n);
@@ -182,6 +185,7 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     if (par->contact_rule == HSBD_CONTACT_REFLECT) {
         r->push = calloc(n + 1, sizeof *r->push);
         r->ypush = malloc(n * sizeof *r->ypush);
+        r->batch_listed = calloc(n / GAP_CHUNK + 1, sizeof *r->batch_listed);
     }
     r->pair_range = hsbd_pair_range(&par->pair);
     if (par->pair.nterms > 0) r->fpair = malloc(n * sizeof *r->fpair);
@@ -189,7 +193,8 @@ hsbd_rods *hsbd_rods_alloc(const hsbd_rods_params *par, hsbd_error *err) {
     if (!species_ok) species_ok = alloc_species(r, par) == 0;
     if (!species_ok || !r->z || !r->offset || !r->y || !r->frag_v || !r->pava || !r->frag ||
         (par->nspecies > 0 && !r->frag_w) || alloc_fragment_parts(r) != 0 ||
-        (par->contact_rule == HSBD_CONTACT_REFLECT && (!r->push || !r->ypush)) ||
+        (par->contact_rule == HSBD_CONTACT_REFLECT &&
+         (!r->push || !r->ypush || !r->batch_listed)) ||
         (par->pair.nterms > 0 && !r->fpair)) {
         hsbd_rods_free(r);
         return hsbd_error_set(err, HSBD_ENOMEM, "rods: out of memory for N = %zu", n), NULL;
@@ -218,6 +223,7 @@ void hsbd_rods_free(hsbd_rods *r) {
     free(r->frag_count);
     free(r->push);
     free(r->ypush);
+    free(r->batch_listed);
     free(r->fpair);
     free(r->species);
     free(r->friction);
@@ -596,82 +602,108 @@ static void recenter(hsbd_rods *r) {
     r->wraps += k;
 }
 
-/* A gap that may cross whose uniform u shows, without a log, that its bridge minimum stays
- * >= 0: bridge_push_with would return +0.0. The minimum is < 0 when -ln u > g0 g1 / d_rel_dt,
- * and -ln u <= (1 - u) / u, so 4 d_rel_dt (1 - u) < 4 g0 g1 u (times u > 0) rules the
- * crossing out. The relative margin of 1e-12 covers every rounding of this test and of
- * bridge_push_with (a few ulps, with libm's log within one), so the sign of the computed
- * minimum is the one this test implies and the bits are those of bridge_push_with. */
-static inline int bridge_surely_clear(double g0, double g1, double d_rel_dt, double u) {
-    const double a = g0 + g1;
-    return 4.0 * d_rel_dt * (1.0 - u) * (1.0 + 1e-12) + 1e-12 * a * a * u < 4.0 * g0 * g1 * u;
-}
-
-/* The push that reflects a gap that may cross (gaps.h) at zero (Skorokhod; docs/theory.md, exact
- * shortcuts), with its uniform u: -m when the bridge minimum m drawn with u is < 0, else +0.0,
- * selected by a mask (the same bits as the branch, without its mispredictions). */
-static inline double bridge_push_with(double g0, double g1, double d_rel_dt, double u) {
-    const double d = g1 - g0;
-    const double m = 0.5 * (g0 + g1 - sqrt(d * d - 4.0 * d_rel_dt * log(u)));
-    const double neg = -m;
-    uint64_t bits;
-    memcpy(&bits, &neg, sizeof bits);
-    bits &= -(uint64_t)(m < 0);
-    double push;
-    memcpy(&push, &bits, sizeof push);
-    return push;
-}
-
-static inline double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed,
-                                 uint64_t step, size_t gap) {
+/* A gap's uniform is U = (b + V) / 256: its random byte b (stream HSBD_STREAM_CONTACT, byte
+ * `gap` of hsbd_rng_bytes_at) and, only when b leaves a crossing possible
+ * (bridge_byte_candidate), its low digits V (stream HSBD_STREAM_CONTACT_DEPTH). The push of
+ * one gap outside the batches (a wall's: gap n - 1 on the right, n on the left), whose V is
+ * the uniform of index `gap` (the batches' candidates take indices below n - 1). */
+static double bridge_push(double g0, double g1, double d_rel_dt, uint64_t seed, uint64_t step,
+                          size_t gap) {
     if (!bridge_may_cross(g0, g1, d_rel_dt)) return 0.0;
+    const unsigned block = 0;
+    uint8_t bytes[GAP_BLOCK];
+    hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, gap / GAP_BLOCK, &block, 1, bytes);
+    const unsigned byte = bytes[gap % GAP_BLOCK];
+    if (!bridge_byte_candidate(g0 * g1, d_rel_dt, byte)) return 0.0;
     double u;
-    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT, step, gap, 1, &u);
-    return bridge_push_with(g0, g1, d_rel_dt, u);
+    hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT_DEPTH, step, gap, 1, &u);
+    u = ((double)byte + u) * (1.0 / 256);
+    hsbd_vmath_log(1, &u);
+    const double sum = g0 + g1, sq = (g1 - g0) * (g1 - g0);
+    gap_pushes(1, &sum, &sq, NULL, d_rel_dt, &u);
+    return u;
 }
 
-enum { GAP_CHUNK = 1024 }; /* gaps per batch of the reflect rule; even: RNG pairs align */
+/* 0, 1, 2, ...: the blocks of a batch, the indices of a batch's first candidates' low
+ * digits */
+static const unsigned counting[GAP_CHUNK / GAP_BLOCK] = {
+    0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
+    22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43,
+    44, 45, 46, 47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63};
 
-/* Pushes of the rod-rod gaps first .. first+m-1 (all right of a rod i < n - 1), in passes
- * that give the same bits as bridge_push gap by gap: the gaps that may cross listed
- * (gaps.h, eight at a time), their uniforms (twelve Philox counters at a time with AVX2,
- * one per listed gap: a gap's number depends only on its index, hsbd/rng.h), the test
- * that rules most crossings out, then the bridge minima of the rest (scalar libm log and
- * sqrt). Only the listed gaps are computed again after the first pass (the same
- * subtractions, so the same bits). */
-static void push_gap_batch(const hsbd_rods *r, size_t first, size_t m, double kt_dt,
-                           double *restrict push) {
-    double u[GAP_CHUNK], d[GAP_CHUNK];
-    unsigned idx[GAP_CHUNK];
-    const double *restrict z = r->z + first, *restrict y = r->y + first;
+/* Pushes of the rod-rod gaps first .. first+m-1 (first a multiple of GAP_CHUNK), with the
+ * uniforms of bridge_push: the candidates among the gaps that may cross (gaps.h), then for
+ * these alone the low digits (the k-th candidate of the batch takes the uniform of index
+ * first + k), the logarithms (vectorised) and the bridge minima. The candidates come in one
+ * of three ways, with the same answer: a short batch (m <= EARLY_GAPS) that listed gaps in
+ * its last step draws the bytes of all its blocks and its first four low digits first, in one
+ * generator call whose chain of multiplies runs beside the tests, and makes both tests in one
+ * pass; a batch that listed at least 3/4 of its blocks in its last step (dense systems) draws
+ * the bytes of all its blocks, then makes both tests in one pass; any other lists the blocks
+ * of GAP_BLOCK gaps that hold a gap that may cross, then draws their bytes alone (one Philox
+ * counter per block). The batch notes how many blocks it listed (its own entry: no race on
+ * threads). With one species (out not NULL) the rods
+ * between two of its gaps take half of each push into out at once, while the batch is in
+ * cache (z is read no more by then, so out may be z). */
+static void push_gap_batch(hsbd_rods *r, size_t first, size_t m, double kt_dt,
+                           double *restrict push, double *out) {
+    double u[GAP_CHUNK], d[GAP_CHUNK], g0g1[GAP_CHUNK], sq[GAP_CHUNK];
+    unsigned blocks[GAP_CHUNK / GAP_BLOCK], idx[GAP_CHUNK];
+    uint16_t mask[GAP_CHUNK / GAP_BLOCK];
+    uint8_t bytes[GAP_CHUNK];
+    const double *z = r->z + first, *y = r->y + first;
     const double d_one = 2.0 * r->mobility * kt_dt; /* one species: 2 D dt */
+    double *dd = r->species ? d : NULL;
     if (r->species)
         for (size_t j = 0; j < m; ++j)
-            d[j] = (rod_mobility(r, first + j) + rod_mobility(r, first + j + 1)) * kt_dt;
-    const size_t count = gap_list_may_cross(z, y, r->species ? d : NULL, d_one, m, idx);
-    memset(push, 0, m * sizeof *push);
-    if (count == 0) return;  /* the common case in small dilute systems */
-    if (4 * count > 3 * m) { /* over 3/4 listed: one run of counters costs less */
-        double every[GAP_CHUNK];
-        hsbd_rng_uniforms(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, m, every);
-        for (size_t k = 0; k < count; ++k)
-            u[k] = every[idx[k]];
+            d[j] =
+                (rod_mobility(r, first + j) + rod_mobility(r, (first + j + 1) % r->par.n)) * kt_dt;
+    gap_copy(m, NULL, push);
+    const uint64_t seed = r->par.seed, step = r->step;
+    uint8_t *listed_last = &r->batch_listed[first / GAP_CHUNK];
+    const size_t nblocks = (m + GAP_BLOCK - 1) / GAP_BLOCK;
+    const size_t early = m <= EARLY_GAPS && *listed_last ? EARLY_DIGITS : 0;
+    size_t count, listed;
+    if (early) {
+        hsbd_rng_bytes_and_four(seed, step, HSBD_STREAM_CONTACT, first / GAP_BLOCK, counting,
+                                nblocks, bytes, HSBD_STREAM_CONTACT_DEPTH, first, u);
+        count = gap_candidates_all(z, y, dd, d_one, m, bytes, idx, &listed);
+    } else if (4 * (size_t)*listed_last >= 3 * nblocks) { /* dense: (nearly) every block */
+        hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, first / GAP_BLOCK, counting, nblocks,
+                          bytes);
+        count = gap_candidates_all(z, y, dd, d_one, m, bytes, idx, &listed);
     } else {
-        hsbd_rng_uniforms_at(r->par.seed, HSBD_STREAM_CONTACT, r->step, first, idx, count, u);
+        listed = gap_blocks_may_cross(z, y, dd, d_one, m, mask, blocks, g0g1);
+        if (listed > 0)
+            hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, first / GAP_BLOCK, blocks, listed,
+                              bytes);
+        count = listed ? gap_candidates(g0g1, dd, d_one, m, mask, blocks, listed, bytes, idx) : 0;
     }
-    size_t crossing = 0; /* the listed gaps whose uniform does not rule the crossing out */
+    *listed_last = (uint8_t)(listed < 255 ? listed : 255);
+    if (count > early + 3 * GAP_BLOCK) /* a run of counters, two uniforms each */
+        hsbd_rng_uniforms(seed, HSBD_STREAM_CONTACT_DEPTH, step, first + early, count - early,
+                          u + early);
+    else if (count > early) /* few: one counter each, the same numbers (less to set up) */
+        hsbd_rng_uniforms_at(seed, HSBD_STREAM_CONTACT_DEPTH, step, first + early, counting,
+                             count - early, u + early);
+    double *sum = g0g1; /* the products are used up; the candidates' values packed in order */
     for (size_t k = 0; k < count; ++k) {
-        const size_t j = idx[k];
-        const double dj = r->species ? d[j] : d_one;
-        idx[crossing] = (unsigned)j;
-        u[crossing] = u[k];
-        crossing += (size_t)!bridge_surely_clear(z[j + 1] - z[j], y[j + 1] - y[j], dj, u[k]);
+        const size_t j = idx[k]; /* >= k: d[j] is read before d[k] is written */
+        const double g0 = z[j + 1] - z[j], g1 = y[j + 1] - y[j];
+        u[k] = ((double)bytes[j] + u[k]) * (1.0 / 256);
+        sum[k] = g0 + g1;
+        sq[k] = (g1 - g0) * (g1 - g0);
+        if (dd) d[k] = d[j];
     }
-    for (size_t k = 0; k < crossing; ++k) {
-        const size_t j = idx[k];
-        const double dj = r->species ? d[j] : d_one;
-        push[j] = bridge_push_with(z[j + 1] - z[j], y[j + 1] - y[j], dj, u[k]);
-    }
+    hsbd_vmath_log(count, u);
+    gap_pushes(count, sum, sq, dd, d_one, u);
+    for (size_t k = 0; k < count; ++k)
+        push[idx[k]] = u[k];
+    if (!out || m < 2) return;
+    if (8 * count > m) /* many pushes: every rod's halves, vectorised */
+        gap_half_pushes(m - 1, y + 1, push + 1, out + first + 1);
+    else /* few: y, then the pushes' halves */
+        gap_half_pushes_at(m, y, push, idx, count, out + first);
 }
 
 /* The part of a gap's push that rod i takes: mu_i / (mu_i + mu_nb) against rod nb, all of
@@ -683,32 +715,39 @@ static double push_share(const hsbd_rods *r, size_t i, size_t nb) {
     return mi / (mi + rod_mobility(r, nb));
 }
 
-/* Rods lo .. hi-1 of one species, not at an end, take half of each neighbouring push:
- * their pushed end points into out. */
-static void take_half_pushes(const hsbd_rods *r, size_t lo, size_t hi, double *out) {
-    const double *y = r->y, *push = r->push;
-    for (size_t i = lo; i < hi; ++i)
-        out[i] = y[i] + 0.5 * (push[i - 1] - push[i]);
+/* The rod-rod gaps the batches take: on a ring all n, the last one (rod n - 1 to rod 0) through
+ * the copies z[n], y[n] of rod 0 one ring further; between walls n - 1 (the walls' gaps apart). */
+static size_t batch_gaps(const hsbd_rods *r) {
+    return r->walls || r->par.n < 2 ? r->par.n - 1 : r->par.n;
 }
 
-/* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at the last one, n - 2), in
- * batches of GAP_CHUNK from lo. With one species the rods between two gaps of a batch
- * take their halves at once, while the batch's end points and pushes are in cache; the
- * first rod of each batch waits for the batch before (take_batch_edges). */
+/* The pushes of the rod-rod gaps lo .. hi-1 (hi capped at batch_gaps), in batches of
+ * GAP_CHUNK from lo. With one species the rods between two gaps of a batch take their
+ * halves at once, while the batch's end points and pushes are in cache; the first rod of
+ * each batch waits for the batch before (take_batch_edges). */
 static void push_gap_batches(hsbd_rods *r, size_t lo, size_t hi, double kt_dt, double *out) {
-    if (hi > r->par.n - 1) hi = r->par.n - 1;
+    if (hi > batch_gaps(r)) hi = batch_gaps(r);
     for (size_t first = lo; first < hi; first += GAP_CHUNK) {
         const size_t m = hi - first < GAP_CHUNK ? hi - first : GAP_CHUNK;
-        push_gap_batch(r, first, m, kt_dt, r->push + first);
-        if (!r->species) take_half_pushes(r, first + 1, first + m, out);
+        push_gap_batch(r, first, m, kt_dt, r->push + first, r->species ? NULL : out);
     }
 }
 
 /* One species: the first rod of every batch but the first (its left gap is the last of
- * the batch before) takes its halves. */
+ * the batch before) takes half of each push. */
 static void take_batch_edges(const hsbd_rods *r, double *out) {
-    for (size_t first = GAP_CHUNK; first < r->par.n - 1; first += GAP_CHUNK)
-        take_half_pushes(r, first, first + 1, out);
+    for (size_t i = GAP_CHUNK; i < batch_gaps(r); i += GAP_CHUNK)
+        gap_half_pushes(1, r->y + i, r->push + i, out + i);
+}
+
+/* The pushed end point of rod i from its two gaps' pushes, shared by the mobilities
+ * (push_share); a wall's gap is push[n] on the left, push[n - 1] on the right. */
+static void take_pushes(const hsbd_rods *r, size_t i, double *out) {
+    const size_t n = r->par.n, il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
+    const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
+    const double left = r->push[wall_left ? n : il], right = r->push[i];
+    out[i] = r->y[i] + left * push_share(r, i, wall_left ? i : il) -
+             right * push_share(r, i, wall_right ? i : ir);
 }
 
 /* Reflect rule: for every gap that may have touched zero during the step, draw the
@@ -719,44 +758,44 @@ static void take_batch_edges(const hsbd_rods *r, double *out) {
  * free end points of all gaps first, so the result does not depend on the order. The
  * pushed end points go to out: r->ypush, or z itself (see hsbd_rods_step). Each batch
  * writes the rods between its gaps only after its own pushes, and no batch reads the
- * positions of another's rods but the first (written last, by take_batch_edges), so out
- * may be z on threads too. */
+ * positions of another's rods but the first (written last, by take_batch_edges) and the
+ * copy of rod 0, so out may be z on threads too. */
 static void reflect_gaps(hsbd_rods *r, double *out) {
-    const size_t n = r->par.n;
+    const size_t n = r->par.n, gaps = batch_gaps(r);
     const double kt_dt = r->par.kT * r->par.dt, lf = r->free_length;
-    const uint64_t seed = r->par.seed, step = r->step;
-    const double *z = r->z, *y = r->y;
     double *push = r->push;
-    /* interior rods of one species take half of each neighbouring push (the batches) */
-    const size_t first_general = r->species ? n : 1;
+    if (!r->walls) { /* rod 0 one ring further: the ring's last gap in the last batch */
+        r->z[n] = r->z[0] + lf;
+        r->y[n] = r->y[0] + lf;
+    }
     const int threads = step_threads(r, n);
     if (threads > 1) {
-        const long nbatches = (long)((n - 1 + GAP_CHUNK - 1) / GAP_CHUNK);
+        const long nbatches = (long)((gaps + GAP_CHUNK - 1) / GAP_CHUNK);
 #pragma omp parallel for schedule(static) num_threads(threads)
         for (long b = 0; b < nbatches; ++b)
             push_gap_batches(r, (size_t)b * GAP_CHUNK, (size_t)(b + 1) * GAP_CHUNK, kt_dt, out);
     } else {
-        push_gap_batches(r, 0, n - 1, kt_dt, out);
+        push_gap_batches(r, 0, gaps, kt_dt, out);
     }
     if (!r->species) take_batch_edges(r, out);
     if (r->walls) { /* the rod's own D against each wall */
+        const double *z = r->z, *y = r->y;
+        const uint64_t seed = r->par.seed, step = r->step;
         const double d_last = rod_mobility(r, n - 1) * kt_dt, d_first = rod_mobility(r, 0) * kt_dt;
         push[n - 1] = bridge_push(lf - z[n - 1], lf - y[n - 1], d_last, seed, step, n - 1);
         push[n] = bridge_push(z[0], y[0], d_first, seed, step, n);
     } else {
-        const double d_rel_dt = (rod_mobility(r, n - 1) + rod_mobility(r, 0)) * kt_dt;
-        push[n - 1] = n > 1 ? bridge_push(z[0] + lf - z[n - 1], y[0] + lf - y[n - 1], d_rel_dt,
-                                          seed, step, n - 1)
-                            : 0.0;
+        if (n < 2) push[0] = 0.0; /* one rod on a ring: no gap */
         push[n] = 0.0;
     }
-    /* the rods the halves above left out: all of a mixture, else the two at the ends */
-    for (size_t i = 0; i < n; i = i + 1 < first_general || i + 1 == n ? i + 1 : n - 1) {
-        const size_t il = i > 0 ? i - 1 : n - 1, ir = i + 1 < n ? i + 1 : 0;
-        const int wall_left = r->walls && i == 0, wall_right = r->walls && i + 1 == n;
-        const double left = push[wall_left ? n : il], right = push[i];
-        out[i] = y[i] + left * push_share(r, i, wall_left ? i : il) -
-                 right * push_share(r, i, wall_right ? i : ir);
+    /* the rods the batches left out: all of a mixture, else rod 0 and, between walls, the
+     * last rod */
+    if (r->species) {
+        for (size_t i = 0; i < n; ++i)
+            take_pushes(r, i, out);
+    } else {
+        take_pushes(r, 0, out);
+        if (r->walls && n > 1) take_pushes(r, n - 1, out);
     }
 }
 

@@ -223,9 +223,142 @@ static void test_reflect_two_rods(void) {
     }
 }
 
+/* The reflect rule's pushes follow the law of the minimum m of the Brownian bridge of each
+ * gap from g0 to its free end g1 (relative diffusion D_rel dt = d): P(m < a) =
+ * exp(-(g0 - a)(g1 - a) / d) for a <= min(g0, g1). So a gap crosses with probability
+ * p = exp(-g0 g1 / d) (1 when g0 g1 <= 0), and for a crossing gap pushed by h = -m the
+ * probability transform w = exp(-(g0 + h)(g1 + h) / d) / p = P(m < -h | m < 0) is uniform
+ * on (0, 1). Checked on every gap of every step, the positions reset before each step so
+ * that the start gaps run over closed ones, ones that cross often, rarely (most gaps near
+ * 0.1, where crossings with p < 1/100 come from: there the low digits of the uniform decide)
+ * and (beyond the listing's bound, p < 2e-9) never: a ring of one species (2100 rods: two
+ * whole batches of gaps, a short one and the ring's last gap apart) and a mixture of two
+ * species between walls (the wall gaps with the rod's own D). Against the exact law, over
+ * all crossings and over the rare ones (p < 1/100): the number of crossings (against the
+ * sum of p), the mean and mean square of w (1/2, 1/3) and the fraction of w in each fifth
+ * of (0, 1) (1/5). Each is a sum per step of terms of mean zero under the exact law
+ * (crossing - p; w - 1/2 per crossing; ...), divided by the mean count it is relative to;
+ * its error comes from 20 block averages over the steps (the steps are independent). Fixed
+ * seeds; within 4 standard errors. */
+enum { BRIDGE_BINS = 5, BRIDGE_VALUES = 3 + BRIDGE_BINS };
+static void test_reflect_bridge_law(int walls) {
+    enum { N = 2100, NG = 12 };
+    const double start_gaps[NG] = {0.0, 0.002, 0.01, 0.03, 0.06, 0.09,
+                                   0.1, 0.11,  0.12, 0.13, 0.2,  1.0};
+    const double sp_sigma[2] = {0.5, 0.3}, sp_d[2] = {1.0, 3.0}, dt = 1e-3;
+    const uint64_t steps = (uint64_t)(600 * run_scale());
+    int species[N];
+    double x[N], gap[N + 1];
+    double occupied = 0, pos = 0;
+    for (size_t i = 0; i <= N; ++i)
+        gap[i] = start_gaps[(i * 5 + i / NG) % NG]; /* gap i right of rod i; N: left wall */
+    if (walls) pos = gap[N];
+    for (size_t i = 0; i < N; ++i) {
+        species[i] = walls ? (int)(i % 3 == 0) : 0;
+        const double sg = walls ? sp_sigma[species[i]] : 0.5;
+        x[i] = pos + sg / 2;
+        pos += sg + gap[i];
+        occupied += sg;
+    }
+    hsbd_rods_params par = {.n = N,
+                            .length = pos,
+                            .sigma = 0.5,
+                            .diffusion = 1,
+                            .kT = 1,
+                            .dt = dt,
+                            .seed = walls ? 17 : 16,
+                            .hard_core = 1,
+                            .contact_rule = HSBD_CONTACT_REFLECT,
+                            .boundary = walls ? HSBD_RODS_WALLS : HSBD_RODS_PERIODIC};
+    if (walls) {
+        par.nspecies = 2;
+        par.species = species;
+        par.species_sigma = sp_sigma;
+        par.species_diffusion = sp_d;
+    }
+    hsbd_error err;
+    hsbd_rods *rods = hsbd_rods_alloc(&par, &err);
+    CHECK(rods != NULL, "%s", err.message);
+    if (!rods) return;
+    const double lf = pos - occupied;
+    /* per step, for all gaps (set 0) and the rare ones (set 1): BRIDGE_VALUES sums of terms
+     * of mean zero, then the crossings and the sum of p */
+    enum { PER_SET = BRIDGE_VALUES + 2 };
+    hsbd_blocks *blocks = hsbd_blocks_alloc(2 * PER_SET, 20, steps);
+    static double z0[N];
+    for (uint64_t s = 0; s < steps; ++s) {
+        CHECK(hsbd_rods_set_positions(rods, x, &err) == HSBD_OK, "%s", err.message);
+        hsbd_rods_view v = hsbd_rods_get_view(rods);
+        memcpy(z0, v.z, sizeof z0);
+        CHECK(hsbd_rods_step(rods, NULL) == HSBD_OK, "step");
+        v = hsbd_rods_get_view(rods);
+        double *acc = hsbd_blocks_acc(blocks);
+        for (size_t k = 0; k <= N; ++k) { /* gap k right of rod k; N: left wall (walls only) */
+            double g0, g1, mu_sum;
+            if (k + 1 < N) {
+                g0 = z0[k + 1] - z0[k], g1 = v.y[k + 1] - v.y[k];
+                mu_sum = v.species ? v.species_mobility[v.species[k]] +
+                                         v.species_mobility[v.species[k + 1]]
+                                   : 2 * v.mobility;
+            } else if (k + 1 == N && !walls) {
+                g0 = z0[0] + lf - z0[k], g1 = v.y[0] + lf - v.y[k], mu_sum = 2 * v.mobility;
+            } else if (k + 1 == N) {
+                g0 = lf - z0[k], g1 = lf - v.y[k], mu_sum = v.species_mobility[v.species[k]];
+            } else if (walls) {
+                g0 = z0[0], g1 = v.y[0], mu_sum = v.species_mobility[v.species[0]];
+            } else {
+                continue;
+            }
+            const double d = mu_sum * v.kT * dt, h = v.push[k];
+            const double p = g0 * g1 <= 0 ? 1.0 : exp(-g0 * g1 / d);
+            for (int rare = 0; rare <= (p < 0.01); ++rare) { /* all, then the rare ones */
+                double *a = acc + rare * PER_SET;
+                a[0] += (h > 0) - p;
+                a[BRIDGE_VALUES + 1] += p;
+                if (!(h > 0)) continue;
+                const double w = exp(-(g0 + h) * (g1 + h) / d) / p;
+                a[1] += w - 0.5;
+                a[2] += w * w - 1.0 / 3;
+                const int bin = (int)(w * BRIDGE_BINS);
+                for (int b = 0; b < BRIDGE_BINS; ++b)
+                    a[3 + b] += (b == (bin < BRIDGE_BINS ? bin : BRIDGE_BINS - 1)) - 0.2;
+                a[BRIDGE_VALUES] += 1;
+            }
+        }
+        hsbd_blocks_end_sample(blocks);
+    }
+    double mean[2 * PER_SET], se[2 * PER_SET];
+    hsbd_blocks_result(blocks, mean, se);
+    int bad = 0;
+    for (int rare = 0; rare <= 1; ++rare) {
+        const double *m = mean + rare * PER_SET, *e = se + rare * PER_SET;
+        const double crossings = m[BRIDGE_VALUES], expected = m[BRIDGE_VALUES + 1];
+        const char *set = walls ? (rare ? "walls, mixture, p < 1/100:" : "walls, mixture:")
+                                : (rare ? "ring, p < 1/100:" : "ring:");
+        char what[80];
+        printf("  reflect, %s %.1f crossings per step\n", set, crossings);
+        snprintf(what, sizeof what, "%s crossings / expected", set);
+        bad += !within(what, 1 + m[0] / expected, e[0] / expected, 1.0);
+        snprintf(what, sizeof what, "%s mean of w", set);
+        bad += !within(what, 0.5 + m[1] / crossings, e[1] / crossings, 0.5);
+        snprintf(what, sizeof what, "%s mean of w^2", set);
+        bad += !within(what, 1.0 / 3 + m[2] / crossings, e[2] / crossings, 1.0 / 3);
+        for (int b = 0; b < BRIDGE_BINS; ++b) {
+            snprintf(what, sizeof what, "%s w in [%.1f, %.1f)", set, 0.2 * b, 0.2 * (b + 1));
+            bad += !within(what, 0.2 + m[3 + b] / crossings, e[3 + b] / crossings, 0.2);
+        }
+    }
+    CHECK(bad == 0, "reflect, %s: %d values off the bridge minimum's law", walls ? "walls" : "ring",
+          bad);
+    hsbd_blocks_free(blocks);
+    hsbd_rods_free(rods);
+}
+
 int main(void) {
     printf("run scale %.2g\n", run_scale());
     test_reflect_two_rods();
+    test_reflect_bridge_law(0);
+    test_reflect_bridge_law(1);
     test_tonks_ring();
     test_short_time_msd();
     test_drift(0);

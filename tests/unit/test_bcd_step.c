@@ -11,7 +11,9 @@
 #include "hsbd/isotonic.h"
 #include "hsbd/rng.h"
 #include "hsbd/rods.h"
+#include "core/serial.h"
 #include "core/vmath.h"
+#include "rods1d/checkpoint.h"
 #include "rods1d/gaps.h"
 
 enum { NMAX = 12 };
@@ -406,6 +408,58 @@ static void test_reflect_in_place(int boundary, int threads) {
     hsbd_rods_free(in_place);
 }
 
+/* A short batch of gaps that listed gaps in its last step draws its random bytes and first
+ * low digits before its tests, in one call (push_gap_batch); a fresh system, which has no
+ * last step, draws them after: both must give the same bits. A dense ring of 100 rods (one
+ * short batch, gaps listed every step) is stepped on; before each step its state is loaded
+ * into a fresh system, stepped once beside it, and positions, free end points and pushes
+ * compared. */
+static void test_reflect_early_draws(void) {
+    hsbd_rods_params par = {.n = 100,
+                            .length = 100.0,
+                            .sigma = 0.9,
+                            .diffusion = 1,
+                            .kT = 1,
+                            .dt = 1e-3,
+                            .seed = 23,
+                            .hard_core = 1,
+                            .contact_rule = HSBD_CONTACT_REFLECT};
+    hsbd_field_add(&par.field, hsbd_field_cosine(6.0, 1.0));
+    hsbd_error err;
+    hsbd_rods *on = hsbd_rods_alloc(&par, &err);
+    if (!on) {
+        CHECK(0, "alloc");
+        return;
+    }
+    hsbd_rods_init_equilibrium(on);
+    int same = 1, first_diff = -1;
+    size_t pushed = 0;
+    for (int s = 0; s < 200 && same; ++s) {
+        hsbd_writer w;
+        hsbd_writer_init(&w);
+        hsbd_rods_save(on, &w);
+        hsbd_reader rd;
+        hsbd_reader_init(&rd, w.data, w.len);
+        hsbd_rods *fresh = hsbd_rods_alloc(&par, &err);
+        CHECK(fresh && hsbd_rods_load(fresh, &rd) == 0, "load at step %d", s);
+        hsbd_writer_free(&w);
+        if (!fresh) break;
+        hsbd_rods_step(on, NULL);
+        hsbd_rods_step(fresh, NULL);
+        const hsbd_rods_view a = hsbd_rods_get_view(on), b = hsbd_rods_get_view(fresh);
+        same = memcmp(a.z, b.z, par.n * sizeof *a.z) == 0 &&
+               memcmp(a.y, b.y, par.n * sizeof *a.y) == 0 &&
+               memcmp(a.push, b.push, (par.n + 1) * sizeof *a.push) == 0;
+        if (!same) first_diff = s;
+        for (size_t i = 0; i <= par.n; ++i)
+            pushed += a.push[i] > 0;
+        hsbd_rods_free(fresh);
+    }
+    CHECK(same, "early draws differ from late ones at step %d", first_diff);
+    CHECK(pushed > 1000, "only %zu pushes in 200 steps", pushed);
+    hsbd_rods_free(on);
+}
+
 /* The library's default contact rule (a zero-initialised parameter struct) is the one the
  * CLI's configuration defaults to: a benchmark or a library user then times and runs what
  * `hsbd run` runs (the library once defaulted to the paper's sticky rule). */
@@ -420,17 +474,21 @@ static void test_default_contact_rule(void) {
           cfg.system.contact_rule);
 }
 
-/* The reflect rule's list of the gaps that may cross: the scalar and the AVX2 version list
- * exactly the gaps bridge_may_cross accepts, in order, for every batch length (whole
- * groups of eight and tails), one diffusion for all or one per gap, and gaps at the edges
- * of the test: closed or overlapping at the end, -0, NaN, infinite, and products on both
- * sides of the bound. */
-static void test_gap_list(void) {
-    enum { M = 203 };
+/* The reflect rule's passes over a batch (gaps.h): the scalar and the AVX2 versions give what
+ * a plain loop over bridge_may_cross and bridge_byte_candidate gives (the blocks that hold a
+ * gap that may cross, their masks, every gap's product g0 g1, the candidates in order, also
+ * from both tests in one pass),
+ * and the same bits for the pushes and the halves they give the rods (all rods', or only
+ * those next to a push), for every batch length (whole blocks and
+ * short last ones), one diffusion for all or one per gap, gaps at the edges of the tests
+ * (closed or overlapping at the end, -0, NaN, infinite, products on the listing's bound)
+ * and bytes at the edges of theirs (0, 255, the last byte that can cross and the next). */
+static void test_gap_passes(void) {
+    enum { M = 203, BLOCKS = (M + GAP_BLOCK - 1) / GAP_BLOCK };
     test_rng rng = {.seed = 31, .draw = 0};
-    double z[M + 1], y[M + 1], d[M];
-    unsigned want[M], got[M];
-    int bad_scalar = 0, bad_avx2 = 0, listed = 0, total = 0;
+    double z[M + 1], y[M + 1], d[M], want_g0g1[M];
+    uint8_t bytes[GAP_BLOCK * BLOCKS];
+    int bad_blocks = 0, bad_candidates = 0, bad_pushes = 0, listed = 0, candidates = 0, total = 0;
     for (int trial = 0; trial < 40; ++trial) {
         const double d_one = 1e-4 * (1 + trial % 3);
         z[0] = y[0] = 0;
@@ -446,37 +504,129 @@ static void test_gap_list(void) {
             else if (u < 0.10)
                 g1 = INFINITY;
             else if (u < 0.15)
-                g1 = 20.0 * d_one / g0; /* the product at the bound */
+                g1 = 20.0 * d_one / g0; /* the product at the listing's bound */
             z[j + 1] = z[j] + g0;
             y[j + 1] = y[j] + g1; /* y's differences give g1 back up to rounding */
             d[j] = d_one * (0.5 + uniform(&rng));
+            const double p = exp(-(z[j + 1] - z[j]) * (y[j + 1] - y[j]) / d_one);
+            const double v = uniform(&rng);
+            const double last = floor(256 * p); /* the byte below p's, or just at it */
+            bytes[j] = (uint8_t)(v < 0.1                 ? 0
+                                 : v < 0.2               ? 255
+                                 : v < 0.5 && last < 256 ? last
+                                 : v < 0.6 && last < 255 ? last + 1
+                                                         : 256 * uniform(&rng));
         }
         for (size_t m = (size_t)trial; m <= M; m += 41) {
             for (int per_gap = 0; per_gap <= 1; ++per_gap) {
                 const double *dd = per_gap ? d : NULL;
-                size_t count = 0;
-                for (size_t j = 0; j < m; ++j)
-                    if (bridge_may_cross(z[j + 1] - z[j], y[j + 1] - y[j], dd ? dd[j] : d_one))
-                        want[count++] = (unsigned)j;
-                listed += (int)count, total += (int)m;
-                size_t n = gap_list_may_cross_scalar(z, y, dd, d_one, m, got);
-                bad_scalar += n != count || memcmp(got, want, count * sizeof *got) != 0;
-                if (hsbd_cpu_has_avx2()) {
-                    n = gap_list_may_cross_avx2(z, y, dd, d_one, m, got);
-                    bad_avx2 += n != count || memcmp(got, want, count * sizeof *got) != 0;
+                uint16_t want_mask[BLOCKS] = {0}, mask[BLOCKS];
+                unsigned want_blocks[BLOCKS], blocks[BLOCKS], want[M + GAP_BLOCK];
+                unsigned got[M + GAP_BLOCK];
+                double g0g1[M];
+                size_t nblocks = 0, count = 0;
+                for (size_t j = 0; j < m; ++j) {
+                    const double g0 = z[j + 1] - z[j], g1 = y[j + 1] - y[j];
+                    const double dj = dd ? dd[j] : d_one;
+                    want_g0g1[j] = g0 * g1;
+                    if (!bridge_may_cross(g0, g1, dj)) continue;
+                    want_mask[j / GAP_BLOCK] |= (uint16_t)(1u << (j % GAP_BLOCK));
+                    if (bridge_byte_candidate(g0 * g1, dj, bytes[j])) want[count++] = (unsigned)j;
+                    ++listed;
+                }
+                for (unsigned b = 0; GAP_BLOCK * b < m; ++b)
+                    if (want_mask[b]) want_blocks[nblocks++] = b;
+                total += (int)m, candidates += (int)count;
+                for (int avx2 = 0; avx2 <= hsbd_cpu_has_avx2(); ++avx2) {
+                    const size_t nb =
+                        (avx2 ? gap_blocks_may_cross_avx2 : gap_blocks_may_cross_scalar)(
+                            z, y, dd, d_one, m, mask, blocks, g0g1);
+                    int same = nb == nblocks && !memcmp(blocks, want_blocks, nb * sizeof *blocks) &&
+                               !memcmp(g0g1, want_g0g1, m * sizeof *g0g1);
+                    for (size_t b = 0; GAP_BLOCK * b < m; ++b)
+                        same &= mask[b] == want_mask[b];
+                    bad_blocks += !same;
+                    const size_t n = (avx2 ? gap_candidates_avx2 : gap_candidates_scalar)(
+                        g0g1, dd, d_one, m, mask, blocks, nb, bytes, got);
+                    bad_candidates += n != count || memcmp(got, want, count * sizeof *got) != 0;
+                    size_t listed_blocks;
+                    const size_t n_all =
+                        (avx2 ? gap_candidates_all_avx2 : gap_candidates_all_scalar)(
+                            z, y, dd, d_one, m, bytes, got, &listed_blocks);
+                    bad_candidates += n_all != count || listed_blocks != nblocks ||
+                                      memcmp(got, want, count * sizeof *got) != 0;
                 }
             }
         }
+        /* the pushes of the first gaps, as if all were candidates, and their halves */
+        if (hsbd_cpu_has_avx2()) {
+            double sum[M], sq[M], lu[2][M];
+            for (size_t k = 0; k < M; ++k) {
+                const double g0 = z[k + 1] - z[k], g1 = y[k + 1] - y[k];
+                sum[k] = g0 + g1, sq[k] = (g1 - g0) * (g1 - g0);
+                lu[0][k] = lu[1][k] = log(uniform(&rng));
+            }
+            const size_t count = (size_t)(M - trial);
+            gap_pushes_scalar(count, sum, sq, trial % 2 ? d : NULL, d_one, lu[0]);
+            gap_pushes_avx2(count, sum, sq, trial % 2 ? d : NULL, d_one, lu[1]);
+            bad_pushes += memcmp(lu[0], lu[1], sizeof lu[0]) != 0;
+            /* the halves of sparse pushes (every seventh gap) three ways */
+            double push[M], half[3][M];
+            unsigned at[M];
+            size_t count_at = 0;
+            for (size_t k = 0; k < M; ++k) {
+                push[k] = k % 7 == (size_t)trial % 7 ? lu[0][k] : 0.0;
+                if (push[k] != 0) at[count_at++] = (unsigned)k;
+            }
+            gap_half_pushes_scalar(M - 1, y + 1, push + 1, half[0] + 1);
+            gap_half_pushes_avx2(M - 1, y + 1, push + 1, half[1] + 1);
+            gap_half_pushes_at(M, y, push, at, count_at, half[2]);
+            bad_pushes += memcmp(half[0] + 1, half[1] + 1, (M - 1) * sizeof half[0][0]) != 0 ||
+                          memcmp(half[0] + 1, half[2] + 1, (M - 1) * sizeof half[0][0]) != 0;
+        }
     }
-    CHECK(bad_scalar == 0, "scalar gap list wrong in %d batches", bad_scalar);
-    CHECK(bad_avx2 == 0, "AVX2 gap list wrong in %d batches", bad_avx2);
-    CHECK(listed > total / 10 && listed < total, "%d of %d gaps listed: the test is not mixed",
-          listed, total);
+    CHECK(bad_blocks == 0, "blocks, masks or products wrong in %d batches", bad_blocks);
+    CHECK(bad_candidates == 0, "candidates wrong in %d batches", bad_candidates);
+    CHECK(bad_pushes == 0, "pushes or halves differ between the versions in %d trials", bad_pushes);
+    CHECK(listed > total / 10 && listed < total && candidates > listed / 10 && candidates < listed,
+          "%d of %d gaps listed, %d candidates: the test is not mixed", listed, total, candidates);
+}
+
+/* bridge_byte_candidate never turns down a gap that can cross: with the byte b, the uniform
+ * U = (b + V) / 256 can be below the crossing probability p = exp(-x), x = g0 g1 / D_rel dt,
+ * exactly when b < 256 p; every such (x, b) must be a candidate, over x in [0, 25] on a fine
+ * grid and at the points where 256 p is a whole number (the edges), for several D_rel dt.
+ * And it lets through few others: at most 6.2 % more bytes than can cross, plus one. */
+static void test_byte_candidate_bound(void) {
+    int missed = 0, loose = 0, tested = 0;
+    const double ds[3] = {1e-7, 3e-4, 2.5};
+    for (int k = 0; k < 3; ++k)
+        for (int i = 0; i <= 50000 + 255; ++i) {
+            /* a grid in x, then the x at which 256 p = b + 1 for each b, nudged down */
+            const double x =
+                i <= 50000 ? 25.0 * i / 50000 : -log((i - 50000 + 1) / 256.0) * (1 - 1e-15);
+            const long double p = expl(-(long double)x);
+            const double g0g1 = x * ds[k]; /* g0 g1 / D_rel dt = x up to rounding */
+            const long double p_eff = expl(-(long double)g0g1 / ds[k]);
+            int count = 0, can = 0;
+            for (unsigned b = 0; b < 256; ++b) {
+                const int c = bridge_byte_candidate(g0g1, ds[k], b);
+                const int crosses = (long double)b < 256.0L * p_eff;
+                missed += crosses && !c;
+                count += c, can += crosses;
+            }
+            loose += count > 1.062 * 256.0 * (double)p + 1.0 && count > can;
+            ++tested;
+        }
+    CHECK(missed == 0, "%d bytes that can cross were turned down (of %d x)", missed, tested);
+    CHECK(loose == 0, "%d x let through more than 6.2 %% extra bytes", loose);
 }
 
 int main(void) {
-    test_gap_list();
+    test_gap_passes();
+    test_byte_candidate_bound();
     test_default_contact_rule();
+    test_reflect_early_draws();
     test_fragmentation_brute_force();
     test_ring_step_vs_oracle();
     test_library_step_vs_oracle();

@@ -1,4 +1,5 @@
-/* Philox streams: reproducible per (seed, stream, step, index) whatever the batching,
+/* Philox streams: reproducible per (seed, stream, step, index) whatever the batching, equal
+ * to Random123's philox4x32 bit for bit (uniforms, listed uniforms, random bytes),
  * distinct across seeds/streams/steps, and with the moments of N(0,1) and U(0,1) within
  * 5 standard errors over 2^21 draws (fixed seeds). The vectorised Box-Muller agrees
  * with glibc's scalar functions to 1e-13. */
@@ -87,6 +88,60 @@ static void test_uniforms_at_listed_indices(void) {
         }
 }
 
+/* random bytes of listed blocks (the reflect rule's gaps) against Random123's philox4x32 called
+ * here, byte for byte (word w of a counter gives bytes 4w .. 4w + 3, least significant
+ * first): counts of whole runs of twelve counters and tails of one to eleven, blocks in any
+ * order, a base across the 2^32 wrap of the counter's first word and a 64-bit step; the
+ * bytes of blocks not listed stay as they were */
+static void test_bytes_at_match_random123(void) {
+    const uint64_t seed = 0x0fedcba987654321ull, step = 0x200000007ull;
+    const uint64_t bases[2] = {3, 0xfffffff0ull};
+    const philox4x32_key_t key = {{(uint32_t)seed, (uint32_t)(seed >> 32)}};
+    for (int b = 0; b < 2; ++b)
+        for (size_t n = 0; n <= 30; ++n) {
+            unsigned block[30];
+            uint8_t out[16 * 64];
+            memset(out, 0xa5, sizeof out);
+            for (size_t k = 0; k < n; ++k)
+                block[k] = (unsigned)((k * 37 + 11) % 64); /* distinct, out of order */
+            hsbd_rng_bytes_at(seed, HSBD_STREAM_CONTACT, step, bases[b], block, n, out);
+            int bad = 0;
+            for (unsigned blk = 0; blk < 64; ++blk) {
+                int listed = 0;
+                for (size_t k = 0; k < n; ++k)
+                    listed |= block[k] == blk;
+                const philox4x32_ctr_t ctr = {{(uint32_t)(bases[b] + blk), (uint32_t)step,
+                                               (uint32_t)(step >> 32), HSBD_STREAM_CONTACT}};
+                const philox4x32_ctr_t r = philox4x32(ctr, key);
+                for (int i = 0; i < 16; ++i) {
+                    const uint8_t want = listed ? (uint8_t)(r.v[i / 4] >> (8 * (i % 4))) : 0xa5;
+                    bad += out[16 * blk + (unsigned)i] != want;
+                }
+            }
+            CHECK(bad == 0, "base %llu, %zu blocks: %d bytes differ from Random123's",
+                  (unsigned long long)bases[b], n, bad);
+        }
+}
+
+/* bytes and four uniforms in one call (the reflect rule's short batches) are those of the two
+ * calls apart: one to eight blocks, even and odd first indices */
+static void test_bytes_and_four(void) {
+    const unsigned block[8] = {5, 0, 7, 2, 9, 1, 3, 11};
+    int bad = 0;
+    for (size_t n = 1; n <= 8; ++n)
+        for (uint64_t index = 1022; index <= 1025; ++index) {
+            uint8_t got[16 * 12], want[16 * 12];
+            double four[4], want_four[4];
+            memset(got, 0, sizeof got), memset(want, 0, sizeof want);
+            hsbd_rng_bytes_and_four(9, 44, HSBD_STREAM_CONTACT, 100, block, n, got,
+                                    HSBD_STREAM_CONTACT_DEPTH, index, four);
+            hsbd_rng_bytes_at(9, HSBD_STREAM_CONTACT, 44, 100, block, n, want);
+            hsbd_rng_uniforms(9, HSBD_STREAM_CONTACT_DEPTH, 44, index, 4, want_four);
+            bad += memcmp(got, want, sizeof got) != 0 || memcmp(four, want_four, sizeof four) != 0;
+        }
+    CHECK(bad == 0, "%d of 32 calls differ from the two calls apart", bad);
+}
+
 static void test_normal_moments(void) {
     static double g[NDRAW];
     hsbd_rng_normals(123456789, HSBD_STREAM_NOISE, 1, 0, NDRAW, g);
@@ -145,12 +200,27 @@ static void test_vector_math_matches_libm(void) {
     CHECK(worst < 1e-13, "Box-Muller differs from libm by %.3g (vectorised: %d)", worst,
           hsbd_vmath_vectorised());
     CHECK(worst_sin < 1e-13, "sinpi differs from libm by %.3g", worst_sin);
+    /* the bulk logarithm (the reflect rule's candidates), every length's tail, down to 2^-60 */
+    double x[M], lx[M], worst_log = 0;
+    for (int i = 0; i < M; ++i)
+        x[i] = lx[i] = ldexp((i % 97 + 0.5) / 97, -(i % 61));
+    for (size_t n = 0; n <= 9; ++n)
+        hsbd_vmath_log(n, lx + 100 * n);
+    hsbd_vmath_log(M - 1000, lx + 1000);
+    for (int i = 0; i < M; ++i) {
+        const int done = i >= 1000 || i % 100 < i / 100;
+        worst_log =
+            fmax(worst_log, fabs(lx[i] - (done ? log(x[i]) : x[i])) / fmax(1, fabs(log(x[i]))));
+    }
+    CHECK(worst_log < 1e-15, "log differs from libm by %.3g (relative)", worst_log);
 }
 
 int main(void) {
     test_batching_invariance();
     test_uniforms_match_random123();
     test_uniforms_at_listed_indices();
+    test_bytes_at_match_random123();
+    test_bytes_and_four();
     test_normal_moments();
     test_uniform_moments();
     test_vector_math_matches_libm();
