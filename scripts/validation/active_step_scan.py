@@ -2,22 +2,24 @@
 """Contact statistics of dense active Brownian hard disks against the time step, both pair rules
 (docs/active.md, "Contact statistics against dt").
 
-Usage: active_step_scan.py HSBD OUT [--parts phi04,phi05[,phi05x4]] [--rules exact,mirror]
+Usage: active_step_scan.py HSBD OUT [--parts phi04,phi05[,phi04x16,phi05x4]] [--rules exact,mirror]
        active_step_scan.py HSBD OUT --tables   (the table of the runs already in OUT, nothing run)
 
 phi04: 2D, N 400, packing fraction 0.4, Pe = v0 sigma / D = 20 (D_r = 3 D / sigma^2), seeds
        1 to 4, dt 8e-4, 4e-4, 2e-4, 1e-4, 5e-5.
 phi05: 2D, N 1000, packing fraction 0.5, Pe 30, seed 1, dt 4e-4, 2e-4, 1e-4, 5e-5.
-phi05x4: the same with seeds 1 to 4 (seed 1's runs are phi05's).
+phi04x16: phi04 with seeds 1 to 16 at dt 8e-4, 2e-4 and 5e-5 (do the rules' limits agree?).
+phi05x4: phi05 with seeds 1 to 4.
 Every run: `hsbd run` from random insertion, 0.5 time units unsampled (run.t_equil), 5 sampled
 in 5 blocks of 1 time unit, one thread (the results are the same on any number). Read from each
 summary.json: swim_speed_ratio, pressure_collisional (+- its block error),
 pair_corrections_per_particle_step (the exact rule's quantile-map corrections; 0 under the
 mirror rule) and collisions_per_particle_step. Several seeds: the mean and the standard error
 of the mean over the seeds; one seed: the value and the collisional pressure's block error.
-Writes OUT/runs.tsv (one line a run) and prints a markdown table, one row per (case, dt), the
+Writes OUT/runs.tsv (one line per case, rule and dt: the means over its seeds) and prints a markdown table, one row per (case, dt), the
 exact rule's columns then the mirror's. Units sigma = D = kT = 1. Runs already complete in OUT
-are kept. About 10 minutes of CPU for phi04 and phi05, 15 more for phi05x4; one run at a time.
+are kept. About 10 minutes of CPU for phi04 and phi05, 6 more for phi04x16 and 8 for phi05x4;
+one run at a time.
 """
 import argparse
 import json
@@ -29,7 +31,9 @@ CASES = {
     "phi04": dict(n=400, phi=0.4, pe=20, seeds=(1, 2, 3, 4), dts=(8e-4, 4e-4, 2e-4, 1e-4, 5e-5)),
     "phi05": dict(n=1000, phi=0.5, pe=30, seeds=(1,), dts=(4e-4, 2e-4, 1e-4, 5e-5)),
 }
-CASES["phi05x4"] = dict(CASES["phi05"], seeds=(1, 2, 3, 4), runs="phi05")  # seed 1's runs shared
+# more seeds of the same runs (the first seeds' runs shared)
+CASES["phi04x16"] = dict(CASES["phi04"], seeds=tuple(range(1, 17)), dts=(8e-4, 2e-4, 5e-5), runs="phi04")
+CASES["phi05x4"] = dict(CASES["phi05"], seeds=(1, 2, 3, 4), runs="phi05")
 KEYS = ("swim_speed_ratio", "pressure_collisional", "pressure_collisional_err",
         "pair_corrections_per_particle_step", "collisions_per_particle_step", "cpu_seconds")
 
@@ -136,7 +140,8 @@ def main():
     for case in parts:
         c = CASES[case]
         for i, dt in enumerate(c["dts"]):
-            row = [f"{c['phi']}, {c['pe']}" if i == 0 else "", f"{dt:g}"]
+            label = f"{c['phi']}, {c['pe']} ({len(c['seeds'])} seed{'s' * (len(c['seeds']) > 1)})"
+            row = [label if i == 0 else "", f"{dt:g}"]
             for rule in ("exact", "mirror"):
                 runs = results.get((case, rule, dt))
                 if not runs:
