@@ -9,7 +9,7 @@
 #           densities of hard ABP disks at this Pe: docs/validation.md section 21);
 #   Pe 10:  one peak, within 0.05 of the mean packing fraction 0.6 (no separation).
 # Prints the peaks and the pressures; exit status 1 when a criterion fails.
-# usage: tools/validate_mips.sh build/hsbd [OUT]   (about 10 minutes of CPU)
+# usage: tools/validate_mips.sh build/hsbd [OUT]   (about 12 minutes of CPU)
 set -u
 HSBD=${1:?usage: validate_mips.sh path/to/hsbd [OUT]}
 OUT=${2:-runs/validate/mips}

@@ -41,8 +41,8 @@ double sph_pair_skin(const hsbd_spheres *s, double dt);
  * pushes included) becomes sign(Y) X with X = sph_exact_gap(|Y|, ...): the elastic
  * collision of the events then leaves the gap X where the mirror rule would have left |Y|.
  * The change is along the end separation, shared in proportion to D_i and D_j (sum_k
- * dr_k / D_k kept); pairs that share a particle get their changes together (the least
- * sum_k |d_k|^2 / D_k, Gauss-Seidel in the order of the user labels). The displacements
+ * dr_k / D_k kept); a particle's changes from all its pairs are added up exactly
+ * (sph_exact_sum: the same bits in any order, on any number of threads). The displacements
  * enter the fictive velocities before any event; the changes' share of the virial goes to
  * s->push_virial, the pairs to the statistics. Returns 0, or -1 when out of memory
  * (velocities unchanged). */
