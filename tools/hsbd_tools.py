@@ -54,3 +54,17 @@ def import_hsbd():
             sys.exit("the Python package hsbd is neither installed nor built: make build "
                      "(build/python), or pip install . (docs/python.md)")
     return hsbd
+
+
+def load_run(tool, run_dir, refusal):
+    """The package and the run in run_dir, or exit with tool's message when the run cannot
+    be read or refusal(hsbd, run) names why it is not the tool's kind of run."""
+    hsbd = import_hsbd()
+    try:
+        run = hsbd.load(run_dir)
+    except (OSError, ValueError) as e:
+        sys.exit(f"{tool}: {e}")
+    why = refusal(hsbd, run)
+    if why:
+        sys.exit(f"{tool}: {run_dir} {why}")
+    return hsbd, run

@@ -11,9 +11,8 @@ orientation correlation against exp(-(d-1) D_r t). Prints the local density's pe
 tools/validate_mips.sh judges) and the MSD at the largest lag.
 """
 import argparse
-import sys
 
-from hsbd_tools import import_hsbd
+from hsbd_tools import load_run
 
 
 def main():
@@ -21,13 +20,8 @@ def main():
     ap.add_argument("run_dir")
     ap.add_argument("--out", help="PNG file (default RUN_DIR/plot.png)")
     a = ap.parse_args()
-    hsbd = import_hsbd()
-    try:
-        run = hsbd.load(a.run_dir)
-    except (OSError, ValueError) as e:
-        sys.exit(f"plot_active: {e}")
-    if not hsbd.plot._is_active(run):
-        sys.exit(f"plot_active: {a.run_dir} is not a run of active disks or spheres")
+    hsbd, run = load_run("plot_active", a.run_dir, lambda hsbd, run: None if hsbd.plot._is_active(
+        run) else "is not a run of active disks or spheres")
     if "local_density" in run.tables:
         loc = run["local_density"]
         peaks = hsbd.plot.local_density_peaks(loc["phi"], loc["P"])

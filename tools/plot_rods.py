@@ -9,9 +9,8 @@ and Percus' exact profile where it applies (or the table --theory of `hsbd theor
 percus`), the contact density, the MSD per species with the single-file law.
 """
 import argparse
-import sys
 
-from hsbd_tools import import_hsbd
+from hsbd_tools import load_run
 
 
 def main():
@@ -20,13 +19,8 @@ def main():
     ap.add_argument("--out", help="PNG file (default RUN_DIR/plot.png)")
     ap.add_argument("--theory", help="exact profile from 'hsbd theory percus' (x rho rho2)")
     a = ap.parse_args()
-    hsbd = import_hsbd()
-    try:
-        run = hsbd.load(a.run_dir)
-    except (OSError, ValueError) as e:
-        sys.exit(f"plot_rods: {e}")
-    if run.model != "rods":
-        sys.exit(f"plot_rods: {a.run_dir} is a run of {run.model}, not rods")
+    hsbd, run = load_run("plot_rods", a.run_dir, lambda hsbd, run: None if run.model == "rods"
+                         else f"is a run of {run.model}, not rods")
     print(f"plot: {hsbd.plot(run, out=a.out, theory=a.theory)}")
 
 

@@ -11,9 +11,8 @@ the field with the density at contact with each wall, the MSD per species with 2
 2dD_L t, and F_s(k, t).
 """
 import argparse
-import sys
 
-from hsbd_tools import import_hsbd
+from hsbd_tools import load_run
 
 
 def main():
@@ -21,13 +20,8 @@ def main():
     ap.add_argument("run_dir")
     ap.add_argument("--out", help="PNG file (default RUN_DIR/plot.png)")
     a = ap.parse_args()
-    hsbd = import_hsbd()
-    try:
-        run = hsbd.load(a.run_dir)
-    except (OSError, ValueError) as e:
-        sys.exit(f"plot_spheres: {e}")
-    if run.model != "spheres":
-        sys.exit(f"plot_spheres: {a.run_dir} is a run of {run.model}, not spheres")
+    hsbd, run = load_run("plot_spheres", a.run_dir, lambda hsbd, run: None if run.model == "spheres"
+                         else f"is a run of {run.model}, not spheres")
     print(f"plot: {hsbd.plot(run, out=a.out)}")
 
 
