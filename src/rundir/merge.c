@@ -52,11 +52,10 @@ static int lines_read(const char *dir, const char *name, lines *t, hsbd_error *e
     const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     struct stat st;
     if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        const int e = errno, file = fd >= 0;
-        if (file) close(fd);
-        return file ? hsbd_error_set(err, HSBD_EINPUT, "merge: '%s' is not a regular file", path)
-                    : hsbd_error_set(err, HSBD_EINPUT, "merge: cannot read '%s': %s", path,
-                                     strerror(e));
+        const int e = fd < 0 ? errno : 0;
+        if (fd >= 0) close(fd);
+        return hsbd_error_set(err, HSBD_EINPUT, "merge: cannot read '%s': %s", path,
+                              e ? strerror(e) : "not a regular file");
     }
     size_t len = 0, size = (size_t)st.st_size, count = 1;
     t->buf = malloc(size + 1);
@@ -215,18 +214,12 @@ static int same_run(const replica *a, const replica *b, hsbd_error *err) {
         va = va ? va : "none", vb = vb ? vb : "none";
         const int la = value_len(va), lb = value_len(vb);
         if (la == lb && !strncmp(va, vb, (size_t)la)) continue;
-        if (k < 2)
-            return hsbd_error_set(err, HSBD_EINPUT,
-                                  "merge: '%s' and '%s' were made by different builds of hsbd (%s "
-                                  "%.*s in the first, %.*s in the second); another build may "
-                                  "give other results: run all replicas with one build",
-                                  a->dir, b->dir, keys[k], la > 80 ? 80 : la, va, lb > 80 ? 80 : lb,
-                                  vb);
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "merge: '%s' and '%s' read different contents of their input files "
-                              "(checksums %.*s in the first, %.*s in the second); only runs of "
-                              "the same input can be merged",
-                              a->dir, b->dir, la > 300 ? 300 : la, va, lb > 300 ? 300 : lb, vb);
+                              "merge: '%s' and '%s' differ in %s (%.*s in the first, %.*s in "
+                              "the second); only runs of one build of hsbd and the same "
+                              "contents of their input files can be merged",
+                              a->dir, b->dir, keys[k], la > 300 ? 300 : la, va, lb > 300 ? 300 : lb,
+                              vb);
     }
     return HSBD_OK;
 }
@@ -242,8 +235,7 @@ static int same_name(const char *p, const char *q) {
 }
 
 /* The same configuration: every parameter but the replica's own. The message names the
- * first that differs and, while both list the same parameters, the others after it (a
- * derived value may come before the key the user set). */
+ * first that differs. */
 static int same_parameters(const replica *a, const replica *b, hsbd_error *err) {
     size_t i = 0;
     while (i < a->nparam && i < b->nparam && !strcmp(a->param[i], b->param[i]))
@@ -258,21 +250,11 @@ static int same_parameters(const replica *a, const replica *b, hsbd_error *err) 
                               "only runs of the same configuration (apart from run.replica) can "
                               "be merged",
                               a->dir, b->dir, name_len(pa), pa, name_len(pb), pb);
-    char also[400] = "";
-    size_t used = 0;
-    for (size_t j = i + 1; j < a->nparam && j < b->nparam && same_name(a->param[j], b->param[j]);
-         ++j) {
-        if (!strcmp(a->param[j], b->param[j])) continue;
-        const int n = snprintf(also + used, sizeof also - used, "%s%.*s",
-                               used ? ", " : "; also: ", name_len(a->param[j]), a->param[j]);
-        if (n < 0 || (size_t)n >= sizeof also - used) break;
-        used += (size_t)n;
-    }
     return hsbd_error_set(err, HSBD_EINPUT,
                           "merge: '%s' and '%s' are not replicas of one configuration: %.300s in "
-                          "the first, %.200s in the second%s; only runs of the same configuration "
+                          "the first, %.200s in the second; only runs of the same configuration "
                           "(apart from run.replica) can be merged",
-                          a->dir, b->dir, pa, pb + name_len(pb) + 3, also);
+                          a->dir, b->dir, pa, pb + name_len(pb) + 3);
 }
 
 /* ---- tables ----------------------------------------------------------------------------- */
@@ -866,16 +848,10 @@ static int merge_into(const char *out, const char *const *dirs, size_t ndirs, in
     return rc;
 }
 
-/* a replica-K directory of an ensemble (a link or a file of that name refuses the merge) */
+/* a replica-K directory of an ensemble (a link or a file of that name is none) */
 static int replica_dir_entry(const char *dir, const char *name, hsbd_error *err) {
-    const int r = rundir_replica_entry(dir, name);
-    if (r < 0)
-        hsbd_error_set(err, HSBD_EINPUT,
-                       "merge: '%s/%s' is not a directory (a symbolic link or a file): an "
-                       "ensemble's replicas are directories of its own; merge replicas kept "
-                       "elsewhere with hsbd merge OUT DIR...",
-                       dir, name);
-    return r;
+    (void)err;
+    return rundir_replica_entry(dir, name);
 }
 
 /* The checks of an ensemble's directory before its replicas merge into it. */

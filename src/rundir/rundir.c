@@ -11,40 +11,20 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* The files a run (or the tools beside it) writes into a run directory. */
+/* The files a run (or the tools beside it) writes into a run directory, each with or
+ * without its ".part" (an output being written). */
 static int is_run_output(const char *name) {
-    static const char *const names[] = {"density.tsv",
-                                        "contact.tsv",
-                                        "density_blocks.tsv",
-                                        "contact_blocks.tsv",
-                                        "msd.tsv",
-                                        "clusters.tsv",
-                                        "current.tsv",
-                                        "gr.tsv",
-                                        "fs.tsv",
-                                        "summary.json",
-                                        "trajectory.xyz",
-                                        "trajectory.gsd",
-                                        "checkpoint.hsbd",
-                                        "checkpoint.prev.hsbd",
-                                        "theory.tsv",
-                                        "percus.tsv",
-                                        "plot.png",
-                                        ".hsbd-probe",
-                                        "density_phases.tsv",
-                                        "density_x.tsv",
-                                        "density_y.tsv",
-                                        "density_z.tsv",
-                                        "sk.tsv",
-                                        "log.tsv",
-                                        "orientation.tsv",
-                                        "local_density.tsv",
-                                        RUNDIR_LOCK_FILE};
-    const size_t len = strlen(name);
-    const size_t base = len > 5 && !strcmp(name + len - 5, ".part") ? len - 5 : len;
-    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
-        if (strlen(names[k]) == base && !strncmp(name, names[k], base)) return 1;
-    return 0;
+    static const char outputs[] =
+        " density.tsv contact.tsv density_blocks.tsv contact_blocks.tsv msd.tsv clusters.tsv"
+        " current.tsv gr.tsv fs.tsv sk.tsv log.tsv orientation.tsv local_density.tsv"
+        " density_phases.tsv density_x.tsv density_y.tsv density_z.tsv theory.tsv percus.tsv"
+        " summary.json trajectory.xyz trajectory.gsd checkpoint.hsbd checkpoint.prev.hsbd"
+        " plot.png .hsbd-probe " RUNDIR_LOCK_FILE " ";
+    const size_t len = strlen(name),
+                 base = len > 5 && !strcmp(name + len - 5, ".part") ? len - 5 : len;
+    char word[300]; /* " name " (a name is at most 255 bytes) */
+    snprintf(word, sizeof word, " %.*s ", (int)base, name);
+    return base > 0 && !strchr(name, ' ') && strstr(outputs, word);
 }
 
 int rundir_replica_entry(const char *dir, const char *name) {
@@ -54,7 +34,7 @@ int rundir_replica_entry(const char *dir, const char *name) {
     char path[HSBD_PATH_MAX + 300];
     struct stat st;
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    return lstat(path, &st) == 0 && S_ISDIR(st.st_mode) ? 1 : -1;
+    return lstat(path, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
 /* The first entry of dir that is not an earlier run's file (nor, with replicas, a replica
@@ -64,7 +44,7 @@ static int foreign_entry(const char *dir, int replicas, char *found, size_t len)
     found[0] = '\0';
     for (struct dirent *e; d && !found[0] && (e = readdir(d));)
         if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") && !is_run_output(e->d_name) &&
-            !(replicas && rundir_replica_entry(dir, e->d_name) > 0))
+            !(replicas && rundir_replica_entry(dir, e->d_name)))
             snprintf(found, len, "%s", e->d_name);
     if (d) closedir(d);
     return found[0] != '\0';
@@ -108,18 +88,9 @@ int rundir_holds_replicas(const char *dir) {
     DIR *d = opendir(dir);
     int found = 0;
     for (struct dirent *e; d && !found && (e = readdir(d));)
-        found = rundir_replica_entry(dir, e->d_name) > 0;
+        found = rundir_replica_entry(dir, e->d_name);
     if (d) closedir(d);
     return found;
-}
-
-/* path without its trailing slashes ("/" stays) into out (HSBD_PATH_MAX); its length */
-static size_t bare_path(const char *path, char *out) {
-    size_t n = strlen(path);
-    while (n > 1 && path[n - 1] == '/')
-        --n;
-    snprintf(out, HSBD_PATH_MAX, "%.*s", (int)n, path);
-    return n;
 }
 
 /* ---- the lock ---------------------------------------------------------------------------- */
@@ -194,7 +165,9 @@ int rundir_make(const char *dir, int *made) {
 
 void rundir_unmake(const char *dir, int made) {
     char buf[HSBD_PATH_MAX], lock[HSBD_PATH_MAX + 32];
-    bare_path(dir, buf);
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (size_t n = strlen(buf); n > 1 && buf[n - 1] == '/';) /* "/" stays */
+        buf[--n] = '\0';
     snprintf(lock, sizeof lock, "%s/%s", buf, RUNDIR_LOCK_FILE);
     if (made > 0) unlink(lock);
     for (int k = 0; k < made && rmdir(buf) == 0; ++k) {
@@ -231,14 +204,11 @@ int rundir_create(const char *dir, hsbd_error *err) {
     if (rundir_make(dir, &made) != 0)
         return hsbd_error_set(err, HSBD_EINPUT, "cannot create output directory '%s': %s", dir,
                               strerror(errno));
-    char bare[HSBD_PATH_MAX], target[HSBD_PATH_MAX];
-    bare_path(dir, bare); /* readlink takes no trailing slash */
-    const ssize_t len = readlink(bare, target, sizeof target - 1);
-    if (len >= 0 && stat(dir, &st) != 0) /* mkdir does not follow a link */
+    if (stat(dir, &st) != 0) /* mkdir does not follow a dangling link */
         return hsbd_error_set(err, HSBD_EINPUT,
-                              "output directory '%s' is a symbolic link to '%.*s', which leads "
-                              "to no directory; create it or choose another --out",
-                              dir, (int)len, target);
+                              "output directory '%s' leads to no directory (a dangling symbolic "
+                              "link?): %s; create it or choose another --out",
+                              dir, strerror(errno));
     return probe_writable(dir, err);
 }
 
@@ -248,7 +218,7 @@ static int clear_earlier_run(const char *dir, hsbd_error *err) {
     char other[256];
     if (foreign_entry(dir, 0, other, sizeof other))
         return hsbd_error_set(err, HSBD_EINPUT,
-                              rundir_replica_entry(dir, other) > 0
+                              rundir_replica_entry(dir, other)
                                   ? "output directory '%s' holds '%s', a replica of an ensemble: "
                                     "a single run does not replace an ensemble's results; choose "
                                     "another --out"

@@ -51,8 +51,7 @@ int rundir_is_empty(const char *dir);
 int rundir_holds_checkpoint(const char *dir);
 /* dir holds a run's own results: a checkpoint, or a summary.json that is no merge's */
 int rundir_holds_run(const char *dir);
-/* The entry name of dir: a replica directory (replica-<digits>: 1), something else of such
- * a name (a link, a file: -1), or another name (0). */
+/* The entry name of dir is a replica directory: replica-<digits>, a directory (no link). */
 int rundir_replica_entry(const char *dir, const char *name);
 /* dir holds an ensemble's replica directory */
 int rundir_holds_replicas(const char *dir);
