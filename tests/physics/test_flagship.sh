@@ -3,9 +3,9 @@
 # Percus' exact profile, as its comments say: the density over 50 bins has chi^2/dof <= 2
 # and no bin beyond 4.5 error bars, the contact density (the default estimator) chi^2/dof
 # <= 2, each against the theory averaged over the bin. Fixed seed (the example's, 1:
-# chi^2/dof 1.00 with the default Heun step, largest bin 2.4; 1.30 with Euler's). The
-# bound: over seeds 1-6 the density's chi^2/dof is 0.60-1.60 with Euler's step (Heun's
-# 1.00 and 0.95 at seeds 1 and 2); for 50 independent bins the 99.9 % point of chi^2/dof is 1.73, and the bars
+# chi^2/dof 1.08 with the default Heun step, largest bin 2.4; 1.30 with Euler's). The
+# bound: over seeds 1-6 the density's chi^2/dof is 0.31-1.34 with Heun's step (0.60-1.60
+# with Euler's); for 50 independent bins the 99.9 % point of chi^2/dof is 1.73, and the bars
 # (20 segments: Student's t with 19 degrees of freedom) fatten its tail, so 2 is a failure
 # of the physics, not of luck. About 15 s (optimised build only).
 set -u
