@@ -292,7 +292,8 @@ if ls r1/*.part >/dev/null 2>&1; then bad "temporary files left"; else ok; fi
 # SIGINT: results so far are written, marked incomplete, exit 130
 "$HSBD" run good.ini --set run.t_total=1e4 --set output.trajectory=xyz --out intr --quiet &
 pid=$!
-sleep 1
+for _ in $(seq 1500); do [ -e intr/trajectory.xyz.part ] && break; sleep 0.02; done
+sleep 0.2 # a few samples in
 kill -INT $pid
 wait $pid
 rc=$?

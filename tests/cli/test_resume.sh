@@ -255,8 +255,8 @@ if [ -z "$ONLY" ] || [ "$ONLY" = rods ]; then
     "$HSBD" resume ext-whole --set run.t_total=12 --quiet 2>/dev/null || bad "extension to 12"
     "$HSBD" resume ext-stop --set run.t_total=12 --quiet 2>err &
     ext_pid=$!
-    sleep 0.4
-    kill -TERM $ext_pid
+    for _ in $(seq 1500); do ls ext-stop/*.part >/dev/null 2>&1 && break; sleep 0.02; done
+    kill -TERM $ext_pid # once the extension writes (its streams' temporary names)
     wait $ext_pid
     rc=$?
     kept=1
