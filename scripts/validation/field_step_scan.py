@@ -107,28 +107,35 @@ def analyse_rods(d, theory):
                 contact=cmean, contact_err=cmean_err)
 
 
+def run_grid(hsbd, out, prefix, dts, seeds, jobs, settings):
+    """Runs every field step x dt x seed with run.field_step, run.dt, system.seed and the
+    `settings(dt)` (key=value strings) into out/PREFIX-STEP-dtDT-seedSEED; the list of
+    (step, dt, seed, directory)."""
+    runs = [(step, dt, seed, os.path.join(out, f"{prefix}-{step}-dt{dt:g}-seed{seed}"))
+            for step in STEPS for dt in dts for seed in seeds]
+
+    def one(r):
+        step, dt, seed, d = r
+        sets = [f"run.field_step={step}", f"run.dt={dt:g}", f"system.seed={seed}"] + settings(dt)
+        run(hsbd, d, BASE + [a for kv in sets for a in ("--set", kv)])
+
+    with ThreadPoolExecutor(jobs) as pool:
+        list(pool.map(one, runs))
+    return runs
+
+
 def percus_part(hsbd, out, seeds, jobs, rule="reflect", dts=DTS):
     theory_path = os.path.join(out, "theory-percus.tsv")
     subprocess.run([hsbd, "theory", "percus", "--sigma", "0.5", "--rho", "0.5", "--amplitude",
                     "6", "--out", theory_path], check=True, stdout=subprocess.DEVNULL)
     theory = read_table(theory_path).data
-    runs = []
-    for step in STEPS:
-        for dt in dts:
-            for seed in seeds:
-                d = os.path.join(out, f"{rule}-{step}-dt{dt:g}-seed{seed}")
-                args = BASE + ["--set", f"run.field_step={step}", "--set", f"run.dt={dt:g}",
-                               "--set", f"run.dt_equil={max(dt, 1e-4):g}",
-                               "--set", f"sample.every={sampling(dt)}",
-                               "--set", f"system.contact_rule={rule}",
-                               "--set", f"system.seed={seed}"]
-                runs.append((step, dt, seed, d, args))
-    with ThreadPoolExecutor(jobs) as pool:
-        list(pool.map(lambda r: run(hsbd, r[3], r[4]), runs))
+    runs = run_grid(hsbd, out, rule, dts, seeds, jobs,
+                    lambda dt: [f"run.dt_equil={max(dt, 1e-4):g}", f"sample.every={sampling(dt)}",
+                                f"system.contact_rule={rule}"])
     name = "percus" if rule == "reflect" else rule
     with open(os.path.join(out, f"{name}.tsv"), "w") as f:
         f.write("step\tdt\tseed\tchi2\tpeak\tpeak_err\tcontact_chi2\tcontact\tcontact_err\n")
-        for step, dt, seed, d, _ in runs:
+        for step, dt, seed, d in runs:
             a = analyse_rods(d, theory)
             f.write(f"{step}\t{dt:g}\t{seed}\t{a['chi2']:.4g}\t{a['peak']:.6g}\t"
                     f"{a['peak_err']:.3g}\t{a['contact_chi2']:.4g}\t{a['contact']:.5g}\t"
@@ -138,25 +145,16 @@ def percus_part(hsbd, out, seeds, jobs, rule="reflect", dts=DTS):
 
 def points_part(hsbd, out, seeds, jobs, dts=(1e-4, 3e-4, 1e-3, 3e-3)):
     """Point particles with the hard core: Boltzmann's density and the ideal contacts."""
-    runs = []
-    for step in STEPS:
-        for dt in dts:
-            for seed in seeds:
-                d = os.path.join(out, f"points-{step}-dt{dt:g}-seed{seed}")
-                args = BASE + ["--set", "system.sigma=0", "--set", f"run.field_step={step}",
-                               "--set", f"run.dt={dt:g}", "--set", f"run.dt_equil={dt:g}",
-                               "--set", f"sample.every={sampling(dt)}",
-                               "--set", f"system.seed={seed}"]
-                runs.append((step, dt, seed, d, args))
-    with ThreadPoolExecutor(jobs) as pool:
-        list(pool.map(lambda r: run(hsbd, r[3], r[4]), runs))
+    runs = run_grid(hsbd, out, "points", dts, seeds, jobs,
+                    lambda dt: ["system.sigma=0", f"run.dt_equil={dt:g}",
+                                f"sample.every={sampling(dt)}"])
     fine = np.linspace(0, 1, 20001)[:-1]
     boltz = np.exp(-3.0 * np.cos(2 * np.pi * fine))
     boltz *= 0.5 / boltz.mean()
     n = 500
     with open(os.path.join(out, "points.tsv"), "w") as f:
         f.write("step\tdt\tseed\tchi2\tpeak\tpeak_err\tcontact_chi2\tcontact\tcontact_err\n")
-        for step, dt, seed, d, _ in runs:
+        for step, dt, seed, d in runs:
             dens = read_table(os.path.join(d, "density.tsv"))
             x, width = dens.data[:, 0], dens.data[1, 0] - dens.data[0, 0]
             ref = bin_average(fine, boltz, x, width)
@@ -174,23 +172,13 @@ def points_part(hsbd, out, seeds, jobs, dts=(1e-4, 3e-4, 1e-3, 3e-3)):
 
 def msd_part(hsbd, out, seeds, jobs, dts=(1e-5, 1e-4, 3e-4, 1e-3)):
     """The MSD at common lags (sampled every 1e-3) against the smallest dt's."""
-    runs = []
-    for step in STEPS:
-        for dt in dts:
-            for seed in seeds:
-                d = os.path.join(out, f"msd-{step}-dt{dt:g}-seed{seed}")
-                args = BASE + ["--set", f"run.field_step={step}", "--set", f"run.dt={dt:g}",
-                               "--set", f"run.dt_equil={max(dt, 1e-4):g}",
-                               "--set", "run.t_total=20", "--set", "sample.blocking=time",
-                               "--set", "sample.blocks=20", "--set", "sample.msd_max_lag=1",
-                               "--set", f"sample.every={sampling(dt, 1e-3)}",
-                               "--set", f"system.seed={seed}"]
-                runs.append((step, dt, seed, d, args))
-    with ThreadPoolExecutor(jobs) as pool:
-        list(pool.map(lambda r: run(hsbd, r[3], r[4]), runs))
+    runs = run_grid(hsbd, out, "msd", dts, seeds, jobs,
+                    lambda dt: [f"run.dt_equil={max(dt, 1e-4):g}", "run.t_total=20",
+                                "sample.blocking=time", "sample.blocks=20",
+                                "sample.msd_max_lag=1", f"sample.every={sampling(dt, 1e-3)}"])
     with open(os.path.join(out, "msd.tsv"), "w") as f:
         f.write("step\tdt\tseed\tlag\tmsd\tmsd_err\n")
-        for step, dt, seed, d, _ in runs:
+        for step, dt, seed, d in runs:
             t = read_table(os.path.join(d, "msd.tsv")).data
             for row in t:
                 f.write(f"{step}\t{dt:g}\t{seed}\t{row[0]:.6g}\t{row[1]:.8g}\t{row[2]:.3g}\n")
